@@ -1,0 +1,64 @@
+#include "cli/arguments.h"
+
+#include <charconv>
+
+namespace spheremap::cli {
+
+Arguments::Arguments(int argc, char** argv, int first, const std::set<std::string>& value_options,
+                     const std::set<std::string>& flags) {
+  for (int i = first; i < argc; ++i) {
+    std::string arg = argv[i];
+    if (arg == "-o") arg = "--output";
+    if (arg.size() < 2 || arg.compare(0, 2, "--") != 0 || arg == "--") {
+      positional_.push_back(arg);
+      continue;
+    }
+    std::string name = arg.substr(2), value;
+    const size_t eq = name.find('=');
+    const bool inline_value = eq != std::string::npos;
+    if (inline_value) value = name.substr(eq + 1), name = name.substr(0, eq);
+    if (flags.count(name) && !inline_value) {
+      flags_.insert(name);
+    } else if (value_options.count(name)) {
+      if (!inline_value) {
+        if (i + 1 >= argc) throw UsageError("option --" + name + " needs a value");
+        value = argv[++i];
+      }
+      values_[name] = value;
+    } else {
+      throw UsageError("unknown option --" + name);
+    }
+  }
+}
+
+std::string Arguments::text(const std::string& name, const std::string& fallback) const {
+  auto it = values_.find(name);
+  return it == values_.end() ? fallback : it->second;
+}
+
+double Arguments::number(const std::string& name, double fallback, double lo, double hi) const {
+  auto it = values_.find(name);
+  if (it == values_.end()) return fallback;
+  const std::string& s = it->second;
+  double v = 0;
+  auto [ptr, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
+  if (ec != std::errc() || ptr != s.data() + s.size() || !(v >= lo && v <= hi))
+    throw UsageError("--" + name + " must be a number in [" + std::to_string(lo) + ", " +
+                     std::to_string(hi) + "], got '" + s + "'");
+  return v;
+}
+
+long long Arguments::integer(const std::string& name, long long fallback, long long lo,
+                             long long hi) const {
+  auto it = values_.find(name);
+  if (it == values_.end()) return fallback;
+  const std::string& s = it->second;
+  long long v = 0;
+  auto [ptr, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
+  if (ec != std::errc() || ptr != s.data() + s.size() || v < lo || v > hi)
+    throw UsageError("--" + name + " must be an integer in [" + std::to_string(lo) + ", " +
+                     std::to_string(hi) + "], got '" + s + "'");
+  return v;
+}
+
+}  // namespace spheremap::cli

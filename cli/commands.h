@@ -1,0 +1,14 @@
+// The subcommands of the spheremap tool. Each returns the process exit code.
+#pragma once
+
+namespace spheremap::cli {
+
+inline constexpr int kExitOk = 0;
+inline constexpr int kExitUsage = 1;
+inline constexpr int kExitInvalidInput = 2;
+inline constexpr int kExitNotBijective = 3;
+
+int run_map(int argc, char** argv);
+int run_info(int argc, char** argv);
+
+}  // namespace spheremap::cli

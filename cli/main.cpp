@@ -1,0 +1,51 @@
+// spheremap: maps closed genus-0 meshes onto the unit sphere. Subcommands: map, info.
+#include <cstdio>
+#include <cstring>
+#include <exception>
+#include <string>
+
+#include "cli/arguments.h"
+#include "cli/commands.h"
+#include "core/input_error.h"
+
+namespace {
+
+const char* const kHelp = R"(spheremap: fold-free spherical maps of closed genus-0 meshes
+
+Usage:
+  spheremap map INPUT -o OUTPUT [--metrics FILE.json] [options]   map onto the unit sphere
+  spheremap info INPUT                                             topology report as JSON
+  spheremap COMMAND --help                                         options of a command
+  spheremap --version
+
+Exit codes: 0 success; 1 usage error; 2 invalid input; 3 no bijective map reached.
+)";
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  using namespace spheremap::cli;
+  const std::string command = argc > 1 ? argv[1] : "--help";
+  try {
+    if (command == "map") return run_map(argc, argv);
+    if (command == "info") return run_info(argc, argv);
+    if (command == "--version") {
+      std::puts("spheremap 0.1.0");
+      return kExitOk;
+    }
+    if (command == "--help" || command == "-h" || command == "help") {
+      std::fputs(kHelp, stdout);
+      return kExitOk;
+    }
+    throw UsageError("unknown command '" + command + "'");
+  } catch (const UsageError& e) {
+    std::fprintf(stderr, "spheremap: %s (see spheremap --help)\n", e.what());
+    return kExitUsage;
+  } catch (const spheremap::InputError& e) {
+    std::fprintf(stderr, "spheremap: invalid input [%s]: %s\n", e.check().c_str(), e.what());
+    return kExitInvalidInput;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "spheremap: error: %s\n", e.what());
+    return 4;
+  }
+}

@@ -1,0 +1,73 @@
+#include "cli/map_options.h"
+
+namespace spheremap::cli {
+
+const std::set<std::string> kMapValueOptions = {
+    "method",         "alpha",          "offset",          "offset-placement",
+    "presmooth",      "max-iterations", "min-iterations",  "level-iterations",
+    "repair-iterations", "safe-sweeps", "time-limit",      "threads",
+    "weld-tolerance", "sweep"};
+const std::set<std::string> kMapFlags = {"no-centroid"};
+
+const char* const kMapOptionsHelp = R"(Mapping options:
+  --method NAME             coarse-to-fine (default): hierarchy + Lai-Cheng per level, bijective
+                            on every valid mesh we know; paper: Lai & Cheng's own loop (slow,
+                            may not reach 0 folds; for comparison)
+  --alpha A                 limit-operator parameter in [0, 1] (default 0 = Catmull-Clark)
+  --offset U                offset (momentum) weight u in [0, 0.5] (default 0.25)
+  --offset-placement P      after: after the centroid move (default for coarse-to-fine; fewer
+                            iterations, no stuck fixed points); paper: between the A-step and the
+                            centroid move (default for --method paper)
+  --sweep jacobi|gauss-seidel  update order of the smoothing (default jacobi: parallel)
+  --no-centroid             disable the centroid relaxation (the paper's acceleration b)
+  --presmooth N             paper: A-steps on the 3D mesh before projecting (default 10)
+  --max-iterations N        paper: iteration cap (default 20000)
+  --min-iterations N        iterations before a 0-fold state may stop a level (default 10)
+  --level-iterations N      coarse-to-fine: smoothing iterations per level before local
+                            repair (default 40)
+  --repair-iterations N     coarse-to-fine: local repair budget per level (default 2000)
+  --safe-sweeps N           coarse-to-fine: fold-safe sweeps of the fallback (default 10)
+  --time-limit S            stop after S seconds and report what was reached (default: none)
+  --threads N               worker threads (default 0 = all cores); results are bit-identical
+                            for any value
+  --weld-tolerance T        weld vertices closer than T x bounding-box diagonal (default 0:
+                            only exactly equal positions)
+)";
+
+void read_map_options(const Arguments& args, PrepareOptions& prepare, MapOptions& options) {
+  const std::string method = args.text("method", "coarse-to-fine");
+  if (method == "paper") {
+    options.method = Method::kPaper;
+    options.smoothing.placement = OffsetPlacement::kPaper;
+  } else if (method != "coarse-to-fine") {
+    throw UsageError("--method must be coarse-to-fine or paper, got '" + method + "'");
+  }
+  const std::string placement = args.text("offset-placement", "");
+  if (placement == "after") options.smoothing.placement = OffsetPlacement::kAfterCentroid;
+  else if (placement == "paper") options.smoothing.placement = OffsetPlacement::kPaper;
+  else if (!placement.empty())
+    throw UsageError("--offset-placement must be after or paper, got '" + placement + "'");
+
+  const std::string sweep = args.text("sweep", "jacobi");
+  if (sweep != "jacobi" && sweep != "gauss-seidel")
+    throw UsageError("--sweep must be jacobi or gauss-seidel, got '" + sweep + "'");
+  options.smoothing.gauss_seidel = sweep == "gauss-seidel";
+  options.alpha = args.number("alpha", options.alpha, 0, 1);
+  options.smoothing.offset = args.number("offset", options.smoothing.offset, 0, 0.5);
+  options.smoothing.centroid_relaxation = !args.flag("no-centroid");
+  options.smoothing.threads = static_cast<int>(args.integer("threads", 0, 0, 1024));
+  options.presmooth_steps = static_cast<int>(args.integer("presmooth", options.presmooth_steps, 0, 1000));
+  options.max_iterations =
+      static_cast<size_t>(args.integer("max-iterations", static_cast<long long>(options.max_iterations), 0, 100000000));
+  options.min_level_iterations = static_cast<size_t>(
+      args.integer("min-iterations", static_cast<long long>(options.min_level_iterations), 0, 100000));
+  options.max_level_iterations = static_cast<size_t>(
+      args.integer("level-iterations", static_cast<long long>(options.max_level_iterations), 0, 100000));
+  options.max_repair_iterations = static_cast<size_t>(args.integer(
+      "repair-iterations", static_cast<long long>(options.max_repair_iterations), 0, 10000000));
+  options.safe_sweeps = static_cast<int>(args.integer("safe-sweeps", options.safe_sweeps, 0, 100000));
+  options.time_limit_seconds = args.number("time-limit", 0, 0, 1e9);
+  prepare.weld_tolerance = args.number("weld-tolerance", 0, 0, 1);
+}
+
+}  // namespace spheremap::cli

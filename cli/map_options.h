@@ -1,0 +1,18 @@
+// The mapping options every mapping subcommand shares, with their --help text.
+#pragma once
+
+#include <set>
+#include <string>
+
+#include "cli/arguments.h"
+#include "core/pipeline.h"
+
+namespace spheremap::cli {
+
+extern const std::set<std::string> kMapValueOptions;
+extern const std::set<std::string> kMapFlags;
+extern const char* const kMapOptionsHelp;
+
+void read_map_options(const Arguments& args, PrepareOptions& prepare, MapOptions& options);
+
+}  // namespace spheremap::cli

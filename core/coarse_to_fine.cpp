@@ -1,0 +1,153 @@
+// The default method (ALGORITHM §B4, PROTOTYPE-FINDINGS §6 "MRG40"): a collapse
+// hierarchy down to a tetrahedron, then per level, coarse to fine: kernel-safe insertion,
+// Lai-Cheng smoothing, local repair, and a fold-free fallback. Every level starts from a
+// fold-free map when all insertions succeed, and the fallback keeps it fold-free.
+#include <algorithm>
+#include <numeric>
+
+#include "core/hierarchy.h"
+#include "core/insertion.h"
+#include "core/limit_operator.h"
+#include "core/map_session.h"
+#include "core/repair.h"
+#include "core/sphere_geometry.h"
+
+namespace spheremap {
+namespace {
+
+// The regular spherical tetrahedron on new ids 0..3, oriented like its triangles.
+void place_tetrahedron(std::span<Vec3> q, std::span<const Triangle> tetrahedron) {
+  const double s = 1.0 / std::sqrt(3.0);
+  q[0] = {s, s, s}, q[1] = {s, -s, -s}, q[2] = {-s, s, -s}, q[3] = {-s, -s, s};
+  const Triangle& t = tetrahedron[0];
+  if (!is_valid_triangle(q[t[0]], q[t[1]], q[t[2]])) std::swap(q[0], q[1]);
+}
+
+SparseMatrix level_operator(std::span<const Triangle> triangles, size_t n, double alpha) {
+  std::vector<uint32_t> offsets(triangles.size() + 1);
+  for (size_t t = 0; t <= triangles.size(); ++t) offsets[t] = static_cast<uint32_t>(3 * t);
+  return limit_operator(offsets, {triangles.data()->data(), 3 * triangles.size()}, n, alpha);
+}
+
+// The input polygons in hierarchy ids, for the finest level's operator.
+SparseMatrix fine_operator(const PolygonMesh& mesh, const std::vector<uint32_t>& old_to_new,
+                           double alpha) {
+  std::vector<uint32_t> indices(mesh.indices.size());
+  for (size_t k = 0; k < indices.size(); ++k) indices[k] = old_to_new[mesh.indices[k]];
+  return limit_operator(mesh.offsets, indices, mesh.vertex_count(), alpha);
+}
+
+class CoarseToFine {
+ public:
+  CoarseToFine(const PolygonMesh& mesh, std::span<const Triangle> triangles,
+               const MapSession& session, MapResult& result)
+      : mesh_(mesh), session_(session), options_(session.options()), result_(result) {
+    session_.report({.stage = "hierarchy"});
+    h_ = build_hierarchy(mesh.positions, triangles);
+    result_.hierarchy_seconds = session_.elapsed();
+    result_.hierarchy_rounds = h_.rounds;
+    fine_triangles_.assign(triangles.begin(), triangles.end());
+    for (Triangle& t : fine_triangles_)
+      for (uint32_t& v : t) v = h_.old_to_new[v];
+    q_.resize(mesh.vertex_count());
+  }
+
+  void run() {
+    place_tetrahedron(q_, h_.level_triangles[0]);
+    const int levels = static_cast<int>(h_.level_sizes.size());
+    result_.levels.push_back({.vertices = 4});
+    for (int l = 1; l < levels; ++l) {
+      if (session_.should_stop()) {
+        result_.stop_reason = session_.stop_reason();
+        if (result_.stop_reason == StopReason::kCancelled) return;
+        // Out of time: finish the insertions unsmoothed so the map is still complete.
+        for (; l < levels; ++l) insert_level(l, result_.levels.emplace_back());
+        break;
+      }
+      map_level(l, levels);
+    }
+    result_.mapping_seconds = session_.elapsed() - result_.hierarchy_seconds;
+    result_.sphere.resize(q_.size());
+    for (uint32_t v = 0; v < q_.size(); ++v) result_.sphere[v] = q_[h_.old_to_new[v]];
+  }
+
+ private:
+  void insert_level(int l, LevelReport& report) {
+    report.vertices = h_.level_sizes[l];
+    for (uint32_t u = h_.level_sizes[l - 1]; u < h_.level_sizes[l]; ++u) {
+      switch (insert_vertex(q_, u, h_.collapse_target[u], h_.ring(u))) {
+        case InsertionOutcome::kRingAverage: break;
+        case InsertionOutcome::kKernelSearch: ++report.kernel_insertions; break;
+        case InsertionOutcome::kFailed: ++report.failed_insertions; break;
+      }
+    }
+  }
+
+  void map_level(int l, int levels) {
+    LevelReport& report = result_.levels.emplace_back();
+    insert_level(l, report);
+    const size_t n = h_.level_sizes[l];
+    const bool finest = l + 1 == levels;
+    std::span<const Triangle> triangles =
+        finest ? std::span<const Triangle>(fine_triangles_) : h_.level_triangles[l];
+    SparseMatrix A = finest ? fine_operator(mesh_, h_.old_to_new, options_.alpha)
+                            : level_operator(triangles, n, options_.alpha);
+    LaiChengSmoother smoother(triangles, std::move(A), n, options_.smoothing);
+    std::span<Vec3> q(q_.data(), n);
+
+    size_t folds = smoother.count_folds(q);
+    std::vector<Vec3> fold_free;
+    if (folds == 0) fold_free.assign(q.begin(), q.end());
+    MapProgress progress{.stage = "smooth", .level = l, .levels = levels - 1, .vertices = n};
+    size_t it = 0;
+    while (it < options_.max_level_iterations && !(folds == 0 && it >= options_.min_level_iterations)) {
+      if (session_.should_stop()) break;
+      folds = smoother.step(q);
+      ++it;
+      if (folds == 0) fold_free.assign(q.begin(), q.end());
+      progress.iteration = it, progress.folds = folds;
+      session_.report(progress);
+    }
+    report.iterations = it;
+    result_.iterations += it;
+    result_.fine_iteration_equivalents +=
+        static_cast<double>(it * n) / static_cast<double>(q_.size());
+
+    if (folds > 0) {
+      progress.stage = "repair";
+      session_.report(progress);
+      RepairStats repair = local_repair(smoother, q, folds, options_.max_repair_iterations,
+                                        [&] { return session_.should_stop(); });
+      folds = repair.folds;
+      report.repair_iterations = repair.iterations;
+      result_.iterations += repair.iterations;
+      result_.fine_iteration_equivalents += repair.vertex_updates / static_cast<double>(q_.size());
+    }
+    if (folds > 0 && !fold_free.empty()) {
+      progress.stage = "fallback";
+      session_.report(progress);
+      std::copy(fold_free.begin(), fold_free.end(), q.begin());
+      fold_safe_sweeps(smoother, q, options_.safe_sweeps);
+      folds = smoother.count_folds(q);
+      report.fallback = true;
+    }
+    report.folds = folds;
+  }
+
+  const PolygonMesh& mesh_;
+  const MapSession& session_;
+  const MapOptions& options_;
+  MapResult& result_;
+  CollapseHierarchy h_;
+  std::vector<Triangle> fine_triangles_;
+  std::vector<Vec3> q_;  // hierarchy ids
+};
+
+}  // namespace
+
+void map_coarse_to_fine(const PolygonMesh& mesh, std::span<const Triangle> triangles,
+                        const MapSession& session, MapResult& result) {
+  CoarseToFine(mesh, triangles, session, result).run();
+}
+
+}  // namespace spheremap

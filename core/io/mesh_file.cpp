@@ -1,0 +1,42 @@
+#include "core/io/mesh_file.h"
+
+#include <algorithm>
+#include <fstream>
+
+#include "core/input_error.h"
+#include "core/io/obj.h"
+#include "core/io/off.h"
+#include "core/io/text_reader.h"
+
+namespace spheremap {
+namespace {
+
+std::string lowercase_extension(const std::string& path) {
+  size_t dot = path.find_last_of('.');
+  size_t slash = path.find_last_of('/');
+  if (dot == std::string::npos || (slash != std::string::npos && dot < slash)) return "";
+  std::string ext = path.substr(dot + 1);
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+  return ext;
+}
+
+}  // namespace
+
+PolygonMesh read_mesh_file(const std::string& path) {
+  const std::string ext = lowercase_extension(path);
+  if (ext != "obj" && ext != "off")
+    throw InputError("io", "cannot read '" + path + "': unknown extension (use .obj or .off)");
+  const std::string text = read_file(path);
+  return ext == "obj" ? parse_obj(text) : parse_off(text);
+}
+
+void write_mesh_file(const std::string& path, const PolygonMesh& mesh) {
+  const std::string ext = lowercase_extension(path);
+  if (ext != "obj") throw InputError("io", "cannot write '" + path + "': use the .obj extension");
+  std::ofstream out(path, std::ios::binary);
+  const std::string text = format_obj(mesh);
+  out.write(text.data(), static_cast<std::streamsize>(text.size()));
+  if (!out) throw InputError("io", "cannot write '" + path + "'");
+}
+
+}  // namespace spheremap

@@ -1,0 +1,76 @@
+#include "core/io/obj.h"
+
+#include <charconv>
+#include <cstdio>
+#include <vector>
+
+#include "core/io/text_reader.h"
+
+namespace spheremap {
+namespace {
+
+// The vertex part of a face corner "v", "v/vt", "v//vn" or "v/vt/vn".
+long long corner_vertex(TextReader& reader, std::string_view corner) {
+  std::string_view v = corner.substr(0, corner.find('/'));
+  long long index = 0;
+  auto [ptr, ec] = std::from_chars(v.data(), v.data() + v.size(), index);
+  if (v.empty() || ec != std::errc() || ptr != v.data() + v.size())
+    reader.fail("bad face corner '" + std::string(corner) + "'");
+  return index;
+}
+
+}  // namespace
+
+
+PolygonMesh parse_obj(std::string_view text) {
+  PolygonMesh mesh;
+  TextReader reader(text, "OBJ");
+  std::vector<uint32_t> corners;
+  while (reader.next_line()) {
+    std::string_view keyword = reader.token();
+    if (keyword == "v") {
+      Vec3 p;
+      p.x = reader.number("x");
+      p.y = reader.number("y");
+      p.z = reader.number("z");
+      mesh.positions.push_back(p);
+    } else if (keyword == "f") {
+      corners.clear();
+      const long long count = static_cast<long long>(mesh.positions.size());
+      for (std::string_view tok = reader.token(); !tok.empty(); tok = reader.token()) {
+        long long index = corner_vertex(reader, tok);
+        long long resolved = index > 0 ? index - 1 : count + index;  // negative: relative
+        if (index == 0 || resolved < 0 || resolved >= count)
+          reader.fail("face index " + std::to_string(index) + " is out of range (" +
+                      std::to_string(count) + " vertices so far)");
+        corners.push_back(static_cast<uint32_t>(resolved));
+      }
+      if (corners.size() < 3)
+        reader.fail("a face needs at least 3 corners, found " + std::to_string(corners.size()));
+      mesh.add_face(corners);
+    }
+    // Everything else (vt, vn, g, o, s, usemtl, mtllib, l, ...) carries nothing we map.
+  }
+  return mesh;
+}
+
+std::string format_obj(const PolygonMesh& mesh) {
+  std::string out;
+  out.reserve(mesh.vertex_count() * 40 + mesh.indices.size() * 8);
+  char buf[128];
+  for (const Vec3& p : mesh.positions) {
+    int n = std::snprintf(buf, sizeof buf, "v %.17g %.17g %.17g\n", p.x, p.y, p.z);
+    out.append(buf, static_cast<size_t>(n));
+  }
+  for (size_t f = 0; f < mesh.face_count(); ++f) {
+    out += 'f';
+    for (uint32_t v : mesh.face(f)) {
+      int n = std::snprintf(buf, sizeof buf, " %u", v + 1);
+      out.append(buf, static_cast<size_t>(n));
+    }
+    out += '\n';
+  }
+  return out;
+}
+
+}  // namespace spheremap

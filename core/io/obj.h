@@ -1,0 +1,18 @@
+// Wavefront OBJ: positions and polygon faces. Reads `v`, `f` with v, v/vt, v//vn and
+// v/vt/vn corners, negative (relative) indices, comments and CRLF; ignores vt, vn,
+// g, o, s, usemtl, mtllib and l. Writes `v` and `f` lines only.
+#pragma once
+
+#include <string>
+#include <string_view>
+
+#include "core/mesh.h"
+
+namespace spheremap {
+
+// Throws InputError("parse") with the line number on malformed input or
+// out-of-range indices.
+PolygonMesh parse_obj(std::string_view text);
+std::string format_obj(const PolygonMesh& mesh);
+
+}  // namespace spheremap

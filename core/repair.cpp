@@ -1,0 +1,105 @@
+#include "core/repair.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/sphere_geometry.h"
+
+namespace spheremap {
+namespace {
+
+constexpr size_t kChunk = 50;
+constexpr int kMaxRings = 30;
+
+// Vertices of invalid triangles grown by `rings` rings, and the triangles touching them;
+// both ascending (scans in index order), so runs are deterministic.
+void active_region(const LaiChengSmoother& s, std::span<const Vec3> q, int rings,
+                   std::vector<uint32_t>& vertices, std::vector<uint32_t>& triangles) {
+  const auto tris = s.triangles();
+  const auto& vt = s.vertex_triangles();
+  std::vector<char> in_region(s.vertex_count(), 0);
+  std::vector<uint32_t> frontier;
+  for (uint32_t t = 0; t < tris.size(); ++t)
+    if (!s.triangle_valid(q, t))
+      for (uint32_t v : tris[t])
+        if (!in_region[v]) in_region[v] = 1, frontier.push_back(v);
+  for (int r = 0; r < rings && !frontier.empty(); ++r) {
+    std::vector<uint32_t> next;
+    for (uint32_t v : frontier)
+      for (uint32_t t : vt.of(v))
+        for (uint32_t w : tris[t])
+          if (!in_region[w]) in_region[w] = 1, next.push_back(w);
+    frontier.swap(next);
+  }
+  vertices.clear();
+  std::vector<char> tri_in(tris.size(), 0);
+  for (uint32_t v = 0; v < s.vertex_count(); ++v) {
+    if (!in_region[v]) continue;
+    vertices.push_back(v);
+    for (uint32_t t : vt.of(v)) tri_in[t] = 1;
+  }
+  triangles.clear();
+  for (uint32_t t = 0; t < tris.size(); ++t)
+    if (tri_in[t]) triangles.push_back(t);
+}
+
+}  // namespace
+
+RepairStats local_repair(LaiChengSmoother& smoother, std::span<Vec3> q, size_t folds,
+                         size_t max_iterations, const std::function<bool()>& should_stop) {
+  RepairStats stats;
+  stats.folds = folds;
+  int rings = 2;
+  std::vector<uint32_t> active, active_triangles;
+  smoother.sync_fixed(q);
+  while (stats.folds > 0 && stats.iterations < max_iterations && !should_stop()) {
+    active_region(smoother, q, rings, active, active_triangles);
+    for (size_t k = 0; k < kChunk && stats.iterations < max_iterations; ++k) {
+      const size_t active_folds = smoother.step_active(q, active, active_triangles);
+      ++stats.iterations;
+      stats.vertex_updates += static_cast<double>(active.size());
+      if (active_folds == 0) break;
+    }
+    const size_t now = smoother.count_folds(q);
+    if (now >= stats.folds) rings = std::min(rings + 1, kMaxRings);
+    stats.folds = now;
+  }
+  return stats;
+}
+
+void fold_safe_sweeps(const LaiChengSmoother& smoother, std::span<Vec3> q, int sweeps) {
+  const auto tris = smoother.triangles();
+  const auto& vt = smoother.vertex_triangles();
+  const SparseMatrix& A = smoother.operator_A();
+  auto corner = [&](uint32_t t, int k, uint32_t i, const Vec3& p) -> const Vec3& {
+    return tris[t][k] == i ? p : q[tris[t][k]];
+  };
+  auto all_valid_at = [&](uint32_t i, const Vec3& p) {
+    for (uint32_t t : vt.of(i))
+      if (!is_valid_triangle(corner(t, 0, i, p), corner(t, 1, i, p), corner(t, 2, i, p)))
+        return false;
+    return true;
+  };
+  for (int sweep = 0; sweep < sweeps; ++sweep) {
+    for (uint32_t i = 0; i < smoother.vertex_count(); ++i) {
+      const Vec3 smoothed = normalized_or(A.row_times(i, q), q[i]);
+      Vec3 sum;
+      for (uint32_t t : vt.of(i)) {
+        const Vec3 &a = corner(t, 0, i, smoothed), &b = corner(t, 1, i, smoothed),
+                   &c = corner(t, 2, i, smoothed);
+        const double area = std::abs(spherical_area(a, b, c));
+        if (std::isfinite(area)) sum += area * normalized_or(a + b + c, Vec3{});
+      }
+      const Vec3 target = normalized_or(sum, smoothed);
+      for (double t = 1.0; t >= 1.0 / 16; t *= 0.5) {
+        const Vec3 candidate = normalized_or(q[i] + t * (target - q[i]), q[i]);
+        if (all_valid_at(i, candidate)) {
+          q[i] = candidate;
+          break;
+        }
+      }
+    }
+  }
+}
+
+}  // namespace spheremap
