@@ -1,8 +1,18 @@
 #include "cli/arguments.h"
 
 #include <charconv>
+#include <sstream>
 
 namespace spheremap::cli {
+namespace {
+
+std::string shortest(double v) {
+  std::ostringstream s;
+  s << v;
+  return s.str();
+}
+
+}  // namespace
 
 Arguments::Arguments(int argc, char** argv, int first, const std::set<std::string>& value_options,
                      const std::set<std::string>& flags) {
@@ -43,8 +53,8 @@ double Arguments::number(const std::string& name, double fallback, double lo, do
   double v = 0;
   auto [ptr, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
   if (ec != std::errc() || ptr != s.data() + s.size() || !(v >= lo && v <= hi))
-    throw UsageError("--" + name + " must be a number in [" + std::to_string(lo) + ", " +
-                     std::to_string(hi) + "], got '" + s + "'");
+    throw UsageError("--" + name + " must be a number in [" + shortest(lo) + ", " + shortest(hi) +
+                     "], got '" + s + "'");
   return v;
 }
 

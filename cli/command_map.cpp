@@ -31,7 +31,8 @@ MapControl progress_printer(bool quiet, double& last_print) {
   control.on_progress = [&last_print](const MapProgress& p) {
     if (p.elapsed_seconds < 1.0 || p.elapsed_seconds - last_print < 0.5) return;
     last_print = p.elapsed_seconds;
-    std::fprintf(stderr, "spheremap: %5.1f s  %-9s level %d/%d (%zu vertices)  iteration %zu  folds %zu\n",
+    std::fprintf(stderr,
+                 "spheremap: %5.1f s  %-9s level %d/%d (%zu vertices)  iteration %zu  folds %zu\n",
                  p.elapsed_seconds, std::string(p.stage).c_str(), p.level, p.levels, p.vertices,
                  p.iteration, p.folds);
   };
@@ -61,7 +62,8 @@ int run_map(int argc, char** argv) {
 
   const PolygonMesh input = read_mesh_file(args.positional()[0]);
   double last_print = 0;
-  const MappedMesh mapped = map_mesh(input, prepare, options, progress_printer(args.flag("quiet"), last_print));
+  const MappedMesh mapped =
+      map_mesh(input, prepare, options, progress_printer(args.flag("quiet"), last_print));
   write_mesh_file(args.text("output", ""), sphere_on_input(input, mapped));
   if (args.has("metrics")) {
     std::ofstream out(args.text("metrics", ""));

@@ -2,11 +2,22 @@
 
 namespace spheremap::cli {
 
-const std::set<std::string> kMapValueOptions = {
-    "method",         "alpha",          "offset",          "offset-placement",
-    "presmooth",      "max-iterations", "min-iterations",  "level-iterations",
-    "repair-iterations", "safe-sweeps", "time-limit",      "threads",
-    "weld-tolerance", "sweep"};
+const std::set<std::string> kMapValueOptions = {"method",
+                                                "alpha",
+                                                "offset",
+                                                "offset-placement",
+                                                "presmooth",
+                                                "max-iterations",
+                                                "min-iterations",
+                                                "level-iterations",
+                                                "repair-iterations",
+                                                "safe-sweeps",
+                                                "time-limit",
+                                                "threads",
+                                                "weld-tolerance",
+                                                "sweep",
+                                                "start-vertices",
+                                                "smooth-vertices"};
 const std::set<std::string> kMapFlags = {"no-centroid"};
 
 const char* const kMapOptionsHelp = R"(Mapping options:
@@ -18,7 +29,8 @@ const char* const kMapOptionsHelp = R"(Mapping options:
   --offset-placement P      after: after the centroid move (default for coarse-to-fine; fewer
                             iterations, no stuck fixed points); paper: between the A-step and the
                             centroid move (default for --method paper)
-  --sweep jacobi|gauss-seidel  update order of the smoothing (default jacobi: parallel)
+  --sweep ORDER             jacobi (default: parallel, every vertex reads the previous
+                            iterate) or gauss-seidel (serial, reads fresh neighbours)
   --no-centroid             disable the centroid relaxation (the paper's acceleration b)
   --presmooth N             paper: A-steps on the 3D mesh before projecting (default 10)
   --max-iterations N        paper: iteration cap (default 20000)
@@ -27,6 +39,11 @@ const char* const kMapOptionsHelp = R"(Mapping options:
                             repair (default 40)
   --repair-iterations N     coarse-to-fine: local repair budget per level (default 2000)
   --safe-sweeps N           coarse-to-fine: fold-safe sweeps of the fallback (default 10)
+  --start-vertices N        coarse-to-fine: start from the paper's projection on the largest
+                            level of at most N vertices when it reaches 0 folds there, else
+                            from a tetrahedron (default 1000; 0 = always the tetrahedron)
+  --smooth-vertices N       coarse-to-fine: levels below N vertices are only inserted, not
+                            smoothed (default 50); the finest level is always smoothed
   --time-limit S            stop after S seconds and report what was reached (default: none)
   --threads N               worker threads (default 0 = all cores); results are bit-identical
                             for any value
@@ -43,8 +60,10 @@ void read_map_options(const Arguments& args, PrepareOptions& prepare, MapOptions
     throw UsageError("--method must be coarse-to-fine or paper, got '" + method + "'");
   }
   const std::string placement = args.text("offset-placement", "");
-  if (placement == "after") options.smoothing.placement = OffsetPlacement::kAfterCentroid;
-  else if (placement == "paper") options.smoothing.placement = OffsetPlacement::kPaper;
+  if (placement == "after")
+    options.smoothing.placement = OffsetPlacement::kAfterCentroid;
+  else if (placement == "paper")
+    options.smoothing.placement = OffsetPlacement::kPaper;
   else if (!placement.empty())
     throw UsageError("--offset-placement must be after or paper, got '" + placement + "'");
 
@@ -56,17 +75,23 @@ void read_map_options(const Arguments& args, PrepareOptions& prepare, MapOptions
   options.smoothing.offset = args.number("offset", options.smoothing.offset, 0, 0.5);
   options.smoothing.centroid_relaxation = !args.flag("no-centroid");
   options.smoothing.threads = static_cast<int>(args.integer("threads", 0, 0, 1024));
-  options.presmooth_steps = static_cast<int>(args.integer("presmooth", options.presmooth_steps, 0, 1000));
-  options.max_iterations =
-      static_cast<size_t>(args.integer("max-iterations", static_cast<long long>(options.max_iterations), 0, 100000000));
-  options.min_level_iterations = static_cast<size_t>(
-      args.integer("min-iterations", static_cast<long long>(options.min_level_iterations), 0, 100000));
-  options.max_level_iterations = static_cast<size_t>(
-      args.integer("level-iterations", static_cast<long long>(options.max_level_iterations), 0, 100000));
+  options.presmooth_steps =
+      static_cast<int>(args.integer("presmooth", options.presmooth_steps, 0, 1000));
+  options.max_iterations = static_cast<size_t>(
+      args.integer("max-iterations", static_cast<long long>(options.max_iterations), 0, 100000000));
+  options.min_level_iterations = static_cast<size_t>(args.integer(
+      "min-iterations", static_cast<long long>(options.min_level_iterations), 0, 100000));
+  options.max_level_iterations = static_cast<size_t>(args.integer(
+      "level-iterations", static_cast<long long>(options.max_level_iterations), 0, 100000));
   options.max_repair_iterations = static_cast<size_t>(args.integer(
       "repair-iterations", static_cast<long long>(options.max_repair_iterations), 0, 10000000));
-  options.safe_sweeps = static_cast<int>(args.integer("safe-sweeps", options.safe_sweeps, 0, 100000));
+  options.safe_sweeps =
+      static_cast<int>(args.integer("safe-sweeps", options.safe_sweeps, 0, 100000));
   options.time_limit_seconds = args.number("time-limit", 0, 0, 1e9);
+  options.smooth_min_vertices = static_cast<size_t>(args.integer(
+      "smooth-vertices", static_cast<long long>(options.smooth_min_vertices), 0, 100000000));
+  options.projected_start_vertices = static_cast<size_t>(args.integer(
+      "start-vertices", static_cast<long long>(options.projected_start_vertices), 0, 100000000));
   prepare.weld_tolerance = args.number("weld-tolerance", 0, 0, 1);
 }
 

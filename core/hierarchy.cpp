@@ -11,8 +11,11 @@ namespace {
 class CollapsibleMesh {
  public:
   CollapsibleMesh(std::span<const Vec3> positions, std::span<const Triangle> triangles)
-      : x_(positions), tris_(triangles.begin(), triangles.end()), tri_alive_(triangles.size(), 1),
-        incident_(positions.size()), alive_vertices_(positions.size()) {
+      : x_(positions),
+        tris_(triangles.begin(), triangles.end()),
+        tri_alive_(triangles.size(), 1),
+        incident_(positions.size()),
+        alive_vertices_(positions.size()) {
     for (uint32_t t = 0; t < tris_.size(); ++t)
       for (uint32_t v : tris_[t]) incident_[v].push_back(t);
   }
@@ -185,10 +188,8 @@ CollapseHierarchy build_hierarchy(std::span<const Vec3> positions,
       snapshots.push_back(mesh.alive_triangles());
     }
   }
-  if (sizes.back() != 4) {  // the input itself is a tetrahedron
-    sizes.push_back(4);
-    snapshots.push_back(mesh.alive_triangles());
-  }
+  if (snapshots.empty()) snapshots.push_back(mesh.alive_triangles());  // input is a tetrahedron
+  if (sizes.back() != 4) sizes.push_back(4);
 
   // New ids: the tetrahedron (ascending input id), then reverse removal order.
   h.old_to_new.assign(n, 0);

@@ -69,8 +69,10 @@ void LaiChengSmoother::smooth(std::span<Vec3> q, const Indices& vertices,
 }
 
 size_t LaiChengSmoother::step(std::span<Vec3> q) {
-  if (options_.gauss_seidel) gauss_seidel_sweep(q);
-  else smooth(q, AllIndices{vertex_count_}, AllIndices{triangles_.size()});
+  if (options_.gauss_seidel)
+    gauss_seidel_sweep(q);
+  else
+    smooth(q, AllIndices{vertex_count_}, AllIndices{triangles_.size()});
   return count_folds(q);
 }
 

@@ -46,9 +46,8 @@ SparseMatrix limit_operator(std::span<const uint32_t> face_offsets,
   A.offsets.reserve(vertex_count + 1);
   for (uint32_t i = 0; i < vertex_count; ++i) {
     auto row_begin = entries.begin() + start[i], row_end = entries.begin() + start[i + 1];
-    std::sort(row_begin, row_end, [](const Entry& x, const Entry& y) {
-      return x.column < y.column;
-    });
+    std::sort(row_begin, row_end,
+              [](const Entry& x, const Entry& y) { return x.column < y.column; });
     const double n = valence[i], scale = n > 0 ? 1.0 / (n * (n + 5)) : 0.0;
     for (auto it = row_begin; it != row_end;) {
       double b = 0;

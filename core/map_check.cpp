@@ -13,8 +13,10 @@ MapCheck check_map(std::span<const Vec3> sphere, std::span<const Triangle> trian
   for (const Triangle& t : triangles) {
     const Vec3 &a = sphere[t[0]], &b = sphere[t[1]], &c = sphere[t[2]];
     const double area = spherical_area(a, b, c);
-    if (!is_valid_triangle(a, b, c)) ++check.folds;
-    else if (area < kDegenerateArea) ++check.degenerate;
+    if (!is_valid_triangle(a, b, c))
+      ++check.folds;
+    else if (area < kDegenerateArea)
+      ++check.degenerate;
     check.signed_area_sum += area;
     check.min_signed_area = std::min(check.min_signed_area, area);
   }

@@ -23,7 +23,8 @@ std::vector<uint32_t> choose_apexes(const PolygonMesh& mesh, size_t& conflicts) 
   std::unordered_set<uint64_t> edges;
   for (size_t f = 0; f < mesh.face_count(); ++f) {
     auto face = mesh.face(f);
-    for (size_t k = 0; k < face.size(); ++k) edges.insert(edge_key(face[k], face[(k + 1) % face.size()]));
+    for (size_t k = 0; k < face.size(); ++k)
+      edges.insert(edge_key(face[k], face[(k + 1) % face.size()]));
   }
   for (size_t f = 0; f < mesh.face_count(); ++f) {
     auto face = mesh.face(f);
@@ -37,7 +38,8 @@ std::vector<uint32_t> choose_apexes(const PolygonMesh& mesh, size_t& conflicts) 
       if (found) apex[f] = static_cast<uint32_t>(a);
     }
     if (!found) ++conflicts;
-    for (size_t k = 2; k + 1 < d; ++k) edges.insert(edge_key(face[apex[f]], face[(apex[f] + k) % d]));
+    for (size_t k = 2; k + 1 < d; ++k)
+      edges.insert(edge_key(face[apex[f]], face[(apex[f] + k) % d]));
   }
   return apex;
 }

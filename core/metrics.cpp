@@ -70,7 +70,8 @@ QualityMetrics compute_metrics(std::span<const Vec3> surface, std::span<const Ve
   QualityMetrics m;
   double surface_total = 0, chord_total = 0;
   for (const Triangle& t : triangles) {
-    surface_total += 0.5 * norm(cross(surface[t[1]] - surface[t[0]], surface[t[2]] - surface[t[0]]));
+    surface_total +=
+        0.5 * norm(cross(surface[t[1]] - surface[t[0]], surface[t[2]] - surface[t[0]]));
     chord_total += 0.5 * norm(cross(sphere[t[1]] - sphere[t[0]], sphere[t[2]] - sphere[t[0]]));
   }
   const double chord_scale = chord_total > 0 ? std::sqrt(surface_total / chord_total) : 0;

@@ -26,8 +26,12 @@ void map_paper(const PolygonMesh& mesh, std::span<const Triangle> triangles,
   LaiChengSmoother smoother(triangles, std::move(A), q.size(), options.smoothing);
   size_t folds = smoother.count_folds(q);
   const auto stage = [&](size_t it) {
-    session.report({.stage = "smooth", .level = 1, .levels = 1, .vertices = q.size(),
-                    .iteration = it, .folds = folds});
+    session.report({.stage = "smooth",
+                    .level = 1,
+                    .levels = 1,
+                    .vertices = q.size(),
+                    .iteration = it,
+                    .folds = folds});
   };
   stage(0);
   size_t it = 0;

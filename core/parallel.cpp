@@ -4,6 +4,8 @@
 
 namespace spheremap {
 
-int resolve_threads(int threads) { return threads > 0 ? threads : omp_get_num_procs(); }
+int resolve_threads(int threads) {
+  return threads > 0 ? threads : omp_get_num_procs();
+}
 
 }  // namespace spheremap

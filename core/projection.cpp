@@ -1,5 +1,7 @@
 #include "core/projection.h"
 
+#include <algorithm>
+
 #include "core/parallel.h"
 #include "core/sphere_geometry.h"
 
@@ -13,6 +15,15 @@ std::vector<Vec3> project_to_sphere(std::span<const Vec3> positions, const Spars
   for (int k = 0; k < presmooth_steps; ++k) {
     parallel_for(n, threads, [&](size_t i) { next[i] = A.row_times(i, m); });
     m.swap(next);
+    // Many steps shrink the shape toward its centroid; re-centre and rescale (directions
+    // from C do not change) so long pre-smoothing stays well inside double precision.
+    Vec3 mean;
+    for (const Vec3& v : m) mean += v;
+    mean *= 1.0 / static_cast<double>(n);
+    double spread = 0;
+    for (const Vec3& v : m) spread = std::max(spread, norm(v - mean));
+    if (spread > 0)
+      for (Vec3& v : m) v = (v - mean) * (1.0 / spread);
   }
   Vec3 mean;
   for (const Vec3& v : m) mean += v;

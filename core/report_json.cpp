@@ -56,7 +56,8 @@ nlohmann::json metrics_json(const MappedMesh& mapped, const MapOptions& options)
                       {"iterations", l.iterations},
                       {"repair_iterations", l.repair_iterations},
                       {"fallback", l.fallback},
-                      {"folds", l.folds}});
+                      {"folds", l.folds},
+                      {"min_area", l.min_area}});
   return {
       {"method", options.method == Method::kPaper ? "paper" : "coarse-to-fine"},
       {"bijective", m.check.bijective},
@@ -75,7 +76,8 @@ nlohmann::json metrics_json(const MappedMesh& mapped, const MapOptions& options)
       {"levels", levels},
       {"area_distortion", summary_json(q.area_log_ratio)},
       {"angle_distortion",
-       {{"dilatation", summary_json(q.dilatation)}, {"corner_error_degrees", q.angle_error_degrees}}},
+       {{"dilatation", summary_json(q.dilatation)},
+        {"corner_error_degrees", q.angle_error_degrees}}},
       {"stretch", {{"l2", q.stretch_l2}, {"linf", q.stretch_linf}}},
       {"measured_triangles", q.measured_triangles},
       {"skipped_triangles", q.skipped_triangles},

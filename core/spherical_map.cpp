@@ -9,11 +9,16 @@ namespace spheremap {
 
 std::string_view to_string(StopReason reason) {
   switch (reason) {
-    case StopReason::kBijective: return "bijective";
-    case StopReason::kFoldsRemain: return "folds_remain";
-    case StopReason::kIterationLimit: return "iteration_limit";
-    case StopReason::kTimeLimit: return "time_limit";
-    case StopReason::kCancelled: return "cancelled";
+    case StopReason::kBijective:
+      return "bijective";
+    case StopReason::kFoldsRemain:
+      return "folds_remain";
+    case StopReason::kIterationLimit:
+      return "iteration_limit";
+    case StopReason::kTimeLimit:
+      return "time_limit";
+    case StopReason::kCancelled:
+      return "cancelled";
   }
   return "unknown";
 }
@@ -46,8 +51,10 @@ MapResult map_to_sphere(const PolygonMesh& mesh, const MapOptions& options,
   const double verify_start = session.elapsed();
   result.check = check_map(result.sphere, oriented.triangles);
   result.verify_seconds = session.elapsed() - verify_start;
-  if (result.check.bijective) result.stop_reason = StopReason::kBijective;
-  else if (result.stop_reason == StopReason::kBijective) result.stop_reason = StopReason::kFoldsRemain;
+  if (result.check.bijective)
+    result.stop_reason = StopReason::kBijective;
+  else if (result.stop_reason == StopReason::kBijective)
+    result.stop_reason = StopReason::kFoldsRemain;
   return result;
 }
 

@@ -26,15 +26,18 @@ enum class Method { kCoarseToFine, kPaper };
 
 struct MapOptions {
   Method method = Method::kCoarseToFine;
-  double alpha = 0.0;           // limit operator parameter, 0 = Catmull-Clark
-  SmoothingOptions smoothing;   // offset u, its placement, centroid relaxation, threads
-  int presmooth_steps = 10;     // paper: A applied to the 3D mesh before projecting
-  size_t max_iterations = 20000;       // paper: iteration cap
-  size_t min_level_iterations = 10;    // both: iterations before a 0-fold stop
-  size_t max_level_iterations = 40;    // coarse-to-fine: per level before local repair
-  size_t max_repair_iterations = 2000;  // coarse-to-fine: local repair budget per level
-  int safe_sweeps = 10;                // coarse-to-fine: fold-safe fallback sweeps
-  double time_limit_seconds = 0;       // 0 = none
+  double alpha = 0.0;                      // limit operator parameter, 0 = Catmull-Clark
+  SmoothingOptions smoothing;              // offset u, its placement, centroid relaxation, threads
+  int presmooth_steps = 10;                // paper: A applied to the 3D mesh before projecting
+  size_t max_iterations = 20000;           // paper: iteration cap
+  size_t min_level_iterations = 10;        // both: iterations before a 0-fold stop
+  size_t max_level_iterations = 40;        // coarse-to-fine: per level before local repair
+  size_t max_repair_iterations = 2000;     // coarse-to-fine: local repair budget per level
+  int safe_sweeps = 10;                    // coarse-to-fine: fold-safe fallback sweeps
+  size_t smooth_min_vertices = 50;         // coarse-to-fine: smaller levels are only inserted
+  size_t projected_start_vertices = 1000;  // coarse-to-fine: start level size (0 = tetrahedron)
+  size_t projected_start_iterations = 1000;  // coarse-to-fine: smoothing budget of that start
+  double time_limit_seconds = 0;             // 0 = none
 };
 
 struct MapProgress {
@@ -62,15 +65,16 @@ struct LevelReport {
   size_t repair_iterations = 0;
   bool fallback = false;  // reverted to the last fold-free state + fold-safe sweeps
   size_t folds = 0;       // at the end of the level
+  double min_area = 0;    // smallest signed spherical triangle area at the end of the level
 };
 
 struct MapResult {
   std::vector<Vec3> sphere;  // per mesh vertex; empty when cancelled
   MapCheck check;
   StopReason stop_reason = StopReason::kFoldsRemain;
-  size_t iterations = 0;                   // smoothing iterations, all levels
-  double fine_iteration_equivalents = 0;   // sum of iterations x level size / vertex count
-  std::vector<LevelReport> levels;         // coarse to fine
+  size_t iterations = 0;                  // smoothing iterations, all levels
+  double fine_iteration_equivalents = 0;  // sum of iterations x level size / vertex count
+  std::vector<LevelReport> levels;        // coarse to fine
   size_t hierarchy_rounds = 0;
   double hierarchy_seconds = 0, mapping_seconds = 0, verify_seconds = 0;
   bool inward = false;  // the input faces point inward; the map keeps that orientation

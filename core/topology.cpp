@@ -111,8 +111,10 @@ void analyze_edges(const PolygonMesh& mesh, TopologyReport& r) {
   std::vector<char> pinched(mesh.vertex_count(), 0);
   for (uint32_t c = 0; c < mesh.indices.size(); ++c) {
     const uint32_t v = mesh.indices[c], fan = fans.find(c);
-    if (first_fan[v] == UINT32_MAX) first_fan[v] = fan;
-    else if (first_fan[v] != fan) pinched[v] = 1;
+    if (first_fan[v] == UINT32_MAX)
+      first_fan[v] = fan;
+    else if (first_fan[v] != fan)
+      pinched[v] = 1;
   }
   r.non_manifold_vertices = static_cast<size_t>(std::count(pinched.begin(), pinched.end(), 1));
   for (uint32_t v = 0; v < mesh.vertex_count(); ++v)
@@ -140,7 +142,8 @@ void find_components(const PolygonMesh& mesh, TopologyReport& r) {
 
 std::string list_sizes(const std::vector<size_t>& sizes) {
   std::string s;
-  for (size_t i = 0; i < sizes.size() && i < 8; ++i) s += (i ? ", " : "") + std::to_string(sizes[i]);
+  for (size_t i = 0; i < sizes.size() && i < 8; ++i)
+    s += (i ? ", " : "") + std::to_string(sizes[i]);
   if (sizes.size() > 8) s += ", ...";
   return s;
 }
@@ -169,13 +172,14 @@ std::vector<ValidationFailure> mapping_failures(const TopologyReport& r) {
   auto n = [](size_t v) { return std::to_string(v); };
   if (r.faces == 0) out.push_back({"empty", "mesh has no faces"});
   if (r.non_finite_vertices)
-    out.push_back({"non_finite", n(r.non_finite_vertices) + " vertices have non-finite coordinates"});
+    out.push_back(
+        {"non_finite", n(r.non_finite_vertices) + " vertices have non-finite coordinates"});
   if (r.faces_with_repeated_vertices)
-    out.push_back({"repeated_vertex", n(r.faces_with_repeated_vertices) +
-                                          " faces use the same vertex twice"});
+    out.push_back({"repeated_vertex",
+                   n(r.faces_with_repeated_vertices) + " faces use the same vertex twice"});
   if (r.non_manifold_edges)
-    out.push_back({"non_manifold_edge", n(r.non_manifold_edges) +
-                                            " edges are shared by more than 2 faces"});
+    out.push_back(
+        {"non_manifold_edge", n(r.non_manifold_edges) + " edges are shared by more than 2 faces"});
   if (r.boundary_edges)
     out.push_back({"boundary", "mesh has " + n(r.boundary_loops) + " boundary loops (" +
                                    n(r.boundary_edges) +
@@ -189,10 +193,10 @@ std::vector<ValidationFailure> mapping_failures(const TopologyReport& r) {
                                       " edges have faces on both sides running the same way "
                                       "(inconsistent orientation)"});
   if (r.component_vertices.size() > 1)
-    out.push_back({"components", "mesh has " + n(r.component_vertices.size()) +
-                                     " connected components (vertices: " +
-                                     list_sizes(r.component_vertices) +
-                                     "); spherical mapping needs exactly one"});
+    out.push_back(
+        {"components", "mesh has " + n(r.component_vertices.size()) +
+                           " connected components (vertices: " + list_sizes(r.component_vertices) +
+                           "); spherical mapping needs exactly one"});
   if (out.empty() && r.genus() != 0)
     out.push_back({"genus", "mesh has genus " + std::to_string(r.genus()) +
                                 " (Euler characteristic " + std::to_string(r.euler_characteristic) +

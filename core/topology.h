@@ -19,9 +19,9 @@ struct TopologyReport {
   size_t faces_with_repeated_vertices = 0;
   size_t zero_area_faces = 0;
   size_t boundary_edges = 0, boundary_loops = 0;
-  size_t non_manifold_edges = 0;     // edges with more than 2 faces
-  size_t non_manifold_vertices = 0;  // vertices whose faces form more than one fan
-  size_t inconsistent_edges = 0;     // two faces traversing the edge the same way
+  size_t non_manifold_edges = 0;           // edges with more than 2 faces
+  size_t non_manifold_vertices = 0;        // vertices whose faces form more than one fan
+  size_t inconsistent_edges = 0;           // two faces traversing the edge the same way
   std::vector<size_t> component_vertices;  // per component, largest first
   std::vector<size_t> component_faces;     // in the same order
   long long euler_characteristic = 0;
@@ -29,7 +29,8 @@ struct TopologyReport {
 
   bool closed() const { return boundary_edges == 0; }
   bool manifold() const {
-    return non_manifold_edges == 0 && non_manifold_vertices == 0 && faces_with_repeated_vertices == 0;
+    return non_manifold_edges == 0 && non_manifold_vertices == 0 &&
+           faces_with_repeated_vertices == 0;
   }
   // Genus of a closed, orientable, connected surface; -1 when that does not apply.
   long long genus() const;

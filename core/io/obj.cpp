@@ -21,7 +21,6 @@ long long corner_vertex(TextReader& reader, std::string_view corner) {
 
 }  // namespace
 
-
 PolygonMesh parse_obj(std::string_view text) {
   PolygonMesh mesh;
   TextReader reader(text, "OBJ");

@@ -1,0 +1,16 @@
+#!/usr/bin/env bash
+# Installs what spheremap needs to build and test, from Debian 12's packages only.
+# Idempotent: installs nothing when everything is already there.
+set -euo pipefail
+packages=(build-essential cmake ninja-build pkg-config nlohmann-json3-dev libgtest-dev clang-format)
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -gt 0 ]; then
+  echo "installing: ${missing[*]}"
+  sudo=""
+  [ "$(id -u)" -ne 0 ] && sudo=sudo
+  $sudo apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}"
+fi

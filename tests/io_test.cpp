@@ -1,0 +1,87 @@
+#include <gtest/gtest.h>
+
+#include "core/input_error.h"
+#include "core/io/obj.h"
+#include "core/io/off.h"
+
+namespace spheremap {
+namespace {
+
+TEST(ObjReader, ReadsCornerSyntaxesNegativeIndicesCommentsAndCrlf) {
+  const char* text =
+      "# a comment\r\n"
+      "mtllib x.mtl\r\n"
+      "v 0 0 0\r\n"
+      "v 1 0 0 # trailing comment\r\n"
+      "v 0 1 0\r\n"
+      "v 0 0 1\r\n"
+      "vt 0 0\r\nvn 0 0 1\r\ng group\r\ns off\r\nusemtl m\r\n"
+      "f 1 3 2\r\n"
+      "f 1/1 2/1 4/1\r\n"
+      "f 2//1 3//1 4//1\r\n"
+      "f -4/1/1 -1/1/1 -2/1/1\r\n";
+  PolygonMesh m = parse_obj(text);
+  ASSERT_EQ(m.vertex_count(), 4u);
+  ASSERT_EQ(m.face_count(), 4u);
+  EXPECT_EQ(m.face(3)[0], 0u);  // -4 of 4 vertices
+  EXPECT_EQ(m.face(3)[1], 3u);
+  EXPECT_EQ(m.face(3)[2], 2u);
+  EXPECT_EQ(m.positions[1].x, 1.0);
+}
+
+TEST(ObjReader, KeepsPolygons) {
+  PolygonMesh m = parse_obj("v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nf 1 2 3 4 5\n");
+  ASSERT_EQ(m.face_count(), 1u);
+  EXPECT_EQ(m.face_size(0), 5u);
+}
+
+TEST(ObjReader, RejectsOutOfRangeIndexWithLineNumber) {
+  try {
+    parse_obj("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 4\n");
+    FAIL() << "expected an InputError";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.check(), "parse");
+    EXPECT_NE(std::string(e.what()).find("line 4"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("out of range"), std::string::npos) << e.what();
+  }
+}
+
+TEST(ObjReader, RejectsBadNumbersAndShortFaces) {
+  EXPECT_THROW(parse_obj("v 0 zero 0\n"), InputError);
+  EXPECT_THROW(parse_obj("v 0 0 0\nv 1 0 0\nf 1 2\n"), InputError);
+  EXPECT_THROW(parse_obj("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 0\n"), InputError);
+}
+
+TEST(ObjWriter, RoundTripsExactly) {
+  PolygonMesh m = parse_obj("v 0.1 -2.5e-7 3\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3 4\n");
+  PolygonMesh again = parse_obj(format_obj(m));
+  EXPECT_EQ(again.positions, m.positions);
+  EXPECT_EQ(again.indices, m.indices);
+  EXPECT_EQ(again.offsets, m.offsets);
+}
+
+TEST(OffReader, ReadsPolygonsAndComments) {
+  PolygonMesh m =
+      parse_off("OFF\n# comment\n4 2 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 1 2\n4 0 1 2 3\n");
+  EXPECT_EQ(m.vertex_count(), 4u);
+  ASSERT_EQ(m.face_count(), 2u);
+  EXPECT_EQ(m.face_size(1), 4u);
+}
+
+TEST(OffReader, RejectsHugeDeclaredCountsBeforeAllocating) {
+  try {
+    parse_off("OFF\n2000000000 2000000000 0\n");
+    FAIL() << "expected an InputError";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("do not fit"), std::string::npos) << e.what();
+  }
+}
+
+TEST(OffReader, RejectsTruncatedFilesAndBadIndices) {
+  EXPECT_THROW(parse_off("OFF\n3 1 0\n0 0 0\n1 0 0\n"), InputError);
+  EXPECT_THROW(parse_off("OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 3\n"), InputError);
+  EXPECT_THROW(parse_off("PLY\n"), InputError);
+}
+
+}  // namespace
+}  // namespace spheremap

@@ -1,0 +1,155 @@
+#include "tests/mesh_generators.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <tuple>
+#include <vector>
+
+namespace spheremap::testing {
+
+PolygonMesh icosphere(int levels) {
+  const double t = (1.0 + std::sqrt(5.0)) / 2.0;
+  PolygonMesh m;
+  m.positions = {{-1, t, 0},  {1, t, 0},  {-1, -t, 0}, {1, -t, 0}, {0, -1, t},  {0, 1, t},
+                 {0, -1, -t}, {0, 1, -t}, {t, 0, -1},  {t, 0, 1},  {-t, 0, -1}, {-t, 0, 1}};
+  std::vector<Triangle> faces = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11},
+                                 {1, 5, 9},  {5, 11, 4}, {11, 10, 2}, {10, 7, 6}, {7, 1, 8},
+                                 {3, 9, 4},  {3, 4, 2},  {3, 2, 6},   {3, 6, 8},  {3, 8, 9},
+                                 {4, 9, 5},  {2, 4, 11}, {6, 2, 10},  {8, 6, 7},  {9, 8, 1}};
+  for (int level = 0; level < levels; ++level) {
+    std::map<std::pair<uint32_t, uint32_t>, uint32_t> midpoint;
+    auto mid = [&](uint32_t a, uint32_t b) {
+      auto key = std::minmax(a, b);
+      auto it = midpoint.find(key);
+      if (it != midpoint.end()) return it->second;
+      m.positions.push_back(0.5 * (m.positions[a] + m.positions[b]));
+      return midpoint[key] = static_cast<uint32_t>(m.positions.size() - 1);
+    };
+    std::vector<Triangle> next;
+    for (const Triangle& f : faces) {
+      const uint32_t ab = mid(f[0], f[1]), bc = mid(f[1], f[2]), ca = mid(f[2], f[0]);
+      next.insert(next.end(), {{f[0], ab, ca}, {f[1], bc, ab}, {f[2], ca, bc}, {ab, bc, ca}});
+    }
+    faces.swap(next);
+  }
+  for (Vec3& p : m.positions) p *= 1.0 / norm(p);
+  for (const Triangle& f : faces) m.add_face(f);
+  return m;
+}
+
+PolygonMesh quad_cube(int n) {
+  PolygonMesh m;
+  std::map<std::tuple<int, int, int>, uint32_t> ids;
+  auto vertex = [&](int i, int j, int k) {
+    auto key = std::make_tuple(i, j, k);
+    auto it = ids.find(key);
+    if (it != ids.end()) return it->second;
+    m.positions.push_back({2.0 * i / n - 1, 2.0 * j / n - 1, 2.0 * k / n - 1});
+    return ids[key] = static_cast<uint32_t>(m.positions.size() - 1);
+  };
+  // Each cube face: a fixed axis at 0 or n, two running axes chosen so normals point out.
+  for (int axis = 0; axis < 3; ++axis)
+    for (int side = 0; side < 2; ++side)
+      for (int a = 0; a < n; ++a)
+        for (int b = 0; b < n; ++b) {
+          auto at = [&](int u, int v) {
+            int c[3];
+            c[axis] = side * n;
+            c[(axis + 1) % 3] = u;
+            c[(axis + 2) % 3] = v;
+            return vertex(c[0], c[1], c[2]);
+          };
+          uint32_t q[4] = {at(a, b), at(a + 1, b), at(a + 1, b + 1), at(a, b + 1)};
+          if (side == 0) std::swap(q[1], q[3]);
+          m.add_face(q);
+        }
+  return m;
+}
+
+PolygonMesh capped_tube(int around, int along, double length) {
+  PolygonMesh m;
+  for (int j = 0; j <= along; ++j)
+    for (int i = 0; i < around; ++i) {
+      const double a = 2 * M_PI * i / around;
+      m.positions.push_back({std::cos(a), std::sin(a), length * j / along});
+    }
+  auto id = [&](int i, int j) { return static_cast<uint32_t>(j * around + (i % around)); };
+  for (int j = 0; j < along; ++j)
+    for (int i = 0; i < around; ++i) {
+      uint32_t q[4] = {id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)};
+      m.add_face(q);
+    }
+  std::vector<uint32_t> bottom, top;
+  for (int i = around - 1; i >= 0; --i) bottom.push_back(id(i, 0));
+  for (int i = 0; i < around; ++i) top.push_back(id(i, along));
+  m.add_face(bottom);
+  m.add_face(top);
+  return m;
+}
+
+PolygonMesh torus(int around, int along) {
+  PolygonMesh m;
+  for (int j = 0; j < along; ++j)
+    for (int i = 0; i < around; ++i) {
+      const double u = 2 * M_PI * i / around, v = 2 * M_PI * j / along;
+      m.positions.push_back(
+          {(2 + std::cos(u)) * std::cos(v), (2 + std::cos(u)) * std::sin(v), std::sin(u)});
+    }
+  auto id = [&](int i, int j) {
+    return static_cast<uint32_t>((j % along) * around + (i % around));
+  };
+  for (int j = 0; j < along; ++j)
+    for (int i = 0; i < around; ++i) {
+      uint32_t q[4] = {id(i, j), id(i, j + 1), id(i + 1, j + 1), id(i + 1, j)};
+      m.add_face(q);
+    }
+  return m;
+}
+
+namespace {
+void add_tetrahedron(PolygonMesh& m, Vec3 offset, uint32_t apex_id) {
+  const uint32_t base = static_cast<uint32_t>(m.positions.size());
+  for (Vec3 p : {Vec3{1, 1, 1}, Vec3{1, -1, -1}, Vec3{-1, 1, -1}, Vec3{-1, -1, 1}})
+    m.positions.push_back(p + offset);
+  uint32_t v[4] = {base, base + 1, base + 2, base + 3};
+  if (apex_id != UINT32_MAX) {  // reuse an existing vertex instead of v[0]
+    m.positions.erase(m.positions.begin() + base);
+    v[0] = apex_id, v[1] = base, v[2] = base + 1, v[3] = base + 2;
+  }
+  const Triangle faces[4] = {
+      {v[0], v[1], v[2]}, {v[0], v[3], v[1]}, {v[0], v[2], v[3]}, {v[1], v[3], v[2]}};
+  for (const Triangle& f : faces) m.add_face(f);
+}
+}  // namespace
+
+PolygonMesh two_tetrahedra() {
+  PolygonMesh m;
+  add_tetrahedron(m, {0, 0, 0}, UINT32_MAX);
+  add_tetrahedron(m, {5, 0, 0}, UINT32_MAX);
+  return m;
+}
+
+PolygonMesh pinched_tetrahedra() {
+  PolygonMesh m;
+  add_tetrahedron(m, {0, 0, 0}, UINT32_MAX);
+  add_tetrahedron(m, {2, 2, 2}, 0);
+  return m;
+}
+
+PolygonMesh reversed(PolygonMesh mesh) {
+  for (size_t f = 0; f < mesh.face_count(); ++f)
+    std::reverse(mesh.indices.begin() + mesh.offsets[f],
+                 mesh.indices.begin() + mesh.offsets[f + 1]);
+  return mesh;
+}
+
+PolygonMesh without_face(const PolygonMesh& mesh, size_t skip) {
+  PolygonMesh out;
+  out.positions = mesh.positions;
+  for (size_t f = 0; f < mesh.face_count(); ++f)
+    if (f != skip) out.add_face(mesh.face(f));
+  return out;
+}
+
+}  // namespace spheremap::testing

@@ -1,0 +1,84 @@
+// sphere_check: an independent judge of a spherical map written as OBJ. It shares no
+// code with the engine: it parses `v` and `f` lines itself, fan-triangulates faces, and
+// checks that every vertex is on the unit sphere, that no triangle is flipped against
+// the majority orientation, and that the signed spherical areas add up to 4 pi (a map
+// covering the sphere twice would add up to 8 pi). Exit 0 = bijective, 1 = not, 2 = bad
+// file. Prints one JSON line.
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+struct P {
+  double x, y, z;
+};
+
+static double det(const P& a, const P& b, const P& c) {
+  return a.x * (b.y * c.z - b.z * c.y) - a.y * (b.x * c.z - b.z * c.x) +
+         a.z * (b.x * c.y - b.y * c.x);
+}
+static double dotp(const P& a, const P& b) {
+  return a.x * b.x + a.y * b.y + a.z * b.z;
+}
+
+int main(int argc, char** argv) {
+  if (argc != 2) {
+    std::fprintf(stderr, "usage: sphere_check MAPPED.obj\n");
+    return 2;
+  }
+  std::ifstream in(argv[1]);
+  if (!in) {
+    std::fprintf(stderr, "sphere_check: cannot open %s\n", argv[1]);
+    return 2;
+  }
+  std::vector<P> v;
+  std::vector<std::vector<long>> faces;
+  std::string line;
+  while (std::getline(in, line)) {
+    std::istringstream s(line);
+    std::string key;
+    s >> key;
+    if (key == "v") {
+      P p{};
+      s >> p.x >> p.y >> p.z;
+      v.push_back(p);
+    } else if (key == "f") {
+      std::vector<long> f;
+      std::string corner;
+      while (s >> corner) f.push_back(std::stol(corner.substr(0, corner.find('/'))) - 1);
+      faces.push_back(f);
+    }
+  }
+  double max_radius_error = 0;
+  for (const P& p : v)
+    max_radius_error = std::fmax(max_radius_error, std::fabs(std::sqrt(dotp(p, p)) - 1));
+  long positive = 0, negative = 0, triangles = 0;
+  double area = 0;
+  for (const auto& f : faces) {
+    for (size_t k = 1; k + 1 < f.size(); ++k) {
+      for (long id : {f[0], f[k], f[k + 1]})
+        if (id < 0 || id >= static_cast<long>(v.size())) {
+          std::fprintf(stderr, "sphere_check: index out of range\n");
+          return 2;
+        }
+      const P &a = v[f[0]], &b = v[f[k]], &c = v[f[k + 1]];
+      const double d = det(a, b, c);
+      if (d > 0)
+        ++positive;
+      else
+        ++negative;  // zero counts against: a degenerate triangle is not a bijection
+      area += 2 * std::atan2(d, 1 + dotp(a, b) + dotp(b, c) + dotp(c, a));
+      ++triangles;
+    }
+  }
+  const long flipped = positive < negative ? positive : negative;
+  const bool bijective = triangles > 0 && flipped == 0 && max_radius_error < 1e-9 &&
+                         std::fabs(std::fabs(area) - 4 * M_PI) < 1e-6;
+  std::printf(
+      "{\"triangles\": %ld, \"flipped\": %ld, \"area_sum\": %.12f, \"max_radius_error\": %.3g, "
+      "\"bijective\": %s}\n",
+      triangles, flipped, area, max_radius_error, bijective ? "true" : "false");
+  return bijective ? 0 : 1;
+}
