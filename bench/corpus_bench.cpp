@@ -106,6 +106,7 @@ int main(int argc, char** argv) {
       if (paper) {
         options.method = Method::kPaper;
         options.smoothing.placement = OffsetPlacement::kPaper;
+        options.smoothing.limit_weight = 1.0;
         options.max_iterations = paper_cap;
         options.time_limit_seconds = paper_seconds;
       }

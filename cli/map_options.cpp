@@ -2,22 +2,11 @@
 
 namespace spheremap::cli {
 
-const std::set<std::string> kMapValueOptions = {"method",
-                                                "alpha",
-                                                "offset",
-                                                "offset-placement",
-                                                "presmooth",
-                                                "max-iterations",
-                                                "min-iterations",
-                                                "level-iterations",
-                                                "repair-iterations",
-                                                "safe-sweeps",
-                                                "time-limit",
-                                                "threads",
-                                                "weld-tolerance",
-                                                "sweep",
-                                                "start-vertices",
-                                                "smooth-vertices"};
+const std::set<std::string> kMapValueOptions = {
+    "method",         "alpha",          "offset",           "offset-placement",  "presmooth",
+    "max-iterations", "min-iterations", "level-iterations", "repair-iterations", "safe-steps",
+    "limit-weight",   "attempts",       "time-limit",       "threads",           "weld-tolerance",
+    "sweep",          "start-vertices", "smooth-vertices"};
 const std::set<std::string> kMapFlags = {"no-centroid"};
 
 const char* const kMapOptionsHelp = R"(Mapping options:
@@ -26,6 +15,10 @@ const char* const kMapOptionsHelp = R"(Mapping options:
                             may not reach 0 folds; for comparison)
   --alpha A                 limit-operator parameter in [0, 1] (default 0 = Catmull-Clark)
   --offset U                offset (momentum) weight u in [0, 0.5] (default 0.25)
+  --limit-weight W          weight of the A-step, X = P((1-W) Q + W A Q), in [0, 1] (default
+                            0.5 for coarse-to-fine: less squeezing of long limbs; 1 for paper)
+  --attempts N              coarse-to-fine: when a map still folds, retry up to N maps in all
+                            with other (limit weight, offset) settings (default 3)
   --offset-placement P      after: after the centroid move (default for coarse-to-fine; fewer
                             iterations, no stuck fixed points); paper: between the A-step and the
                             centroid move (default for --method paper)
@@ -38,7 +31,8 @@ const char* const kMapOptionsHelp = R"(Mapping options:
   --level-iterations N      coarse-to-fine: smoothing iterations per level before local
                             repair (default 40)
   --repair-iterations N     coarse-to-fine: local repair budget per level (default 2000)
-  --safe-sweeps N           coarse-to-fine: fold-safe sweeps of the fallback (default 10)
+  --safe-steps N            coarse-to-fine: fold-safe smoothing steps of the fallback
+                            (default 40)
   --start-vertices N        coarse-to-fine: start from the paper's projection on the largest
                             level of at most N vertices when it reaches 0 folds there, else
                             from a tetrahedron (default 1000; 0 = always the tetrahedron)
@@ -85,13 +79,18 @@ void read_map_options(const Arguments& args, PrepareOptions& prepare, MapOptions
       "level-iterations", static_cast<long long>(options.max_level_iterations), 0, 100000));
   options.max_repair_iterations = static_cast<size_t>(args.integer(
       "repair-iterations", static_cast<long long>(options.max_repair_iterations), 0, 10000000));
-  options.safe_sweeps =
-      static_cast<int>(args.integer("safe-sweeps", options.safe_sweeps, 0, 100000));
+  options.safe_steps = static_cast<size_t>(
+      args.integer("safe-steps", static_cast<long long>(options.safe_steps), 0, 100000));
   options.time_limit_seconds = args.number("time-limit", 0, 0, 1e9);
   options.smooth_min_vertices = static_cast<size_t>(args.integer(
       "smooth-vertices", static_cast<long long>(options.smooth_min_vertices), 0, 100000000));
   options.projected_start_vertices = static_cast<size_t>(args.integer(
       "start-vertices", static_cast<long long>(options.projected_start_vertices), 0, 100000000));
+  options.smoothing.limit_weight =
+      args.number("limit-weight",
+                  options.method == Method::kPaper ? 1.0 : options.smoothing.limit_weight, 0, 1);
+  options.attempts = static_cast<size_t>(
+      args.integer("attempts", static_cast<long long>(options.attempts), 1, 100));
   prepare.weld_tolerance = args.number("weld-tolerance", 0, 0, 1);
 }
 

@@ -54,7 +54,11 @@ class CoarseToFine {
     q_.resize(mesh.vertex_count());
   }
 
-  void run() {
+  // One attempt with the given smoothing; fills result_.sphere unless cancelled.
+  void run(const SmoothingOptions& smoothing) {
+    smoothing_ = smoothing;
+    result_.levels.clear();
+    result_.sphere.clear();
     const int levels = static_cast<int>(h_.level_sizes.size());
     int first = projected_start(levels);
     if (first == 0) {
@@ -96,7 +100,7 @@ class CoarseToFine {
   int projected_start(int levels) {
     int l = levels - 1;
     while (l > 0 && h_.level_sizes[l] > options_.projected_start_vertices) --l;
-    for (; l > 0 && h_.level_sizes[l] >= options_.smooth_min_vertices; --l) {
+    for (; l > 0 && (l + 1 == levels || h_.level_sizes[l] >= options_.smooth_min_vertices); --l) {
       if (session_.should_stop()) return 0;
       if (map_projected(l, levels)) return l;
     }
@@ -112,13 +116,12 @@ class CoarseToFine {
     for (uint32_t v = 0; v < n; ++v) x[v] = mesh_.positions[h_.new_to_old[v]];
     SparseMatrix A = finest ? fine_operator(mesh_, h_.old_to_new, options_.alpha)
                             : level_operator(triangles, n, options_.alpha);
-    std::vector<Vec3> q =
-        project_to_sphere(x, A, options_.presmooth_steps, options_.smoothing.threads);
+    std::vector<Vec3> q = project_to_sphere(x, A, options_.presmooth_steps, smoothing_.threads);
     size_t negative = 0;
     for (const Triangle& t : triangles) negative += triple_product(q[t[0]], q[t[1]], q[t[2]]) < 0;
     if (2 * negative > triangles.size())
       for (Vec3& p : q) p.x = -p.x;
-    LaiChengSmoother smoother(triangles, std::move(A), n, options_.smoothing);
+    LaiChengSmoother smoother(triangles, std::move(A), n, smoothing_);
     size_t folds = smoother.count_folds(q);
     size_t it = 0;
     MapProgress progress{.stage = "project", .level = l, .levels = levels - 1, .vertices = n};
@@ -170,7 +173,7 @@ class CoarseToFine {
         finest ? std::span<const Triangle>(fine_triangles_) : h_.level_triangles[l];
     SparseMatrix A = finest ? fine_operator(mesh_, h_.old_to_new, options_.alpha)
                             : level_operator(triangles, n, options_.alpha);
-    LaiChengSmoother smoother(triangles, std::move(A), n, options_.smoothing);
+    LaiChengSmoother smoother(triangles, std::move(A), n, smoothing_);
     std::span<Vec3> q(q_.data(), n);
 
     size_t folds = smoother.count_folds(q);
@@ -203,10 +206,23 @@ class CoarseToFine {
       result_.fine_iteration_equivalents += repair.vertex_updates / static_cast<double>(q_.size());
     }
     if (folds > 0 && !fold_free.empty()) {
+      // Fallback: from the last fold-free state, fold-safe steps spread the map as far as
+      // validity allows; plain smoothing from there usually settles without folds.
       progress.stage = "fallback";
       session_.report(progress);
       std::copy(fold_free.begin(), fold_free.end(), q.begin());
-      fold_safe_sweeps(smoother, q, options_.safe_sweeps);
+      fold_safe_steps(smoother, q, options_.safe_steps);
+      fold_free.assign(q.begin(), q.end());
+      folds = smoother.count_folds(q);
+      for (size_t k = 0; k < options_.max_level_iterations && !session_.should_stop(); ++k) {
+        folds = smoother.step(q);
+        ++report.iterations;
+        if (folds == 0)
+          fold_free.assign(q.begin(), q.end());
+        else if (k + 1 >= options_.min_level_iterations)
+          break;
+      }
+      if (folds > 0) std::copy(fold_free.begin(), fold_free.end(), q.begin());
       folds = smoother.count_folds(q);
       report.fallback = true;
     }
@@ -221,13 +237,41 @@ class CoarseToFine {
   CollapseHierarchy h_;
   std::vector<Triangle> fine_triangles_;
   std::vector<Vec3> q_;  // hierarchy ids
+  SmoothingOptions smoothing_;
 };
+
+// The smoothing of each attempt: the caller's first, then the other measured settings
+// of the A-step weight w and the offset u. Their order is the corpus's: (w, u) =
+// (0.5, 0.25) maps all but beast, (0.5, 0) maps beast (BENCHMARKS.md).
+std::vector<SmoothingOptions> attempt_plan(const SmoothingOptions& first, size_t attempts) {
+  std::vector<SmoothingOptions> plan{first};
+  const std::pair<double, double> alternatives[] = {
+      {0.5, 0.25}, {0.5, 0.0}, {1.0, 0.25}, {1.0, 0.0}};
+  for (auto [w, u] : alternatives) {
+    if (plan.size() >= attempts) break;
+    if (w == first.limit_weight && u == first.offset) continue;
+    SmoothingOptions next = first;
+    next.limit_weight = w, next.offset = u;
+    plan.push_back(next);
+  }
+  return plan;
+}
 
 }  // namespace
 
 void map_coarse_to_fine(const PolygonMesh& mesh, std::span<const Triangle> triangles,
                         const MapSession& session, MapResult& result) {
-  CoarseToFine(mesh, triangles, session, result).run();
+  CoarseToFine mapper(mesh, triangles, session, result);
+  const MapOptions& options = session.options();
+  for (const SmoothingOptions& smoothing :
+       attempt_plan(options.smoothing, std::max<size_t>(1, options.attempts))) {
+    ++result.attempts;
+    mapper.run(smoothing);
+    if (result.stop_reason == StopReason::kCancelled ||
+        result.stop_reason == StopReason::kTimeLimit)
+      return;
+    if (verify_map(result.sphere, triangles, mesh, result.inward).bijective) return;
+  }
 }
 
 }  // namespace spheremap

@@ -42,9 +42,12 @@ class CollapsibleMesh {
     }
   }
 
-  double min_edge_length2(uint32_t u, const std::vector<uint32_t>& ring) const {
+  // Squared length of u's shortest edge (every edge of u is in two of its triangles).
+  double min_edge_length2(uint32_t u) const {
     double best = INFINITY;
-    for (uint32_t w : ring) best = std::min(best, squared_norm(x_[w] - x_[u]));
+    for (uint32_t t : incident_[u])
+      for (uint32_t w : tris_[t])
+        if (w != u) best = std::min(best, squared_norm(x_[w] - x_[u]));
     return best;
   }
 
@@ -117,20 +120,19 @@ struct Collapse {
 
 // One round: an independent set of collapses (touched = u and its ring), vertices
 // taken in order of their shortest edge, each trying its ring shortest edge first.
+// `keys` caches each vertex's shortest squared edge; only vertices a collapse touched
+// need a new one, so the round refreshes those at its end.
 size_t collapse_round(CollapsibleMesh& mesh, std::span<const Vec3> x, bool geometric_test,
-                      std::vector<Collapse>& log) {
+                      std::vector<Collapse>& log, std::vector<char>& touched,
+                      std::vector<double>& keys) {
   const uint32_t n = static_cast<uint32_t>(x.size());
   std::vector<uint32_t> ring;
   std::vector<std::pair<double, uint32_t>> order;
   order.reserve(mesh.alive_vertices());
-  for (uint32_t u = 0; u < n; ++u) {
-    if (!mesh.alive(u)) continue;
-    mesh.ordered_ring(u, ring);
-    order.push_back({mesh.min_edge_length2(u, ring), u});
-  }
+  for (uint32_t u = 0; u < n; ++u)
+    if (mesh.alive(u)) order.push_back({keys[u], u});
   std::sort(order.begin(), order.end());
-
-  std::vector<char> touched(n, 0);
+  std::vector<uint32_t> touched_list;
   std::vector<std::pair<double, uint32_t>> candidates;
   size_t collapsed = 0;
   for (const auto& [key, u] : order) {
@@ -147,10 +149,15 @@ size_t collapse_round(CollapsibleMesh& mesh, std::span<const Vec3> x, bool geome
       log.push_back({u, v, ring});
       mesh.collapse(u, v);
       touched[u] = 1;
-      for (uint32_t w : ring) touched[w] = 1;
+      touched_list.push_back(u);
+      for (uint32_t w : ring) touched[w] = 1, touched_list.push_back(w);
       ++collapsed;
       break;
     }
+  }
+  for (uint32_t w : touched_list) {
+    touched[w] = 0;
+    if (mesh.alive(w)) keys[w] = mesh.min_edge_length2(w);
   }
   return collapsed;
 }
@@ -173,8 +180,11 @@ CollapseHierarchy build_hierarchy(std::span<const Vec3> positions,
   std::vector<std::vector<Triangle>> snapshots;  // input ids, finest first
   std::vector<uint32_t> sizes{static_cast<uint32_t>(n)};
   bool geometric_test = true;
+  std::vector<char> touched(n, 0);
+  std::vector<double> keys(n);
+  for (uint32_t u = 0; u < n; ++u) keys[u] = mesh.min_edge_length2(u);
   while (mesh.alive_vertices() > 4) {
-    const size_t collapsed = collapse_round(mesh, positions, geometric_test, log);
+    const size_t collapsed = collapse_round(mesh, positions, geometric_test, log, touched, keys);
     if (collapsed == 0) {
       if (!geometric_test) throw std::runtime_error("hierarchy: no collapsible edge left");
       geometric_test = false;

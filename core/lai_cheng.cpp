@@ -42,7 +42,9 @@ void LaiChengSmoother::smooth(std::span<Vec3> q, const Indices& vertices,
   Vec3* x = work_.data();
   parallel_for(vertices.size(), threads_, [&](size_t k) {
     const uint32_t i = vertices[k];
-    Vec3 xi = normalized_or(A_.row_times(i, q), q[i]);
+    const double w = options_.limit_weight;
+    Vec3 xi = normalized_or(w == 1.0 ? A_.row_times(i, q) : (1 - w) * q[i] + w * A_.row_times(i, q),
+                            q[i]);
     if (paper_order && u != 0) xi = normalized_or(xi + u * (xi - q[i]), xi);
     x[i] = xi;
   });

@@ -25,4 +25,24 @@ MapCheck check_map(std::span<const Vec3> sphere, std::span<const Triangle> trian
   return check;
 }
 
+MapCheck verify_map(std::span<const Vec3> sphere, std::span<const Triangle> triangles,
+                    const PolygonMesh& mesh, bool inward) {
+  MapCheck check = check_map(sphere, triangles);
+  for (size_t f = 0; f < mesh.face_count(); ++f) {
+    auto face = mesh.face(f);
+    const size_t d = face.size();
+    if (d < 4) continue;
+    for (size_t k = 0; k < d; ++k) {
+      const Vec3& prev = sphere[face[(k + d - 1) % d]];
+      const Vec3& next = sphere[face[(k + 1) % d]];
+      const Vec3& at = sphere[face[k]];
+      if (!(inward ? is_valid_triangle(next, at, prev) : is_valid_triangle(prev, at, next))) {
+        ++check.nonconvex_polygons;
+        break;
+      }
+    }
+  }
+  return check;
+}
+
 }  // namespace spheremap

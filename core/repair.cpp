@@ -67,6 +67,51 @@ RepairStats local_repair(LaiChengSmoother& smoother, std::span<Vec3> q, size_t f
   return stats;
 }
 
+size_t fold_safe_steps(LaiChengSmoother& smoother, std::span<Vec3> q, size_t steps) {
+  constexpr int kMaxHalvings = 12;
+  const auto tris = smoother.triangles();
+  const auto& vt = smoother.vertex_triangles();
+  const size_t n = smoother.vertex_count();
+  std::vector<char> was_valid(tris.size()), marked(n, 0);
+  std::vector<uint8_t> halvings(n);
+  std::vector<Vec3> previous(n), target(n);
+  std::vector<uint32_t> moved, candidates;
+  auto valid = [&](uint32_t t) { return smoother.triangle_valid(q, t); };
+  size_t folds = 0;
+  for (size_t step = 0; step < steps; ++step) {
+    for (uint32_t t = 0; t < tris.size(); ++t) was_valid[t] = valid(t);
+    std::copy(q.begin(), q.end(), previous.begin());
+    smoother.step(q);
+    std::copy(q.begin(), q.end(), target.begin());
+    std::fill(halvings.begin(), halvings.end(), 0);
+    // Rounds: mark moved corners of newly invalid triangles, shorten all marked moves at
+    // once (order-independent: deterministic). A corner back at its old position is never
+    // marked, and a triangle valid with all corners there is valid again: rounds end.
+    auto mark = [&](uint32_t t) {
+      if (!was_valid[t] || valid(t)) return;
+      for (uint32_t v : tris[t])
+        if (!(q[v] == previous[v]) && !marked[v]) marked[v] = 1, moved.push_back(v);
+    };
+    moved.clear();
+    for (uint32_t t = 0; t < tris.size(); ++t) mark(t);
+    while (!moved.empty()) {
+      for (uint32_t v : moved) {
+        marked[v] = 0;
+        const int h = ++halvings[v];
+        const Vec3 partial = previous[v] + std::ldexp(1.0, -h) * (target[v] - previous[v]);
+        q[v] = h > kMaxHalvings ? previous[v] : normalized_or(partial, previous[v]);
+      }
+      candidates.clear();
+      for (uint32_t v : moved)
+        for (uint32_t t : vt.of(v)) candidates.push_back(t);
+      moved.clear();
+      for (uint32_t t : candidates) mark(t);
+    }
+  }
+  for (uint32_t t = 0; t < tris.size(); ++t) folds += !valid(t);
+  return folds;
+}
+
 void fold_safe_sweeps(const LaiChengSmoother& smoother, std::span<Vec3> q, int sweeps) {
   const auto tris = smoother.triangles();
   const auto& vt = smoother.vertex_triangles();

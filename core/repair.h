@@ -20,6 +20,12 @@ struct RepairStats {
 RepairStats local_repair(LaiChengSmoother& smoother, std::span<Vec3> q, size_t folds,
                          size_t max_iterations, const std::function<bool()>& should_stop);
 
+// Fold-safe smoothing steps: the Lai-Cheng step for every vertex, then every vertex whose
+// move invalidated a triangle that was valid backs off (half steps, up to 12, then stays),
+// so a fold-free map stays fold-free while moving as far toward the smoothed map as it
+// can. Returns the folds left (only those the map had before).
+size_t fold_safe_steps(LaiChengSmoother& smoother, std::span<Vec3> q, size_t steps);
+
 // Fold-safe Gauss-Seidel sweeps: each vertex moves toward its smoothed position only as
 // far as keeps all its triangles valid (step halved up to 4 times, else not moved), so
 // a fold-free map stays fold-free. Serial, in vertex order: deterministic.

@@ -49,7 +49,7 @@ MapResult map_to_sphere(const PolygonMesh& mesh, const MapOptions& options,
 
   session.report({.stage = "verify"});
   const double verify_start = session.elapsed();
-  result.check = check_map(result.sphere, oriented.triangles);
+  result.check = verify_map(result.sphere, oriented.triangles, mesh, oriented.inward);
   result.verify_seconds = session.elapsed() - verify_start;
   if (result.check.bijective)
     result.stop_reason = StopReason::kBijective;

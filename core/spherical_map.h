@@ -33,11 +33,12 @@ struct MapOptions {
   size_t min_level_iterations = 10;        // both: iterations before a 0-fold stop
   size_t max_level_iterations = 40;        // coarse-to-fine: per level before local repair
   size_t max_repair_iterations = 2000;     // coarse-to-fine: local repair budget per level
-  int safe_sweeps = 10;                    // coarse-to-fine: fold-safe fallback sweeps
+  size_t safe_steps = 40;                  // coarse-to-fine: fold-safe steps of the fallback
   size_t smooth_min_vertices = 50;         // coarse-to-fine: smaller levels are only inserted
   size_t projected_start_vertices = 1000;  // coarse-to-fine: start level size (0 = tetrahedron)
   size_t projected_start_iterations = 1000;  // coarse-to-fine: smoothing budget of that start
-  double time_limit_seconds = 0;             // 0 = none
+  size_t attempts = 3;  // coarse-to-fine: tries with other smoothing settings when a map folds
+  double time_limit_seconds = 0;  // 0 = none
 };
 
 struct MapProgress {
@@ -72,7 +73,8 @@ struct MapResult {
   std::vector<Vec3> sphere;  // per mesh vertex; empty when cancelled
   MapCheck check;
   StopReason stop_reason = StopReason::kFoldsRemain;
-  size_t iterations = 0;                  // smoothing iterations, all levels
+  size_t attempts = 0;                    // coarse-to-fine: maps tried (1 = the first succeeded)
+  size_t iterations = 0;                  // smoothing iterations, all levels and attempts
   double fine_iteration_equivalents = 0;  // sum of iterations x level size / vertex count
   std::vector<LevelReport> levels;        // coarse to fine
   size_t hierarchy_rounds = 0;

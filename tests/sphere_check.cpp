@@ -1,9 +1,11 @@
 // sphere_check: an independent judge of a spherical map written as OBJ. It shares no
-// code with the engine: it parses `v` and `f` lines itself, fan-triangulates faces, and
-// checks that every vertex is on the unit sphere, that no triangle is flipped against
-// the majority orientation, and that the signed spherical areas add up to 4 pi (a map
-// covering the sphere twice would add up to 8 pi). Exit 0 = bijective, 1 = not, 2 = bad
-// file. Prints one JSON line.
+// code with the engine: it parses `v` and `f` lines itself and checks that every vertex
+// is on the unit sphere, that no face is flipped against the majority orientation (a
+// face's signed spherical area, which does not depend on how it is triangulated), and
+// that the signed areas add up to 4 pi (a map covering the sphere twice adds up to 8 pi).
+// It also reports, for information, the triangles flipped when polygons are fanned
+// from their first corner (a non-convex spherical polygon). Exit 0 = bijective, 1 = not,
+// 2 = bad file. Prints one JSON line.
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -54,9 +56,10 @@ int main(int argc, char** argv) {
   double max_radius_error = 0;
   for (const P& p : v)
     max_radius_error = std::fmax(max_radius_error, std::fabs(std::sqrt(dotp(p, p)) - 1));
-  long positive = 0, negative = 0, triangles = 0;
+  long positive = 0, negative = 0, fan_positive = 0, fan_negative = 0, triangles = 0;
   double area = 0;
   for (const auto& f : faces) {
+    double face_area = 0;
     for (size_t k = 1; k + 1 < f.size(); ++k) {
       for (long id : {f[0], f[k], f[k + 1]})
         if (id < 0 || id >= static_cast<long>(v.size())) {
@@ -65,20 +68,24 @@ int main(int argc, char** argv) {
         }
       const P &a = v[f[0]], &b = v[f[k]], &c = v[f[k + 1]];
       const double d = det(a, b, c);
-      if (d > 0)
-        ++positive;
-      else
-        ++negative;  // zero counts against: a degenerate triangle is not a bijection
-      area += 2 * std::atan2(d, 1 + dotp(a, b) + dotp(b, c) + dotp(c, a));
+      (d > 0 ? fan_positive : fan_negative) += 1;
+      face_area += 2 * std::atan2(d, 1 + dotp(a, b) + dotp(b, c) + dotp(c, a));
       ++triangles;
     }
+    // A triangle's sign is its determinant's; zero counts against (not a bijection).
+    const bool face_positive = f.size() == 3 ? det(v[f[0]], v[f[1]], v[f[2]]) > 0 : face_area > 0;
+    (face_positive ? positive : negative) += 1;
+    area += face_area;
   }
   const long flipped = positive < negative ? positive : negative;
+  const long fan_flipped = fan_positive < fan_negative ? fan_positive : fan_negative;
   const bool bijective = triangles > 0 && flipped == 0 && max_radius_error < 1e-9 &&
                          std::fabs(std::fabs(area) - 4 * M_PI) < 1e-6;
   std::printf(
-      "{\"triangles\": %ld, \"flipped\": %ld, \"area_sum\": %.12f, \"max_radius_error\": %.3g, "
+      "{\"faces\": %zu, \"triangles\": %ld, \"flipped_faces\": %ld, "
+      "\"first_corner_fan_flips\": %ld, \"area_sum\": %.12f, \"max_radius_error\": %.3g, "
       "\"bijective\": %s}\n",
-      triangles, flipped, area, max_radius_error, bijective ? "true" : "false");
+      faces.size(), triangles, flipped, fan_flipped, area, max_radius_error,
+      bijective ? "true" : "false");
   return bijective ? 0 : 1;
 }

@@ -136,6 +136,7 @@ TEST(SphericalMap, PaperMethodReportsIterationLimitHonestly) {
   MapOptions options;
   options.method = Method::kPaper;
   options.smoothing.placement = OffsetPlacement::kPaper;
+  options.smoothing.limit_weight = 1.0;
   options.max_iterations = 300;
   const MappedMesh m = map_default(read_mesh_file(testing::corpus_path("knight.obj")), options);
   EXPECT_FALSE(m.map.check.bijective);
@@ -150,6 +151,7 @@ TEST(SphericalMap, PaperMethodReproducesThePrototypeOnSpot) {
   MapOptions options;
   options.method = Method::kPaper;
   options.smoothing.placement = OffsetPlacement::kPaper;
+  options.smoothing.limit_weight = 1.0;
   EXPECT_EQ(map_default(spot, options).map.iterations, 367u);
   options.smoothing.placement = OffsetPlacement::kAfterCentroid;
   EXPECT_EQ(map_default(spot, options).map.iterations, 295u);
