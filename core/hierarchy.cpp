@@ -23,6 +23,14 @@ class CollapsibleMesh {
   size_t alive_vertices() const { return alive_vertices_; }
   bool alive(uint32_t v) const { return !incident_[v].empty(); }
 
+  // Whether u or any vertex of its ring is flagged (no ring ordering needed).
+  bool star_touched(uint32_t u, const std::vector<char>& flags) const {
+    for (uint32_t t : incident_[u])
+      for (uint32_t w : tris_[t])
+        if (flags[w]) return true;
+    return false;
+  }
+
   // The ring of u as an oriented cycle: star triangles are (u, r_i, r_i+1).
   void ordered_ring(uint32_t u, std::vector<uint32_t>& ring) const {
     ring.clear();
@@ -137,9 +145,8 @@ size_t collapse_round(CollapsibleMesh& mesh, std::span<const Vec3> x, bool geome
   size_t collapsed = 0;
   for (const auto& [key, u] : order) {
     if (mesh.alive_vertices() <= 4) break;
-    if (touched[u]) continue;
+    if (mesh.star_touched(u, touched)) continue;
     mesh.ordered_ring(u, ring);
-    if (std::any_of(ring.begin(), ring.end(), [&](uint32_t w) { return touched[w]; })) continue;
     candidates.clear();
     for (uint32_t w : ring) candidates.push_back({squared_norm(x[w] - x[u]), w});
     std::sort(candidates.begin(), candidates.end());
@@ -155,8 +162,12 @@ size_t collapse_round(CollapsibleMesh& mesh, std::span<const Vec3> x, bool geome
       break;
     }
   }
-  for (uint32_t w : touched_list) {
-    touched[w] = 0;
+  for (uint32_t w : touched_list) touched[w] = 0;
+  // Keys of the touched vertices, in parallel (each writes its own).
+  const long long count = static_cast<long long>(touched_list.size());
+#pragma omp parallel for schedule(static) if (count > 20000)
+  for (long long k = 0; k < count; ++k) {
+    const uint32_t w = touched_list[static_cast<size_t>(k)];
     if (mesh.alive(w)) keys[w] = mesh.min_edge_length2(w);
   }
   return collapsed;

@@ -52,7 +52,7 @@ void LaiChengSmoother::smooth(std::span<Vec3> q, const Indices& vertices,
     parallel_for(tris.size(), threads_, [&](size_t k) {
       const uint32_t t = tris[k];
       const Vec3 &a = x[triangles_[t][0]], &b = x[triangles_[t][1]], &c = x[triangles_[t][2]];
-      const double area = std::abs(spherical_area(a, b, c));
+      const double area = unsigned_area_weight(a, b, c);
       const Vec3 centroid = normalized_or(a + b + c, Vec3{});
       weighted_centroids_[t] = std::isfinite(area) ? area * centroid : Vec3{};
     });

@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "core/metrics.h"
+#include "core/sphere_geometry.h"
 #include "core/spherical_map.h"
 #include "tests/mesh_generators.h"
 
@@ -43,6 +44,26 @@ TEST(Metrics, FoldedTrianglesAreSkippedNotNaN) {
   EXPECT_GT(m.skipped_triangles, 0u);
   EXPECT_TRUE(std::isfinite(m.dilatation.mean));
   EXPECT_TRUE(std::isfinite(m.area_log_ratio.max));
+}
+
+}  // namespace
+}  // namespace spheremap
+
+namespace spheremap {
+namespace {
+
+TEST(SphereGeometry, AreaWeightMatchesSphericalAreaAtEveryScale) {
+  const Vec3 a = normalized_or({1, 0, 0}, {}), b0 = normalized_or({1, 1, 0}, {}),
+             c0 = normalized_or({1, 0, 1}, {});
+  for (double s : {1.0, 0.5, 0.1, 1e-3, 1e-6, 1e-9}) {
+    const Vec3 b = normalized_or(a + s * (b0 - a), a), c = normalized_or(a + s * (c0 - a), a);
+    const double exact = std::abs(spherical_area(a, b, c));
+    EXPECT_NEAR(unsigned_area_weight(a, b, c), exact, 2e-8 * exact) << "scale " << s;
+    EXPECT_NEAR(unsigned_area_weight(a, c, b), exact, 2e-8 * exact) << "reversed, scale " << s;
+  }
+  // Larger than a hemisphere's worth of angle: the atan2 path.
+  const Vec3 p{1, 0, 0}, q{0, 1, 0}, r{0, 0, 1};
+  EXPECT_NEAR(unsigned_area_weight(p, q, r), M_PI / 2, 1e-15);
 }
 
 }  // namespace
