@@ -17,8 +17,9 @@ const char* const kMapOptionsHelp = R"(Mapping options:
   --offset U                offset (momentum) weight u in [0, 0.5] (default 0.25)
   --limit-weight W          weight of the A-step, X = P((1-W) Q + W A Q), in [0, 1] (default
                             0.5 for coarse-to-fine: less squeezing of long limbs; 1 for paper)
-  --attempts N              coarse-to-fine: when a map still folds, retry up to N maps in all
-                            with other (limit weight, offset) settings (default 3)
+  --attempts N              coarse-to-fine: when a map still folds, retry up to N maps in all:
+                            the 4 measured (limit weight, offset) settings, then the same in
+                            the input's own vertex order (default 8)
   --offset-placement P      after: after the centroid move (default for coarse-to-fine; fewer
                             iterations, no stuck fixed points); paper: between the A-step and the
                             centroid move (default for --method paper)
