@@ -55,7 +55,10 @@ class CoarseToFine {
   }
 
   // One attempt with the given smoothing; fills result_.sphere unless cancelled.
-  void run(const SmoothingOptions& smoothing) {
+  // When give_up_on_folds, an attempt stops at the first level below the finest that
+  // ends folded: its insertions fail around the folds and the finer levels rarely
+  // recover, so another attempt is cheaper than finishing this one.
+  void run(const SmoothingOptions& smoothing, bool give_up_on_folds) {
     smoothing_ = smoothing;
     result_.levels.clear();
     result_.sphere.clear();
@@ -80,6 +83,11 @@ class CoarseToFine {
         insert_level(l, result_.levels.emplace_back());
       else
         map_level(l, levels);
+      if (give_up_on_folds && l + 1 < levels && result_.levels.back().folds > 0) {
+        result_.stop_reason = StopReason::kFoldsRemain;
+        result_.sphere.clear();
+        return;
+      }
     }
     result_.mapping_seconds = session_.elapsed() - result_.hierarchy_seconds;
     if (session_.cancelled()) {
@@ -263,14 +271,17 @@ void map_coarse_to_fine(const PolygonMesh& mesh, std::span<const Triangle> trian
                         const MapSession& session, MapResult& result) {
   CoarseToFine mapper(mesh, triangles, session, result);
   const MapOptions& options = session.options();
-  for (const SmoothingOptions& smoothing :
-       attempt_plan(options.smoothing, std::max<size_t>(1, options.attempts))) {
+  const size_t budget = std::max<size_t>(1, options.attempts);
+  for (const SmoothingOptions& smoothing : attempt_plan(options.smoothing, budget)) {
     ++result.attempts;
-    mapper.run(smoothing);
+    // The last attempt the budget allows runs to the end, so the caller gets a full map.
+    mapper.run(smoothing, result.attempts < budget);
     if (result.stop_reason == StopReason::kCancelled ||
         result.stop_reason == StopReason::kTimeLimit)
       return;
-    if (verify_map(result.sphere, triangles, mesh, result.inward).bijective) return;
+    if (!result.sphere.empty() &&
+        verify_map(result.sphere, triangles, mesh, result.inward).bijective)
+      return;
   }
 }
 
