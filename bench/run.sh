@@ -4,7 +4,7 @@
 # Usage: bench/run.sh [corpus dir] [paper iteration cap]
 set -euo pipefail
 cd "$(dirname "$0")/.."
-corpus=${1:-../shared/meshes}
+corpus=$(realpath "${1:-../shared/meshes}")
 cap=${2:-5000}
 scripts/build.sh > /dev/null
 echo "Machine: $(nproc) cores, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | xargs), $(free -g | awk '/Mem/{print $2}') GiB; $(date -u +%Y-%m-%d)"
@@ -15,4 +15,12 @@ for m in box spot_control cylinder knight horse_quad spot_quad duck spot chebura
          armadillo horse scorpion igea; do
   [ -f "$corpus/$m.obj" ] && meshes+=("$corpus/$m.obj")
 done
-build/bench/corpus_bench --paper-cap "$cap" "${meshes[@]}"
+# igea_loop1 ships as Draco only: decode it once to OBJ with the npm helper beside this file.
+loop1=build/igea_loop1.obj
+if [ -f "$corpus/igea_loop1.draco.glb" ] && [ ! -f "$loop1" ] && command -v npm > /dev/null; then
+  (cd bench/draco-to-obj && npm install --no-audit --no-fund --loglevel=error > /dev/null &&
+   node draco-to-obj.mjs "$corpus/igea_loop1.draco.glb" "../../$loop1") ||
+    echo "could not decode igea_loop1 (npm); skipped"
+fi
+[ -f "$loop1" ] && meshes+=("$loop1")
+build/bench/corpus_bench --paper-cap "$cap" --paper-seconds 60 "${meshes[@]}"

@@ -34,6 +34,8 @@ const char* const kMapOptionsHelp = R"(Mapping options:
   --repair-iterations N     coarse-to-fine: local repair budget per level (default 2000)
   --safe-steps N            coarse-to-fine: fold-safe smoothing steps of the fallback
                             (default 40)
+  --direct-iterations N     coarse-to-fine: first try the paper's map of the whole mesh with
+                            this many iterations, kept when bijective (default 40; 0 = skip)
   --start-vertices N        coarse-to-fine: start from the paper's projection on the largest
                             level of at most N vertices when it reaches 0 folds there, else
                             from a tetrahedron (default 1000; 0 = always the tetrahedron)
@@ -90,6 +92,8 @@ void read_map_options(const Arguments& args, PrepareOptions& prepare, MapOptions
   options.smoothing.limit_weight =
       args.number("limit-weight",
                   options.method == Method::kPaper ? 1.0 : options.smoothing.limit_weight, 0, 1);
+  options.direct_iterations = static_cast<size_t>(args.integer(
+      "direct-iterations", static_cast<long long>(options.direct_iterations), 0, 100000));
   options.attempts = static_cast<size_t>(
       args.integer("attempts", static_cast<long long>(options.attempts), 1, 100));
   prepare.weld_tolerance = args.number("weld-tolerance", 0, 0, 1);

@@ -10,7 +10,7 @@
 #include "core/limit_operator.h"
 #include "core/map_check.h"
 #include "core/map_session.h"
-#include "core/projection.h"
+#include "core/projected_map.h"
 #include "core/repair.h"
 #include "core/sphere_geometry.h"
 
@@ -124,35 +124,17 @@ class CoarseToFine {
     for (uint32_t v = 0; v < n; ++v) x[v] = mesh_.positions[h_.new_to_old[v]];
     SparseMatrix A = finest ? fine_operator(mesh_, h_.old_to_new, options_.alpha)
                             : level_operator(triangles, n, options_.alpha);
-    std::vector<Vec3> q = project_to_sphere(x, A, options_.presmooth_steps, smoothing_.threads);
-    size_t negative = 0;
-    for (const Triangle& t : triangles) negative += triple_product(q[t[0]], q[t[1]], q[t[2]]) < 0;
-    if (2 * negative > triangles.size())
-      for (Vec3& p : q) p.x = -p.x;
-    LaiChengSmoother smoother(triangles, std::move(A), n, smoothing_);
-    size_t folds = smoother.count_folds(q);
-    size_t it = 0;
-    MapProgress progress{.stage = "project", .level = l, .levels = levels - 1, .vertices = n};
-    for (; it < options_.projected_start_iterations &&
-           !(folds == 0 && it >= options_.min_level_iterations) && !session_.should_stop();
-         ++it) {
-      folds = smoother.step(q);
-      progress.iteration = it + 1, progress.folds = folds;
-      session_.report(progress);
-    }
-    RepairStats repair;
-    if (folds > 0)
-      repair = local_repair(smoother, q, folds, options_.max_repair_iterations,
-                            [&] { return session_.should_stop(); });
-    result_.iterations += it + repair.iterations;
-    result_.fine_iteration_equivalents +=
-        static_cast<double>(it * n + repair.vertex_updates) / static_cast<double>(q_.size());
-    if (folds > 0 && repair.folds > 0) return false;
-    std::copy(q.begin(), q.end(), q_.begin());
+    const ProjectedMap start = projected_map(
+        x, triangles, std::move(A), smoothing_, {.iterations = options_.projected_start_iterations},
+        session_, {.stage = "project", .level = l, .levels = levels - 1, .vertices = n});
+    count_work(start.iterations, n);
+    count_repair(start.repair);
+    if (start.folds > 0) return false;
+    std::copy(start.sphere.begin(), start.sphere.end(), q_.begin());
     result_.levels.push_back({.vertices = n,
-                              .iterations = it,
-                              .repair_iterations = repair.iterations,
-                              .min_area = check_map(q, triangles).min_signed_area});
+                              .iterations = start.iterations,
+                              .repair_iterations = start.repair.iterations,
+                              .min_area = check_map(start.sphere, triangles).min_signed_area});
     return true;
   }
 
@@ -199,9 +181,7 @@ class CoarseToFine {
       session_.report(progress);
     }
     report.iterations = it;
-    result_.iterations += it;
-    result_.fine_iteration_equivalents +=
-        static_cast<double>(it * n) / static_cast<double>(q_.size());
+    count_work(it, n);
 
     if (folds > 0) {
       progress.stage = "repair";
@@ -210,32 +190,47 @@ class CoarseToFine {
                                         [&] { return session_.should_stop(); });
       folds = repair.folds;
       report.repair_iterations = repair.iterations;
-      result_.iterations += repair.iterations;
-      result_.fine_iteration_equivalents += repair.vertex_updates / static_cast<double>(q_.size());
+      count_repair(repair);
     }
     if (folds > 0 && !fold_free.empty()) {
-      // Fallback: from the last fold-free state, fold-safe steps spread the map as far as
-      // validity allows; plain smoothing from there usually settles without folds.
       progress.stage = "fallback";
       session_.report(progress);
-      std::copy(fold_free.begin(), fold_free.end(), q.begin());
-      fold_safe_steps(smoother, q, options_.safe_steps);
-      fold_free.assign(q.begin(), q.end());
-      folds = smoother.count_folds(q);
-      for (size_t k = 0; k < options_.max_level_iterations && !session_.should_stop(); ++k) {
-        folds = smoother.step(q);
-        ++report.iterations;
-        if (folds == 0)
-          fold_free.assign(q.begin(), q.end());
-        else if (k + 1 >= options_.min_level_iterations)
-          break;
-      }
-      if (folds > 0) std::copy(fold_free.begin(), fold_free.end(), q.begin());
-      folds = smoother.count_folds(q);
-      report.fallback = true;
+      folds = fall_back(smoother, q, fold_free, report);
     }
     report.folds = folds;
     report.min_area = check_map(q, triangles).min_signed_area;
+  }
+
+  // From the last fold-free state: fold-safe steps spread the map as far as validity
+  // allows, then plain smoothing, kept while it stays fold-free. Returns the folds left
+  // (0: the fold-free state is restored otherwise).
+  size_t fall_back(LaiChengSmoother& smoother, std::span<Vec3> q, std::vector<Vec3>& fold_free,
+                   LevelReport& report) {
+    report.fallback = true;
+    std::copy(fold_free.begin(), fold_free.end(), q.begin());
+    fold_safe_steps(smoother, q, options_.safe_steps);
+    count_work(options_.safe_steps, q.size());
+    fold_free.assign(q.begin(), q.end());
+    for (size_t k = 0; k < options_.max_level_iterations && !session_.should_stop(); ++k) {
+      ++report.iterations;
+      count_work(1, q.size());
+      if (smoother.step(q) > 0) break;
+      fold_free.assign(q.begin(), q.end());
+    }
+    std::copy(fold_free.begin(), fold_free.end(), q.begin());
+    return smoother.count_folds(q);
+  }
+
+  // Iterations on a level of n vertices, in the totals and in fine-mesh equivalents.
+  void count_work(size_t iterations, size_t n) {
+    result_.iterations += iterations;
+    result_.fine_iteration_equivalents +=
+        static_cast<double>(iterations * n) / static_cast<double>(q_.size());
+  }
+
+  void count_repair(const RepairStats& repair) {
+    result_.iterations += repair.iterations;
+    result_.fine_iteration_equivalents += repair.vertex_updates / static_cast<double>(q_.size());
   }
 
   const PolygonMesh& mesh_;
@@ -267,8 +262,39 @@ std::vector<SmoothingOptions> attempt_plan(const SmoothingOptions& first, size_t
 
 }  // namespace
 
+// The paper's map of the whole mesh with a small budget, before any hierarchy: smooth,
+// star-shaped shapes (igea: 10 iterations) need nothing more. Gives up after 10
+// iterations when over 0.5% of the triangles are folded. True if it mapped the mesh.
+bool map_directly(const PolygonMesh& mesh, std::span<const Triangle> triangles,
+                  const MapSession& session, MapResult& result) {
+  const MapOptions& options = session.options();
+  if (options.direct_iterations == 0) return false;
+  const ProjectedMapBudget budget{.iterations = options.direct_iterations,
+                                  .repair = true,
+                                  .probe_iterations = options.min_level_iterations,
+                                  .max_fold_share = 0.005};
+  ProjectedMap direct = projected_map(
+      mesh.positions, triangles, limit_operator(mesh, options.alpha), options.smoothing, budget,
+      session, {.stage = "project", .level = 1, .levels = 1, .vertices = mesh.vertex_count()});
+  result.iterations += direct.iterations + direct.repair.iterations;
+  result.fine_iteration_equivalents +=
+      static_cast<double>(direct.iterations) +
+      direct.repair.vertex_updates / static_cast<double>(mesh.vertex_count());
+  if (direct.folds > 0 || !verify_map(direct.sphere, triangles, mesh, result.inward).bijective)
+    return false;
+  result.levels.push_back({.vertices = mesh.vertex_count(),
+                           .iterations = direct.iterations,
+                           .repair_iterations = direct.repair.iterations,
+                           .min_area = check_map(direct.sphere, triangles).min_signed_area});
+  result.sphere = std::move(direct.sphere);
+  result.mapping_seconds = session.elapsed();
+  result.attempts = 1;
+  return true;
+}
+
 void map_coarse_to_fine(const PolygonMesh& mesh, std::span<const Triangle> triangles,
                         const MapSession& session, MapResult& result) {
+  if (map_directly(mesh, triangles, session, result)) return;
   CoarseToFine mapper(mesh, triangles, session, result);
   const MapOptions& options = session.options();
   const size_t budget = std::max<size_t>(1, options.attempts);

@@ -4,6 +4,7 @@
 
 #include "core/limit_operator.h"
 #include "core/map_session.h"
+#include "core/projected_map.h"
 #include "core/projection.h"
 #include "core/sphere_geometry.h"
 
@@ -16,12 +17,7 @@ void map_paper(const PolygonMesh& mesh, std::span<const Triangle> triangles,
   std::vector<Vec3> q =
       project_to_sphere(mesh.positions, A, options.presmooth_steps, options.smoothing.threads);
 
-  // Orientation from the majority after projection (§B1); mirror if it is negative.
-  size_t negative = 0;
-  for (const Triangle& t : triangles)
-    negative += triple_product(q[t[0]], q[t[1]], q[t[2]]) < 0 ? 1 : 0;
-  if (2 * negative > triangles.size())
-    for (Vec3& p : q) p.x = -p.x;
+  orient_by_majority(q, triangles);
 
   LaiChengSmoother smoother(triangles, std::move(A), q.size(), options.smoothing);
   size_t folds = smoother.count_folds(q);

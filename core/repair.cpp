@@ -112,39 +112,4 @@ size_t fold_safe_steps(LaiChengSmoother& smoother, std::span<Vec3> q, size_t ste
   return folds;
 }
 
-void fold_safe_sweeps(const LaiChengSmoother& smoother, std::span<Vec3> q, int sweeps) {
-  const auto tris = smoother.triangles();
-  const auto& vt = smoother.vertex_triangles();
-  const SparseMatrix& A = smoother.operator_A();
-  auto corner = [&](uint32_t t, int k, uint32_t i, const Vec3& p) -> const Vec3& {
-    return tris[t][k] == i ? p : q[tris[t][k]];
-  };
-  auto all_valid_at = [&](uint32_t i, const Vec3& p) {
-    for (uint32_t t : vt.of(i))
-      if (!is_valid_triangle(corner(t, 0, i, p), corner(t, 1, i, p), corner(t, 2, i, p)))
-        return false;
-    return true;
-  };
-  for (int sweep = 0; sweep < sweeps; ++sweep) {
-    for (uint32_t i = 0; i < smoother.vertex_count(); ++i) {
-      const Vec3 smoothed = normalized_or(A.row_times(i, q), q[i]);
-      Vec3 sum;
-      for (uint32_t t : vt.of(i)) {
-        const Vec3 &a = corner(t, 0, i, smoothed), &b = corner(t, 1, i, smoothed),
-                   &c = corner(t, 2, i, smoothed);
-        const double area = std::abs(spherical_area(a, b, c));
-        if (std::isfinite(area)) sum += area * normalized_or(a + b + c, Vec3{});
-      }
-      const Vec3 target = normalized_or(sum, smoothed);
-      for (double t = 1.0; t >= 1.0 / 16; t *= 0.5) {
-        const Vec3 candidate = normalized_or(q[i] + t * (target - q[i]), q[i]);
-        if (all_valid_at(i, candidate)) {
-          q[i] = candidate;
-          break;
-        }
-      }
-    }
-  }
-}
-
 }  // namespace spheremap

@@ -26,9 +26,4 @@ RepairStats local_repair(LaiChengSmoother& smoother, std::span<Vec3> q, size_t f
 // can. Returns the folds left (only those the map had before).
 size_t fold_safe_steps(LaiChengSmoother& smoother, std::span<Vec3> q, size_t steps);
 
-// Fold-safe Gauss-Seidel sweeps: each vertex moves toward its smoothed position only as
-// far as keeps all its triangles valid (step halved up to 4 times, else not moved), so
-// a fold-free map stays fold-free. Serial, in vertex order: deterministic.
-void fold_safe_sweeps(const LaiChengSmoother& smoother, std::span<Vec3> q, int sweeps);
-
 }  // namespace spheremap

@@ -82,6 +82,7 @@ MapResult map_to_sphere(const PolygonMesh& input, const MapOptions& options,
     MapOptions attempt_options = options;
     attempt_options.attempts =
         std::max<size_t>(1, options.attempts - std::min(attempts, options.attempts - 1));
+    if (order != &morton) attempt_options.direct_iterations = 0;  // tried already
     result = map_in_order(reordered(input, *order), attempt_options, control);
     attempts += result.attempts, iterations += result.iterations;
     work += result.fine_iteration_equivalents;

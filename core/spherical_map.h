@@ -36,6 +36,8 @@ struct MapOptions {
   size_t safe_steps = 40;                  // coarse-to-fine: fold-safe steps of the fallback
   size_t smooth_min_vertices = 50;         // coarse-to-fine: smaller levels are only inserted
   size_t projected_start_vertices = 1000;  // coarse-to-fine: start level size (0 = tetrahedron)
+  size_t direct_iterations =
+      40;  // coarse-to-fine: budget of the paper's map of the whole mesh (0: skip)
   size_t projected_start_iterations = 1000;  // coarse-to-fine: smoothing budget of that start
   // Coarse-to-fine: maps tried when one folds, at most: the 4 measured (A-step weight,
   // offset) settings in a cache-friendly vertex order, then the same in the input order.
