@@ -294,7 +294,13 @@ bool map_directly(const PolygonMesh& mesh, std::span<const Triangle> triangles,
 
 void map_coarse_to_fine(const PolygonMesh& mesh, std::span<const Triangle> triangles,
                         const MapSession& session, MapResult& result) {
-  if (map_directly(mesh, triangles, session, result)) return;
+  const bool mapped = map_directly(mesh, triangles, session, result);
+  if (session.cancelled()) {
+    result.stop_reason = StopReason::kCancelled;
+    result.sphere.clear();
+    return;
+  }
+  if (mapped) return;
   CoarseToFine mapper(mesh, triangles, session, result);
   const MapOptions& options = session.options();
   const size_t budget = std::max<size_t>(1, options.attempts);

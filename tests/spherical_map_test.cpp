@@ -90,19 +90,23 @@ TEST(SphericalMap, SameBitsForAnyThreadCount) {
 }
 
 TEST(SphericalMap, ReportsProgressAndStopsWhenCancelled) {
-  const PolygonMesh mesh = testing::icosphere(4);
-  size_t calls = 0;
-  std::atomic<bool> cancel{false};
-  MapControl control;
-  control.cancel = &cancel;
-  control.on_progress = [&](const MapProgress& p) {
-    ++calls;
-    if (p.stage == "smooth" && p.iteration >= 2) cancel = true;
-  };
-  const MappedMesh m = map_mesh(mesh, {}, {}, control);
-  EXPECT_EQ(m.map.stop_reason, StopReason::kCancelled);
-  EXPECT_TRUE(m.map.sphere.empty());
-  EXPECT_GE(calls, 2u);
+  const PolygonMesh mesh = testing::capped_tube(12, 60, 40.0);
+  for (size_t direct : {40, 0}) {  // cancelled in the direct map, then in the hierarchy's
+    MapOptions options;
+    options.direct_iterations = direct;
+    size_t calls = 0;
+    std::atomic<bool> cancel{false};
+    MapControl control;
+    control.cancel = &cancel;
+    control.on_progress = [&](const MapProgress& p) {
+      ++calls;
+      if (p.iteration >= 2) cancel = true;
+    };
+    const MappedMesh m = map_mesh(mesh, {}, options, control);
+    EXPECT_EQ(m.map.stop_reason, StopReason::kCancelled);
+    EXPECT_TRUE(m.map.sphere.empty());
+    EXPECT_GE(calls, 2u);
+  }
 }
 
 TEST(SphericalMap, TimeLimitStillReturnsACompleteHonestMap) {
