@@ -14,11 +14,15 @@ namespace {
 
 const char* const kUsage = R"(Usage: spheremap map INPUT -o OUTPUT [--metrics FILE.json] [options]
 
-Maps a closed genus-0 mesh (.obj, .off) onto the unit sphere, without folds. OUTPUT (.obj)
-has the input's vertices in the input's order and the input's faces, every vertex moved to
-its point on the sphere (vertices with equal positions share one point).
+Maps a closed genus-0 mesh (.obj, .off, .glb, .gltf; Draco-compressed glTF too) onto the
+unit sphere, without folds. OUTPUT has the input's vertices in the input's order and the
+input's faces, every vertex moved to its point on the sphere (vertices with equal
+positions share one point). A glTF input is every triangle primitive of its default
+scene in world space, unless --mesh picks one mesh.
 
-  -o, --output FILE         the spherical mesh (.obj); required
+  -o, --output FILE         the spherical mesh: .obj, or .glb (triangles, normals = positions,
+                            the metrics in the mesh's extras); required
+  --mesh INDEX|NAME         glTF: map only this mesh (by index or name)
   --metrics FILE            write the quality metrics as JSON
   --quiet                   no progress on stderr (shown for runs over a second)
 
@@ -43,7 +47,7 @@ MapControl progress_printer(bool quiet, double& last_print) {
 
 int run_map(int argc, char** argv) {
   std::set<std::string> values = kMapValueOptions;
-  values.insert({"output", "metrics"});
+  values.insert({"output", "metrics", "mesh"});
   std::set<std::string> flags = kMapFlags;
   flags.insert({"quiet", "help"});
   Arguments args(argc, argv, 2, values, flags);
@@ -60,14 +64,15 @@ int run_map(int argc, char** argv) {
   MapOptions options;
   read_map_options(args, prepare, options);
 
-  const PolygonMesh input = read_mesh_file(args.positional()[0]);
+  const PolygonMesh input = read_mesh_file(args.positional()[0], gltf_options(args));
   double last_print = 0;
   const MappedMesh mapped =
       map_mesh(input, prepare, options, progress_printer(args.flag("quiet"), last_print));
-  write_mesh_file(args.text("output", ""), sphere_on_input(input, mapped));
+  const nlohmann::json metrics = metrics_json(mapped, options);
+  write_mesh_file(args.text("output", ""), sphere_on_input(input, mapped), metrics, true);
   if (args.has("metrics")) {
     std::ofstream out(args.text("metrics", ""));
-    out << metrics_json(mapped, options).dump(2) << "\n";
+    out << metrics.dump(2) << "\n";
     if (!out) throw InputError("io", "cannot write '" + args.text("metrics", "") + "'");
   }
   if (!mapped.map.check.bijective) {

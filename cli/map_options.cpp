@@ -31,7 +31,7 @@ const char* const kMapOptionsHelp = R"(Mapping options:
   --min-iterations N        iterations before a 0-fold state may stop a level (default 10)
   --level-iterations N      coarse-to-fine: smoothing iterations per level before local
                             repair (default 40)
-  --repair-iterations N     coarse-to-fine: local repair budget per level (default 2000)
+  --repair-iterations N     coarse-to-fine: local repair budget per level (default 5000)
   --safe-steps N            coarse-to-fine: fold-safe smoothing steps of the fallback
                             (default 40)
   --direct-iterations N     coarse-to-fine: first try the paper's map of the whole mesh with
@@ -97,6 +97,16 @@ void read_map_options(const Arguments& args, PrepareOptions& prepare, MapOptions
   options.attempts = static_cast<size_t>(
       args.integer("attempts", static_cast<long long>(options.attempts), 1, 100));
   prepare.weld_tolerance = args.number("weld-tolerance", 0, 0, 1);
+}
+
+GltfReadOptions gltf_options(const Arguments& args) {
+  GltfReadOptions options;
+  const std::string mesh = args.text("mesh", "");
+  if (!mesh.empty() && mesh.find_first_not_of("0123456789") == std::string::npos)
+    options.mesh_index = static_cast<int>(args.integer("mesh", 0, 0, 1 << 30));
+  else
+    options.mesh_name = mesh;
+  return options;
 }
 
 }  // namespace spheremap::cli

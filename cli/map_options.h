@@ -5,6 +5,7 @@
 #include <string>
 
 #include "cli/arguments.h"
+#include "core/io/gltf_reader.h"
 #include "core/pipeline.h"
 
 namespace spheremap::cli {
@@ -14,5 +15,8 @@ extern const std::set<std::string> kMapFlags;
 extern const char* const kMapOptionsHelp;
 
 void read_map_options(const Arguments& args, PrepareOptions& prepare, MapOptions& options);
+
+// --mesh INDEX|NAME: which glTF mesh to read (default: the whole default scene).
+GltfReadOptions gltf_options(const Arguments& args);
 
 }  // namespace spheremap::cli

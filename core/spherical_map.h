@@ -32,7 +32,7 @@ struct MapOptions {
   size_t max_iterations = 20000;           // paper: iteration cap
   size_t min_level_iterations = 10;        // both: iterations before a 0-fold stop
   size_t max_level_iterations = 40;        // coarse-to-fine: per level before local repair
-  size_t max_repair_iterations = 2000;     // coarse-to-fine: local repair budget per level
+  size_t max_repair_iterations = 5000;     // coarse-to-fine: local repair budget per level
   size_t safe_steps = 40;                  // coarse-to-fine: fold-safe steps of the fallback
   size_t smooth_min_vertices = 50;         // coarse-to-fine: smaller levels are only inserted
   size_t projected_start_vertices = 1000;  // coarse-to-fine: start level size (0 = tetrahedron)

@@ -2,11 +2,13 @@
 # Installs what spheremap needs to build and test, from Debian 12's packages only.
 # Idempotent: installs nothing when everything is already there.
 set -euo pipefail
-packages=(build-essential cmake ninja-build pkg-config nlohmann-json3-dev libgtest-dev clang-format)
+packages=(build-essential cmake ninja-build pkg-config nlohmann-json3-dev libgtest-dev libdraco-dev clang-format)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
 done
+# node and npm run the Khronos glTF validator in the tests (from the npm registry).
+command -v npm > /dev/null || missing+=(nodejs npm)
 if [ ${#missing[@]} -gt 0 ]; then
   echo "installing: ${missing[*]}"
   sudo=""

@@ -4,6 +4,7 @@
 #include <fstream>
 
 #include "core/input_error.h"
+#include "core/io/glb_writer.h"
 #include "core/io/obj.h"
 #include "core/io/off.h"
 #include "core/io/text_reader.h"
@@ -23,19 +24,31 @@ std::string lowercase_extension(const std::string& path) {
 
 }  // namespace
 
-PolygonMesh read_mesh_file(const std::string& path) {
+PolygonMesh read_mesh_file(const std::string& path, const GltfReadOptions& gltf) {
   const std::string ext = lowercase_extension(path);
-  if (ext != "obj" && ext != "off")
-    throw InputError("io", "cannot read '" + path + "': unknown extension (use .obj or .off)");
+  if (ext != "obj" && ext != "off" && ext != "glb" && ext != "gltf")
+    throw InputError(
+        "io", "cannot read '" + path + "': unknown extension (use .obj, .off, .glb or .gltf)");
   const std::string text = read_file(path);
+  if (ext == "glb" || ext == "gltf")
+    return read_gltf({reinterpret_cast<const uint8_t*>(text.data()), text.size()}, gltf);
   return ext == "obj" ? parse_obj(text) : parse_off(text);
 }
 
-void write_mesh_file(const std::string& path, const PolygonMesh& mesh) {
+void write_mesh_file(const std::string& path, const PolygonMesh& mesh, const nlohmann::json& extras,
+                     bool sphere_normals) {
   const std::string ext = lowercase_extension(path);
-  if (ext != "obj") throw InputError("io", "cannot write '" + path + "': use the .obj extension");
+  if (ext != "obj" && ext != "glb")
+    throw InputError("io", "cannot write '" + path + "': use the .obj or .glb extension");
+  std::string text;
+  if (ext == "obj") {
+    text = format_obj(mesh);
+  } else {
+    GlbMesh glb{mesh.positions, sphere_normals ? mesh.positions : std::vector<Vec3>{},
+                fan_triangulate(mesh).triangles, extras};
+    text = format_glb(glb);
+  }
   std::ofstream out(path, std::ios::binary);
-  const std::string text = format_obj(mesh);
   out.write(text.data(), static_cast<std::streamsize>(text.size()));
   if (!out) throw InputError("io", "cannot write '" + path + "'");
 }

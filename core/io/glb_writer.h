@@ -1,0 +1,23 @@
+// Writing a triangle mesh as a self-contained GLB (glTF 2.0 binary): float32 POSITION
+// (with the min/max glTF requires) and optional NORMAL, uint32 indices, one node, and
+// `extras` on the mesh (our metrics).
+#pragma once
+
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "core/mesh.h"
+
+namespace spheremap {
+
+struct GlbMesh {
+  std::vector<Vec3> positions;
+  std::vector<Vec3> normals;  // empty, or one per position
+  std::vector<Triangle> triangles;
+  nlohmann::json extras = nlohmann::json::object();
+};
+
+std::string format_glb(const GlbMesh& mesh);
+
+}  // namespace spheremap

@@ -1,0 +1,260 @@
+#include "core/io/gltf_document.h"
+
+#include <cstring>
+#include <limits>
+
+#include "core/input_error.h"
+
+namespace spheremap::gltf {
+namespace {
+
+constexpr uint32_t kGlbMagic = 0x46546C67;  // "glTF"
+constexpr uint32_t kJsonChunk = 0x4E4F534A;
+constexpr uint32_t kBinChunk = 0x004E4942;
+
+uint32_t read_u32(std::span<const uint8_t> bytes, size_t at) {
+  uint32_t v;
+  std::memcpy(&v, bytes.data() + at, 4);
+  return v;  // glTF is little-endian, as every platform we build for
+}
+
+std::vector<uint8_t> decode_base64(std::string_view text) {
+  auto value = [](char c) -> int {
+    if (c >= 'A' && c <= 'Z') return c - 'A';
+    if (c >= 'a' && c <= 'z') return c - 'a' + 26;
+    if (c >= '0' && c <= '9') return c - '0' + 52;
+    if (c == '+') return 62;
+    if (c == '/') return 63;
+    return -1;
+  };
+  std::vector<uint8_t> out;
+  out.reserve(text.size() / 4 * 3);
+  uint32_t accumulator = 0;
+  int bits = 0;
+  for (char c : text) {
+    if (c == '=') break;
+    const int v = value(c);
+    if (v < 0) fail("a data: URI holds a character that is not base64");
+    accumulator = (accumulator << 6) | static_cast<uint32_t>(v);
+    bits += 6;
+    if (bits >= 8) {
+      bits -= 8;
+      out.push_back(static_cast<uint8_t>(accumulator >> bits));
+    }
+  }
+  return out;
+}
+
+size_t component_size(int type) {
+  switch (type) {
+    case 5120:  // BYTE
+    case 5121:  // UNSIGNED_BYTE
+      return 1;
+    case 5122:  // SHORT
+    case 5123:  // UNSIGNED_SHORT
+      return 2;
+    case 5125:  // UNSIGNED_INT
+    case 5126:  // FLOAT
+      return 4;
+    default:
+      return 0;
+  }
+}
+
+int component_count(const std::string& type) {
+  if (type == "SCALAR") return 1;
+  if (type == "VEC2") return 2;
+  if (type == "VEC3") return 3;
+  if (type == "VEC4") return 4;
+  if (type == "MAT2") return 4;
+  if (type == "MAT3") return 9;
+  if (type == "MAT4") return 16;
+  return 0;
+}
+
+}  // namespace
+
+void fail(const std::string& message) {
+  throw InputError("gltf", message);
+}
+
+size_t index_field(const nlohmann::json& object, const char* key, size_t limit, const char* what,
+                   size_t fallback) {
+  auto it = object.find(key);
+  if (it == object.end()) return fallback;
+  if (!it->is_number_unsigned() || it->get<uint64_t>() >= limit)
+    fail(std::string(what) + " " + it->dump() + " is out of range (" + std::to_string(limit) +
+         " available)");
+  return static_cast<size_t>(it->get<uint64_t>());
+}
+
+Document::Document(std::span<const uint8_t> bytes) {
+  std::span<const uint8_t> json_text = bytes, bin;
+  bool has_bin = false;
+  if (bytes.size() >= 4 && read_u32(bytes, 0) == kGlbMagic) {
+    if (bytes.size() < 20) fail("GLB is truncated: " + std::to_string(bytes.size()) + " bytes");
+    if (read_u32(bytes, 4) != 2)
+      fail("GLB version " + std::to_string(read_u32(bytes, 4)) + " is not 2");
+    const uint32_t length = read_u32(bytes, 8);
+    if (length > bytes.size())
+      fail("GLB header declares " + std::to_string(length) + " bytes but the file has " +
+           std::to_string(bytes.size()));
+    size_t at = 12;
+    bool first = true;
+    while (at + 8 <= length) {
+      const uint64_t chunk_length = read_u32(bytes, at), type = read_u32(bytes, at + 4);
+      if (at + 8 + chunk_length > length)
+        fail("GLB chunk at byte " + std::to_string(at) + " declares " +
+             std::to_string(chunk_length) + " bytes, past the end of the file");
+      const std::span<const uint8_t> data = bytes.subspan(at + 8, chunk_length);
+      if (first && type != kJsonChunk) fail("GLB does not start with a JSON chunk");
+      if (first) json_text = data;
+      if (!first && type == kBinChunk && !has_bin) bin = data, has_bin = true;
+      first = false;
+      at += 8 + chunk_length;
+    }
+    if (first) fail("GLB has no JSON chunk");
+  }
+  json_ = nlohmann::json::parse(json_text.begin(), json_text.end(), nullptr, false);
+  if (json_.is_discarded() || !json_.is_object()) fail("the glTF JSON does not parse as an object");
+  const auto asset = json_.find("asset");
+  if (asset == json_.end() || !asset->is_object() || !asset->contains("version") ||
+      !(*asset)["version"].is_string() ||
+      (*asset)["version"].get<std::string>().rfind("2.", 0) != 0)
+    fail("not a glTF 2.0 asset (asset.version must be \"2.x\")");
+  load_buffers(bin, has_bin);
+}
+
+void Document::load_buffers(std::span<const uint8_t> bin, bool has_bin) {
+  const auto it = json_.find("buffers");
+  if (it == json_.end()) return;
+  if (!it->is_array()) fail("buffers is not an array");
+  for (size_t i = 0; i < it->size(); ++i) {
+    const nlohmann::json& b = (*it)[i];
+    if (!b.is_object()) fail("buffer " + std::to_string(i) + " is not an object");
+    const auto length_it = b.find("byteLength");
+    if (length_it == b.end() || !length_it->is_number_unsigned())
+      fail("buffer " + std::to_string(i) + " has no valid byteLength");
+    const uint64_t declared = length_it->get<uint64_t>();
+    std::vector<uint8_t> data;
+    if (const auto uri = b.find("uri"); uri != b.end()) {
+      if (!uri->is_string()) fail("buffer " + std::to_string(i) + " uri is not a string");
+      const std::string& text = uri->get_ref<const std::string&>();
+      const size_t comma = text.find(',');
+      if (text.rfind("data:", 0) != 0 || comma == std::string::npos ||
+          text.substr(0, comma).find(";base64") == std::string::npos)
+        fail("buffer " + std::to_string(i) +
+             " refers to an external resource; only GLB or embedded base64 data: URIs are "
+             "accepted");
+      data = decode_base64(std::string_view(text).substr(comma + 1));
+    } else if (i == 0 && has_bin) {
+      data.assign(bin.begin(), bin.end());
+    } else {
+      fail("buffer " + std::to_string(i) + " has no data (no uri and no GLB binary chunk)");
+    }
+    if (data.size() < declared)
+      fail("buffer " + std::to_string(i) + " declares " + std::to_string(declared) +
+           " bytes but holds " + std::to_string(data.size()));
+    data.resize(static_cast<size_t>(declared));
+    buffers_.push_back(std::move(data));
+  }
+}
+
+const nlohmann::json& Document::element(const char* key, size_t index) const {
+  const auto it = json_.find(key);
+  if (it == json_.end() || !it->is_array() || index >= it->size())
+    fail(std::string(key) + "[" + std::to_string(index) + "] does not exist");
+  const nlohmann::json& e = (*it)[index];
+  if (!e.is_object()) fail(std::string(key) + "[" + std::to_string(index) + "] is not an object");
+  return e;
+}
+
+std::span<const uint8_t> Document::buffer_view(size_t index) const {
+  const nlohmann::json& view = element("bufferViews", index);
+  const size_t buffer = index_field(view, "buffer", buffers_.size(), "bufferView.buffer");
+  if (buffer == SIZE_MAX) fail("bufferView " + std::to_string(index) + " has no buffer");
+  const uint64_t offset = index_field(view, "byteOffset", SIZE_MAX, "byteOffset", 0);
+  const uint64_t length = index_field(view, "byteLength", SIZE_MAX, "byteLength", SIZE_MAX);
+  if (length == SIZE_MAX) fail("bufferView " + std::to_string(index) + " has no byteLength");
+  const uint64_t available = buffers_[buffer].size();
+  if (offset > available || length > available - offset)
+    fail("bufferView " + std::to_string(index) + " (bytes " + std::to_string(offset) + "+" +
+         std::to_string(length) + ") runs past its buffer of " + std::to_string(available) +
+         " bytes");
+  return std::span<const uint8_t>(buffers_[buffer]).subspan(offset, length);
+}
+
+Document::AccessorView Document::accessor(size_t index) const {
+  const nlohmann::json& a = element("accessors", index);
+  const std::string name = "accessor " + std::to_string(index);
+  if (a.contains("sparse")) fail(name + " is sparse; sparse accessors are not supported");
+  const size_t view_index = index_field(a, "bufferView", SIZE_MAX, "accessor.bufferView");
+  if (view_index == SIZE_MAX) fail(name + " has no bufferView");
+  AccessorView v;
+  v.component_type = static_cast<int>(index_field(a, "componentType", 6000, "componentType", 0));
+  const size_t csize = component_size(v.component_type);
+  if (csize == 0) fail(name + " has an unknown componentType");
+  if (!a.contains("type") || !a["type"].is_string()) fail(name + " has no type");
+  v.components = component_count(a["type"].get<std::string>());
+  if (v.components == 0) fail(name + " has an unknown type");
+  v.count = index_field(a, "count", SIZE_MAX, "count", SIZE_MAX);
+  if (v.count == SIZE_MAX) fail(name + " has no count");
+  const uint64_t offset = index_field(a, "byteOffset", SIZE_MAX, "byteOffset", 0);
+  const nlohmann::json& view = element("bufferViews", view_index);
+  v.element_size = csize * static_cast<size_t>(v.components);
+  v.stride = index_field(view, "byteStride", 253, "byteStride", v.element_size);
+  if (v.stride < v.element_size) fail(name + " elements overlap (byteStride too small)");
+  const std::span<const uint8_t> bytes = buffer_view(view_index);
+  // Checked in 64 bits, and count first bounded by the bytes present: no overflow.
+  if (v.count > 0 && (offset > bytes.size() || (v.count - 1) > (bytes.size() - offset) / v.stride ||
+                      offset + (v.count - 1) * v.stride + v.element_size > bytes.size()))
+    fail(name + " (" + std::to_string(v.count) + " elements) runs past its bufferView of " +
+         std::to_string(bytes.size()) + " bytes");
+  v.bytes = v.count > 0 ? bytes.subspan(offset) : std::span<const uint8_t>{};
+  return v;
+}
+
+size_t Document::accessor_count(size_t index) const {
+  return accessor(index).count;
+}
+
+std::vector<double> Document::read_floats(size_t index, int components) const {
+  const AccessorView v = accessor(index);
+  if (v.component_type != 5126 || v.components != components)
+    fail("accessor " + std::to_string(index) + " must be FLOAT with " + std::to_string(components) +
+         " components");
+  std::vector<double> out(v.count * static_cast<size_t>(components));
+  for (size_t i = 0; i < v.count; ++i)
+    for (int c = 0; c < components; ++c) {
+      float f;
+      std::memcpy(&f, v.bytes.data() + i * v.stride + 4 * static_cast<size_t>(c), 4);
+      out[i * static_cast<size_t>(components) + static_cast<size_t>(c)] = f;
+    }
+  return out;
+}
+
+std::vector<uint32_t> Document::read_indices(size_t index, size_t vertex_count) const {
+  const AccessorView v = accessor(index);
+  if (v.components != 1 ||
+      (v.component_type != 5121 && v.component_type != 5123 && v.component_type != 5125))
+    fail("index accessor " + std::to_string(index) + " must be an unsigned SCALAR");
+  std::vector<uint32_t> out(v.count);
+  for (size_t i = 0; i < v.count; ++i) {
+    const uint8_t* p = v.bytes.data() + i * v.stride;
+    uint32_t value = 0;
+    if (v.component_type == 5121)
+      value = p[0];
+    else if (v.component_type == 5123)
+      value = static_cast<uint32_t>(p[0] | p[1] << 8);
+    else
+      std::memcpy(&value, p, 4);
+    if (value >= vertex_count)
+      fail("index " + std::to_string(value) + " at position " + std::to_string(i) +
+           " of accessor " + std::to_string(index) + " is past the " +
+           std::to_string(vertex_count) + " vertices");
+    out[i] = value;
+  }
+  return out;
+}
+
+}  // namespace spheremap::gltf

@@ -1,0 +1,277 @@
+#include "core/io/gltf_reader.h"
+
+#include <draco/compression/decode.h>
+
+#include <array>
+#include <cmath>
+
+#include "core/io/gltf_document.h"
+
+namespace spheremap {
+namespace {
+
+using gltf::fail;
+using gltf::index_field;
+using Matrix = std::array<double, 16>;  // column-major, as glTF
+
+constexpr Matrix kIdentity = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+constexpr int kMaxNodeDepth = 64;
+
+Matrix multiply(const Matrix& a, const Matrix& b) {
+  Matrix m{};
+  for (int c = 0; c < 4; ++c)
+    for (int r = 0; r < 4; ++r)
+      for (int k = 0; k < 4; ++k) m[c * 4 + r] += a[k * 4 + r] * b[c * 4 + k];
+  return m;
+}
+
+std::vector<double> numbers(const nlohmann::json& node, const char* key, size_t n) {
+  const auto it = node.find(key);
+  if (it == node.end()) return {};
+  if (!it->is_array() || it->size() != n)
+    fail(std::string("node ") + key + " must have " + std::to_string(n) + " numbers");
+  std::vector<double> v;
+  for (const auto& x : *it) {
+    if (!x.is_number()) fail(std::string("node ") + key + " holds a non-number");
+    v.push_back(x.get<double>());
+  }
+  return v;
+}
+
+Matrix local_transform(const nlohmann::json& node) {
+  if (auto m = numbers(node, "matrix", 16); !m.empty()) {
+    Matrix out;
+    std::copy(m.begin(), m.end(), out.begin());
+    return out;
+  }
+  Matrix t = kIdentity;
+  if (auto tr = numbers(node, "translation", 3); !tr.empty())
+    t[12] = tr[0], t[13] = tr[1], t[14] = tr[2];
+  Matrix r = kIdentity;
+  if (auto q = numbers(node, "rotation", 4); !q.empty()) {
+    const double x = q[0], y = q[1], z = q[2], w = q[3];
+    r = {1 - 2 * (y * y + z * z),
+         2 * (x * y + z * w),
+         2 * (x * z - y * w),
+         0,
+         2 * (x * y - z * w),
+         1 - 2 * (x * x + z * z),
+         2 * (y * z + x * w),
+         0,
+         2 * (x * z + y * w),
+         2 * (y * z - x * w),
+         1 - 2 * (x * x + y * y),
+         0,
+         0,
+         0,
+         0,
+         1};
+  }
+  Matrix s = kIdentity;
+  if (auto sc = numbers(node, "scale", 3); !sc.empty()) s[0] = sc[0], s[5] = sc[1], s[10] = sc[2];
+  return multiply(t, multiply(r, s));
+}
+
+class Reader {
+ public:
+  Reader(std::span<const uint8_t> bytes, const GltfReadOptions& options, GltfReadStats& stats)
+      : doc_(bytes), options_(options), stats_(stats) {}
+
+  PolygonMesh read() {
+    const nlohmann::json& json = doc_.json();
+    const size_t mesh_count =
+        json.contains("meshes") && json["meshes"].is_array() ? json["meshes"].size() : 0;
+    if (mesh_count == 0) fail("the file has no meshes");
+    if (options_.mesh_index >= 0 || !options_.mesh_name.empty()) {
+      add_mesh(chosen_mesh(mesh_count), kIdentity);
+    } else if (json.contains("scenes") && json["scenes"].is_array() && !json["scenes"].empty()) {
+      const size_t scene = index_field(json, "scene", json["scenes"].size(), "scene", 0);
+      const nlohmann::json& s = doc_.element("scenes", scene);
+      if (const auto nodes = s.find("nodes"); nodes != s.end() && nodes->is_array())
+        for (const auto& n : *nodes) {
+          if (!n.is_number_unsigned()) fail("a scene node reference is not an index");
+          visit(n.get<size_t>(), kIdentity, 0);
+        }
+    } else {
+      for (size_t m = 0; m < mesh_count; ++m) add_mesh(m, kIdentity);
+    }
+    if (mesh_.face_count() == 0)
+      fail("no triangles to map: " + std::to_string(stats_.skipped_primitives) +
+           " primitive(s) of points or lines, " + std::to_string(stats_.primitives) +
+           " of triangles");
+    return std::move(mesh_);
+  }
+
+ private:
+  size_t chosen_mesh(size_t mesh_count) {
+    if (!options_.mesh_name.empty()) {
+      for (size_t m = 0; m < mesh_count; ++m) {
+        const auto& mesh = doc_.element("meshes", m);
+        if (mesh.contains("name") && mesh["name"] == options_.mesh_name) return m;
+      }
+      fail("no mesh is named '" + options_.mesh_name + "'");
+    }
+    if (static_cast<size_t>(options_.mesh_index) >= mesh_count)
+      fail("mesh " + std::to_string(options_.mesh_index) + " does not exist (" +
+           std::to_string(mesh_count) + " meshes)");
+    return static_cast<size_t>(options_.mesh_index);
+  }
+
+  void visit(size_t node_index, const Matrix& parent, int depth) {
+    if (depth > kMaxNodeDepth)
+      fail("node hierarchy deeper than " + std::to_string(kMaxNodeDepth) + " (a cycle?)");
+    const nlohmann::json& node = doc_.element("nodes", node_index);
+    const Matrix world = multiply(parent, local_transform(node));
+    const size_t meshes = doc_.json().contains("meshes") ? doc_.json()["meshes"].size() : 0;
+    if (const size_t mesh = index_field(node, "mesh", meshes, "node.mesh"); mesh != SIZE_MAX)
+      add_mesh(mesh, world);
+    if (const auto children = node.find("children"); children != node.end() && children->is_array())
+      for (const auto& c : *children) {
+        if (!c.is_number_unsigned()) fail("a node child reference is not an index");
+        visit(c.get<size_t>(), world, depth + 1);
+      }
+  }
+
+  void add_mesh(size_t mesh_index, const Matrix& world) {
+    const nlohmann::json& mesh = doc_.element("meshes", mesh_index);
+    const auto primitives = mesh.find("primitives");
+    if (primitives == mesh.end() || !primitives->is_array())
+      fail("mesh " + std::to_string(mesh_index) + " has no primitives");
+    for (const auto& p : *primitives) {
+      if (!p.is_object()) fail("a primitive is not an object");
+      add_primitive(p, world);
+    }
+  }
+
+  void add_primitive(const nlohmann::json& p, const Matrix& world) {
+    const size_t mode = index_field(p, "mode", 7, "primitive mode", 4);
+    if (mode < 4) {
+      ++stats_.skipped_primitives;
+      return;
+    }
+    ++stats_.primitives;
+    std::vector<double> positions;
+    std::vector<uint32_t> indices;
+    const auto ext = p.find("extensions");
+    if (ext != p.end() && ext->is_object() && ext->contains("KHR_draco_mesh_compression")) {
+      decode_draco((*ext)["KHR_draco_mesh_compression"], positions, indices);
+      ++stats_.draco_primitives;
+    } else {
+      const auto attributes = p.find("attributes");
+      if (attributes == p.end() || !attributes->is_object() || !attributes->contains("POSITION"))
+        fail("a primitive has no POSITION attribute");
+      const size_t accessors =
+          doc_.json().contains("accessors") ? doc_.json()["accessors"].size() : 0;
+      positions =
+          doc_.read_floats(index_field(*attributes, "POSITION", accessors, "POSITION accessor"), 3);
+      const size_t vertex_count = positions.size() / 3;
+      if (const size_t ia = index_field(p, "indices", accessors, "indices accessor");
+          ia != SIZE_MAX) {
+        indices = doc_.read_indices(ia, vertex_count);
+      } else {
+        indices.resize(vertex_count);
+        for (uint32_t i = 0; i < vertex_count; ++i) indices[i] = i;
+      }
+    }
+    append(positions, triangles_of(indices, mode), world);
+  }
+
+  static std::vector<uint32_t> triangles_of(const std::vector<uint32_t>& idx, size_t mode) {
+    if (mode == 4) {
+      if (idx.size() % 3)
+        fail("a TRIANGLES primitive has " + std::to_string(idx.size()) +
+             " indices, not a multiple of 3");
+      return idx;
+    }
+    std::vector<uint32_t> tris;
+    for (size_t k = 2; k < idx.size(); ++k) {
+      if (mode == 5)  // strip: alternate the winding
+        k % 2 ? tris.insert(tris.end(), {idx[k - 1], idx[k - 2], idx[k]})
+              : tris.insert(tris.end(), {idx[k - 2], idx[k - 1], idx[k]});
+      else  // fan
+        tris.insert(tris.end(), {idx[0], idx[k - 1], idx[k]});
+    }
+    return tris;
+  }
+
+  void decode_draco(const nlohmann::json& draco_ext, std::vector<double>& positions,
+                    std::vector<uint32_t>& indices) {
+    if (!draco_ext.is_object()) fail("KHR_draco_mesh_compression is not an object");
+    const size_t view = index_field(draco_ext, "bufferView", SIZE_MAX, "Draco bufferView");
+    if (view == SIZE_MAX) fail("KHR_draco_mesh_compression has no bufferView");
+    const std::span<const uint8_t> bytes = doc_.buffer_view(view);
+    const auto attributes = draco_ext.find("attributes");
+    if (attributes == draco_ext.end() || !attributes->is_object() ||
+        !attributes->contains("POSITION"))
+      fail("KHR_draco_mesh_compression has no POSITION attribute");
+    const size_t position_id =
+        index_field(*attributes, "POSITION", UINT32_MAX, "Draco POSITION id");
+    draco::DecoderBuffer buffer;
+    buffer.Init(reinterpret_cast<const char*>(bytes.data()), bytes.size());
+    draco::Decoder decoder;
+    auto decoded = decoder.DecodeMeshFromBuffer(&buffer);
+    if (!decoded.ok() || !decoded.value()) fail("the Draco data does not decode as a mesh");
+    const draco::Mesh& mesh = *decoded.value();
+    const draco::PointAttribute* attribute =
+        mesh.GetAttributeByUniqueId(static_cast<uint32_t>(position_id));
+    if (!attribute || attribute->num_components() != 3)
+      fail("the Draco data has no 3-component attribute with id " + std::to_string(position_id));
+    const size_t points = mesh.num_points();
+    if (points > options_.max_vertices)
+      fail("Draco mesh has " + std::to_string(points) + " vertices, over the limit");
+    positions.resize(points * 3);
+    for (uint32_t i = 0; i < points; ++i) {
+      std::array<float, 3> v{};
+      if (!attribute->ConvertValue<float>(attribute->mapped_index(draco::PointIndex(i)), 3,
+                                          v.data()))
+        fail("a Draco position does not convert to float");
+      for (int c = 0; c < 3; ++c) positions[3 * i + c] = v[static_cast<size_t>(c)];
+    }
+    indices.resize(static_cast<size_t>(mesh.num_faces()) * 3);
+    for (uint32_t f = 0; f < mesh.num_faces(); ++f)
+      for (int c = 0; c < 3; ++c) {
+        const uint32_t id = mesh.face(draco::FaceIndex(f))[c].value();
+        if (id >= points) fail("a Draco face refers past the decoded vertices");
+        indices[3 * f + static_cast<size_t>(c)] = id;
+      }
+  }
+
+  void append(const std::vector<double>& positions, const std::vector<uint32_t>& tris,
+              const Matrix& m) {
+    const uint32_t base = static_cast<uint32_t>(mesh_.vertex_count());
+    const size_t count = positions.size() / 3;
+    if (mesh_.vertex_count() + count > options_.max_vertices)
+      fail("over " + std::to_string(options_.max_vertices) + " vertices");
+    if (mesh_.face_count() + tris.size() / 3 > options_.max_triangles)
+      fail("over " + std::to_string(options_.max_triangles) + " triangles");
+    for (size_t i = 0; i < count; ++i) {
+      const double x = positions[3 * i], y = positions[3 * i + 1], z = positions[3 * i + 2];
+      mesh_.positions.push_back({m[0] * x + m[4] * y + m[8] * z + m[12],
+                                 m[1] * x + m[5] * y + m[9] * z + m[13],
+                                 m[2] * x + m[6] * y + m[10] * z + m[14]});
+    }
+    // A mirroring transform (negative determinant) flips the winding back.
+    const double det = m[0] * (m[5] * m[10] - m[9] * m[6]) - m[4] * (m[1] * m[10] - m[9] * m[2]) +
+                       m[8] * (m[1] * m[6] - m[5] * m[2]);
+    for (size_t t = 0; t + 2 < tris.size(); t += 3) {
+      const uint32_t f[3] = {base + tris[t], base + (det < 0 ? tris[t + 2] : tris[t + 1]),
+                             base + (det < 0 ? tris[t + 1] : tris[t + 2])};
+      mesh_.add_face(f);
+    }
+  }
+
+  gltf::Document doc_;
+  const GltfReadOptions& options_;
+  GltfReadStats& stats_;
+  PolygonMesh mesh_;
+};
+
+}  // namespace
+
+PolygonMesh read_gltf(std::span<const uint8_t> bytes, const GltfReadOptions& options,
+                      GltfReadStats* stats) {
+  GltfReadStats local;
+  return Reader(bytes, options, stats ? *stats : local).read();
+}
+
+}  // namespace spheremap

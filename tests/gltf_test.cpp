@@ -1,0 +1,237 @@
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <nlohmann/json.hpp>
+
+#include "core/input_error.h"
+#include "core/io/glb_writer.h"
+#include "core/io/gltf_reader.h"
+#include "core/io/mesh_file.h"
+#include "core/io/text_reader.h"
+#include "core/pipeline.h"
+#include "tests/corpus.h"
+#include "tests/mesh_generators.h"
+
+namespace spheremap {
+namespace {
+
+std::span<const uint8_t> as_bytes(const std::string& s) {
+  return {reinterpret_cast<const uint8_t*>(s.data()), s.size()};
+}
+
+// A GLB split into its JSON and its binary chunk, to mutate and put back together.
+struct Glb {
+  nlohmann::json json;
+  std::string bin;
+
+  explicit Glb(const std::string& file) {
+    uint32_t json_length;
+    std::memcpy(&json_length, file.data() + 12, 4);
+    json = nlohmann::json::parse(file.substr(20, json_length));
+    const size_t bin_at = 20 + json_length;
+    if (bin_at + 8 <= file.size()) {
+      uint32_t bin_length;
+      std::memcpy(&bin_length, file.data() + bin_at, 4);
+      bin = file.substr(bin_at + 8, bin_length);
+    }
+  }
+  std::string bytes() const {
+    std::string text = json.dump();
+    while (text.size() % 4) text.push_back(' ');
+    std::string out;
+    auto u32 = [&](uint32_t v) { out.append(reinterpret_cast<const char*>(&v), 4); };
+    u32(0x46546C67), u32(2), u32(static_cast<uint32_t>(28 + text.size() + bin.size()));
+    u32(static_cast<uint32_t>(text.size())), u32(0x4E4F534A);
+    out += text;
+    u32(static_cast<uint32_t>(bin.size())), u32(0x004E4942);
+    return out + bin;
+  }
+};
+
+std::string sphere_glb() {
+  const PolygonMesh m = testing::icosphere(1);
+  return format_glb({m.positions, m.positions, fan_triangulate(m).triangles, {{"note", "test"}}});
+}
+
+std::string read_error(const std::string& bytes) {
+  try {
+    read_gltf(as_bytes(bytes));
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.check(), "gltf");
+    return e.what();
+  }
+  ADD_FAILURE() << "expected an InputError";
+  return "";
+}
+
+TEST(Gltf, WrittenGlbReadsBackExactly) {
+  const PolygonMesh m = testing::icosphere(1);
+  const PolygonMesh back = read_gltf(as_bytes(sphere_glb()));
+  ASSERT_EQ(back.vertex_count(), m.vertex_count());
+  std::vector<uint32_t> expected;
+  for (const Triangle& t : fan_triangulate(m).triangles)
+    expected.insert(expected.end(), t.begin(), t.end());
+  EXPECT_EQ(back.indices, expected);
+  for (size_t v = 0; v < m.vertex_count(); ++v)
+    EXPECT_NEAR(norm(back.positions[v] - m.positions[v]), 0, 1e-7);
+  const Glb glb(sphere_glb());
+  EXPECT_EQ(glb.json["meshes"][0]["extras"]["note"], "test");
+  EXPECT_EQ(glb.json["accessors"][0]["min"].size(), 3u);
+}
+
+TEST(Gltf, RejectsTruncatedFilesAtEveryLength) {
+  const std::string file = sphere_glb();
+  for (size_t cut :
+       {size_t{0}, size_t{3}, size_t{11}, size_t{19}, size_t{40}, file.size() / 2, file.size() - 1})
+    EXPECT_FALSE(read_error(file.substr(0, cut)).empty()) << "cut at " << cut;
+}
+
+TEST(Gltf, RejectsWrongChunkAndHeaderLengths) {
+  std::string file = sphere_glb();
+  std::string longer = file;
+  const uint32_t huge = 1u << 30;
+  std::memcpy(longer.data() + 12, &huge, 4);  // JSON chunk length
+  EXPECT_NE(read_error(longer).find("past the end"), std::string::npos);
+  std::memcpy(file.data() + 8, &huge, 4);  // total length
+  EXPECT_NE(read_error(file).find("declares"), std::string::npos);
+}
+
+TEST(Gltf, RejectsRangesPastTheirData) {
+  Glb glb(sphere_glb());
+  glb.json["bufferViews"][0]["byteLength"] = 1 << 20;
+  EXPECT_NE(read_error(glb.bytes()).find("runs past its buffer"), std::string::npos);
+  Glb counts(sphere_glb());
+  counts.json["accessors"][0]["count"] = 4000000000u;  // huge declared count
+  EXPECT_NE(read_error(counts.bytes()).find("runs past its bufferView"), std::string::npos);
+  Glb offset(sphere_glb());
+  offset.json["accessors"][0]["byteOffset"] = 1u << 31;
+  EXPECT_NE(read_error(offset.bytes()).find("runs past"), std::string::npos);
+  Glb view(sphere_glb());
+  view.json["accessors"][0]["bufferView"] = 17;
+  EXPECT_NE(read_error(view.bytes()).find("bufferViews[17] does not exist"), std::string::npos);
+}
+
+TEST(Gltf, RejectsIndicesPastTheVertices) {
+  Glb glb(sphere_glb());
+  const uint32_t past = 1000;
+  std::memcpy(glb.bin.data() + glb.json["bufferViews"][2]["byteOffset"].get<size_t>(), &past, 4);
+  EXPECT_NE(read_error(glb.bytes()).find("index 1000 at position 0"), std::string::npos);
+}
+
+TEST(Gltf, RefusesEveryExternalUri) {
+  for (const char* uri : {"mesh.bin", "/etc/passwd", "../../etc/passwd", "file:///etc/passwd",
+                          "http://example.com/a.bin", "data:text/plain,abc"}) {
+    Glb glb(sphere_glb());
+    glb.json["buffers"][0]["uri"] = uri;
+    EXPECT_NE(read_error(glb.bytes()).find("external resource"), std::string::npos) << uri;
+  }
+}
+
+TEST(Gltf, ReadsEmbeddedBase64Buffers) {
+  Glb glb(sphere_glb());
+  static const char* kAlphabet = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::string b64;
+  const std::string& in = glb.bin;
+  for (size_t i = 0; i < in.size(); i += 3) {
+    uint32_t n = static_cast<uint8_t>(in[i]) << 16;
+    if (i + 1 < in.size()) n |= static_cast<uint8_t>(in[i + 1]) << 8;
+    if (i + 2 < in.size()) n |= static_cast<uint8_t>(in[i + 2]);
+    b64 += kAlphabet[n >> 18 & 63];
+    b64 += kAlphabet[n >> 12 & 63];
+    b64 += i + 1 < in.size() ? kAlphabet[n >> 6 & 63] : '=';
+    b64 += i + 2 < in.size() ? kAlphabet[n & 63] : '=';
+  }
+  glb.json["buffers"][0]["uri"] = "data:application/octet-stream;base64," + b64;
+  const PolygonMesh m = read_gltf(as_bytes(glb.json.dump()));  // .gltf JSON text
+  EXPECT_EQ(m.vertex_count(), testing::icosphere(1).vertex_count());
+}
+
+TEST(Gltf, RejectsFilesWithoutTriangles) {
+  EXPECT_NE(read_error(R"({"asset":{"version":"2.0"}})").find("no meshes"), std::string::npos);
+  Glb points(sphere_glb());
+  points.json["meshes"][0]["primitives"][0]["mode"] = 0;
+  EXPECT_NE(read_error(points.bytes()).find("1 primitive(s) of points or lines"),
+            std::string::npos);
+  EXPECT_NE(read_error("not json at all").find("does not parse"), std::string::npos);
+  EXPECT_NE(read_error(R"({"asset":{"version":"1.0"}})").find("not a glTF 2.0"), std::string::npos);
+}
+
+TEST(Gltf, AppliesNodeTransformsAndKeepsMirroredWindingOutward) {
+  Glb glb(sphere_glb());
+  glb.json["nodes"][0]["scale"] = {-2.0, 2.0, 2.0};  // mirror
+  glb.json["nodes"][0]["translation"] = {10.0, 0.0, 0.0};
+  const PolygonMesh m = read_gltf(as_bytes(glb.bytes()));
+  const PreparedMesh p = prepare_mesh(m, {});
+  EXPECT_TRUE(mapping_failures(p.topology).empty());
+  EXPECT_GT(p.topology.signed_volume, 0);  // still outward after the mirror
+  EXPECT_NEAR(m.positions[0].x, 10 - 2 * testing::icosphere(1).positions[0].x, 1e-6);
+}
+
+TEST(Gltf, ConvertsStripsAndFans) {
+  Glb fan(sphere_glb());
+  fan.json["meshes"][0]["primitives"][0]["mode"] = 6;
+  EXPECT_GT(read_gltf(as_bytes(fan.bytes())).face_count(), 0u);
+  Glb strip(sphere_glb());
+  strip.json["meshes"][0]["primitives"][0]["mode"] = 5;
+  EXPECT_GT(read_gltf(as_bytes(strip.bytes())).face_count(), 0u);
+}
+
+TEST(Gltf, RejectsNodeCycles) {
+  Glb glb(sphere_glb());
+  glb.json["nodes"][0]["children"] = {0};
+  EXPECT_NE(read_error(glb.bytes()).find("deeper than"), std::string::npos);
+}
+
+// The three crash cases of Debian's tinygltf + Draco, and two more, on a real Draco file.
+TEST(GltfDraco, RejectsBrokenDracoReferences) {
+  SKIP_WITHOUT_CORPUS("box.draco.glb");
+  const std::string file = read_file(testing::corpus_path("box.draco.glb"));
+  EXPECT_EQ(read_gltf(as_bytes(file)).face_count(), 12u);
+  auto draco = [](Glb& g) -> nlohmann::json& {
+    for (auto& p : g.json["meshes"][0]["primitives"])
+      if (p.contains("extensions")) return p["extensions"]["KHR_draco_mesh_compression"];
+    throw std::runtime_error("no Draco primitive");
+  };
+  Glb view(file);
+  draco(view)["bufferView"] = 99;
+  EXPECT_NE(read_error(view.bytes()).find("bufferViews[99] does not exist"), std::string::npos);
+  Glb attribute(file);
+  draco(attribute)["attributes"]["POSITION"] = 99;
+  EXPECT_NE(read_error(attribute.bytes()).find("no 3-component attribute with id 99"),
+            std::string::npos);
+  Glb offset(file);
+  offset.json["bufferViews"][draco(offset)["bufferView"].get<size_t>()]["byteOffset"] = 1u << 30;
+  EXPECT_NE(read_error(offset.bytes()).find("runs past its buffer"), std::string::npos);
+  Glb garbage(file);
+  const size_t at = garbage.json["bufferViews"][draco(garbage)["bufferView"].get<size_t>()].value(
+      "byteOffset", 0);
+  for (size_t k = 0; k < 64 && at + k < garbage.bin.size(); ++k)
+    garbage.bin[at + k] = static_cast<char>(k * 37);
+  EXPECT_FALSE(read_error(garbage.bytes()).empty());
+}
+
+// The corpus in three forms: the same welded surface from OBJ, GLB and Draco GLB.
+class CorpusGltf : public ::testing::TestWithParam<const char*> {};
+
+TEST_P(CorpusGltf, SameWeldedTopologyAsTheObj) {
+  const std::string name = GetParam();
+  SKIP_WITHOUT_CORPUS(name + ".obj");
+  const PreparedMesh obj = prepare_mesh(read_mesh_file(testing::corpus_path(name + ".obj")), {});
+  const size_t obj_triangles = fan_triangulate(obj.welded.mesh).triangles.size();
+  for (const std::string ext : {".glb", ".draco.glb"}) {
+    const PreparedMesh g = prepare_mesh(read_mesh_file(testing::corpus_path(name + ext)), {});
+    EXPECT_EQ(g.topology.vertices, obj.topology.vertices) << ext;
+    EXPECT_EQ(g.topology.faces, obj_triangles) << ext;
+    EXPECT_EQ(g.topology.genus(), 0) << ext;
+    EXPECT_TRUE(mapping_failures(g.topology).empty()) << ext;
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Shared, CorpusGltf,
+                         ::testing::Values("box", "spot_control", "cylinder", "knight",
+                                           "horse_quad", "spot_quad", "duck", "spot", "cheburashka",
+                                           "hand", "beast", "armadillo", "horse", "scorpion",
+                                           "igea"));
+
+}  // namespace
+}  // namespace spheremap
