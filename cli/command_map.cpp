@@ -23,6 +23,11 @@ scene in world space, unless --mesh picks one mesh.
   -o, --output FILE         the spherical mesh: .obj, or .glb (triangles, normals = positions,
                             the metrics in the mesh's extras); required
   --mesh INDEX|NAME         glTF: map only this mesh (by index or name)
+  --draco                   .glb: compress with Draco (KHR_draco_mesh_compression, required)
+  --draco-position-bits N   quantization of Draco positions (default 14)
+  --layout L                original (default): the input's own vertices, so attributes such as
+                            UVs stay aligned with the input file; welded: one vertex per surface
+                            point
   --metrics FILE            write the quality metrics as JSON
   --quiet                   no progress on stderr (shown for runs over a second)
 
@@ -47,15 +52,16 @@ MapControl progress_printer(bool quiet, double& last_print) {
 
 int run_map(int argc, char** argv) {
   std::set<std::string> values = kMapValueOptions;
-  values.insert({"output", "metrics", "mesh"});
+  values.insert({"output", "metrics", "mesh", "layout", "draco-position-bits"});
   std::set<std::string> flags = kMapFlags;
-  flags.insert({"quiet", "help"});
+  flags.insert({"quiet", "help", "draco"});
   Arguments args(argc, argv, 2, values, flags);
   if (args.flag("help")) {
     std::cout << kUsage << kMapOptionsHelp
               << "\nExit codes: 0 bijective map written; 1 usage error; 2 invalid input (the\n"
-                 "failed check on stderr); 3 no bijective map reached (the map and metrics are\n"
-                 "still written, with \"bijective\": false and the folds left).\n";
+                 "failed check on stderr); 3 no bijective map reached, or the map folds once\n"
+                 "rounded to float32 for a .glb (the map and metrics are still written, with\n"
+                 "\"bijective\" / \"bijective_as_written\": false and the folds left).\n";
     return kExitOk;
   }
   if (args.positional().size() != 1) throw UsageError("map takes exactly one INPUT file");
@@ -63,17 +69,48 @@ int run_map(int argc, char** argv) {
   PrepareOptions prepare;
   MapOptions options;
   read_map_options(args, prepare, options);
+  const std::string layout = args.text("layout", "original");
+  if (layout != "original" && layout != "welded")
+    throw UsageError("--layout must be original or welded, got '" + layout + "'");
 
   const PolygonMesh input = read_mesh_file(args.positional()[0], gltf_options(args));
   double last_print = 0;
   const MappedMesh mapped =
       map_mesh(input, prepare, options, progress_printer(args.flag("quiet"), last_print));
-  const nlohmann::json metrics = metrics_json(mapped, options);
-  write_mesh_file(args.text("output", ""), sphere_on_input(input, mapped), metrics, true);
+  nlohmann::json metrics = metrics_json(mapped, options);
+  const std::string output = args.text("output", "");
+  const bool glb = output.size() > 4 && output.substr(output.size() - 4) == ".glb";
+  const int draco_bits =
+      args.flag("draco") ? static_cast<int>(args.integer("draco-position-bits", 14, 8, 30)) : 0;
+  if (draco_bits && !glb) throw UsageError("--draco needs a .glb output");
+  const PolygonMesh sphere =
+      layout == "welded" ? sphere_welded(mapped) : sphere_on_input(input, mapped);
+  MapCheck written = mapped.map.check;  // OBJ keeps every double digit
+  if (glb) {
+    // Encode, decode again, and judge the map as a reader of the file will see it.
+    written = sphere_glb(sphere, metrics, mapped.map.inward, draco_bits).check;
+    metrics["bijective_as_written"] = written.bijective;
+    metrics["folds_as_written"] = written.folds;
+    const std::string bytes = sphere_glb(sphere, metrics, mapped.map.inward, draco_bits).bytes;
+    std::ofstream out(output, std::ios::binary);
+    out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+    if (!out) throw InputError("io", "cannot write '" + output + "'");
+  } else {
+    metrics["bijective_as_written"] = written.bijective;
+    metrics["folds_as_written"] = written.folds;
+    write_mesh_file(output, sphere);
+  }
   if (args.has("metrics")) {
     std::ofstream out(args.text("metrics", ""));
     out << metrics.dump(2) << "\n";
     if (!out) throw InputError("io", "cannot write '" + args.text("metrics", "") + "'");
+  }
+  if (mapped.map.check.bijective && !written.bijective) {
+    std::fprintf(stderr,
+                 "spheremap: the map is bijective in double precision, but %zu triangles fold "
+                 "as written (float32%s positions; write .obj to keep full precision)\n",
+                 written.folds, draco_bits ? " and Draco-quantized" : "");
+    return kExitNotBijective;
   }
   if (!mapped.map.check.bijective) {
     std::fprintf(stderr, "spheremap: no bijective map reached (%s): %zu folded triangles left\n",

@@ -7,7 +7,7 @@ const std::set<std::string> kMapValueOptions = {
     "max-iterations", "min-iterations", "level-iterations", "repair-iterations", "safe-steps",
     "limit-weight",   "attempts",       "time-limit",       "threads",           "weld-tolerance",
     "sweep",          "start-vertices", "smooth-vertices"};
-const std::set<std::string> kMapFlags = {"no-centroid"};
+const std::set<std::string> kMapFlags = {"no-centroid", "largest-component"};
 
 const char* const kMapOptionsHelp = R"(Mapping options:
   --method NAME             coarse-to-fine (default): hierarchy + Lai-Cheng per level, bijective
@@ -46,6 +46,8 @@ const char* const kMapOptionsHelp = R"(Mapping options:
                             for any value
   --weld-tolerance T        weld vertices closer than T x bounding-box diagonal (default 0:
                             only exactly equal positions)
+  --largest-component       keep only the connected part with the most faces (default: several
+                            parts are an error that lists their sizes)
 )";
 
 void read_map_options(const Arguments& args, PrepareOptions& prepare, MapOptions& options) {
@@ -97,6 +99,7 @@ void read_map_options(const Arguments& args, PrepareOptions& prepare, MapOptions
   options.attempts = static_cast<size_t>(
       args.integer("attempts", static_cast<long long>(options.attempts), 1, 100));
   prepare.weld_tolerance = args.number("weld-tolerance", 0, 0, 1);
+  prepare.largest_component = args.flag("largest-component");
 }
 
 GltfReadOptions gltf_options(const Arguments& args) {

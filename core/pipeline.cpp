@@ -1,6 +1,11 @@
 #include "core/pipeline.h"
 
+#include <algorithm>
 #include <chrono>
+
+#include "core/io/glb_writer.h"
+#include "core/io/gltf_reader.h"
+#include "core/union_find.h"
 
 namespace spheremap {
 namespace {
@@ -11,9 +16,44 @@ double seconds_since(std::chrono::steady_clock::time_point start) {
 
 }  // namespace
 
+namespace {
+
+// Drops every face outside the largest component (by faces) and the vertices left unused.
+void keep_largest_component(WeldResult& welded) {
+  PolygonMesh& mesh = welded.mesh;
+  UnionFind sets(mesh.vertex_count());
+  for (size_t f = 0; f < mesh.face_count(); ++f)
+    for (uint32_t v : mesh.face(f)) sets.unite(mesh.face(f)[0], v);
+  std::vector<size_t> faces_of(mesh.vertex_count(), 0);
+  for (size_t f = 0; f < mesh.face_count(); ++f) ++faces_of[sets.find(mesh.face(f)[0])];
+  const uint32_t keep =
+      static_cast<uint32_t>(std::max_element(faces_of.begin(), faces_of.end()) - faces_of.begin());
+  PolygonMesh kept;
+  std::vector<uint32_t> new_id(mesh.vertex_count(), kUnreferenced);
+  std::vector<uint32_t> corners;
+  for (size_t f = 0; f < mesh.face_count(); ++f) {
+    if (sets.find(mesh.face(f)[0]) != keep) continue;
+    corners.clear();
+    for (uint32_t v : mesh.face(f)) {
+      if (new_id[v] == kUnreferenced) {
+        new_id[v] = static_cast<uint32_t>(kept.positions.size());
+        kept.positions.push_back(mesh.positions[v]);
+      }
+      corners.push_back(new_id[v]);
+    }
+    kept.add_face(corners);
+  }
+  for (uint32_t& w : welded.input_to_welded)
+    if (w != kUnreferenced) w = new_id[w];
+  mesh = std::move(kept);
+}
+
+}  // namespace
+
 PreparedMesh prepare_mesh(const PolygonMesh& input, const PrepareOptions& options) {
   PreparedMesh prepared;
   prepared.welded = weld(input, options.weld_tolerance);
+  if (options.largest_component) keep_largest_component(prepared.welded);
   prepared.topology = analyze_topology(prepared.welded.mesh);
   return prepared;
 }
@@ -31,16 +71,49 @@ MappedMesh map_mesh(const PolygonMesh& input, const PrepareOptions& prepare,
 
   start = std::chrono::steady_clock::now();
   const PolygonMesh& mesh = out.prepared.welded.mesh;
-  out.quality = compute_metrics(mesh.positions, out.map.sphere, oriented_triangles(mesh).triangles);
+  const OrientedTriangles oriented = oriented_triangles(mesh);
+  out.quality = compute_metrics(mesh.positions, out.map.sphere, oriented.triangles);
+  std::vector<Vec3> rounded(out.map.sphere.size());
+  for (size_t v = 0; v < rounded.size(); ++v) {
+    const Vec3& p = out.map.sphere[v];
+    rounded[v] = {static_cast<float>(p.x), static_cast<float>(p.y), static_cast<float>(p.z)};
+  }
+  out.float32_check = verify_map(rounded, oriented.triangles, mesh, oriented.inward);
   out.metrics_seconds = seconds_since(start);
   return out;
 }
 
 PolygonMesh sphere_on_input(const PolygonMesh& input, const MappedMesh& mapped) {
-  PolygonMesh out = input;
   const auto& to_welded = mapped.prepared.welded.input_to_welded;
+  PolygonMesh out;
+  out.positions.resize(input.vertex_count());
   for (size_t v = 0; v < out.positions.size(); ++v)
     out.positions[v] = to_welded[v] == kUnreferenced ? Vec3{} : mapped.map.sphere[to_welded[v]];
+  for (size_t f = 0; f < input.face_count(); ++f)
+    if (to_welded[input.face(f)[0]] != kUnreferenced) out.add_face(input.face(f));
+  return out;
+}
+
+PolygonMesh sphere_welded(const MappedMesh& mapped) {
+  PolygonMesh out = mapped.prepared.welded.mesh;
+  out.positions = mapped.map.sphere;
+  return out;
+}
+
+WrittenGlb sphere_glb(const PolygonMesh& sphere, const nlohmann::json& extras, bool inward,
+                      int draco_position_bits) {
+  WrittenGlb out;
+  const std::vector<Triangle> triangles = fan_triangulate(sphere).triangles;
+  out.bytes =
+      format_glb({sphere.positions, sphere.positions, triangles, extras, draco_position_bits});
+  const PolygonMesh decoded =
+      read_gltf({reinterpret_cast<const uint8_t*>(out.bytes.data()), out.bytes.size()});
+  std::vector<Triangle> oriented = fan_triangulate(decoded).triangles;
+  if (inward)
+    for (Triangle& t : oriented) std::swap(t[1], t[2]);
+  // Unused input vertices (at the origin) are written but belong to no face: not judged.
+  out.check = check_map(decoded.positions, oriented);
+  if (decoded.vertex_count() != sphere.vertex_count()) out.check.bijective = false;
   return out;
 }
 

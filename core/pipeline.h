@@ -2,6 +2,9 @@
 // tool and the service: weld -> validate -> map -> verify -> metrics.
 #pragma once
 
+#include <nlohmann/json.hpp>
+#include <string>
+
 #include "core/metrics.h"
 #include "core/spherical_map.h"
 #include "core/topology.h"
@@ -11,6 +14,9 @@ namespace spheremap {
 
 struct PrepareOptions {
   double weld_tolerance = 0;  // relative to the bounding-box diagonal; 0 = exact positions
+  // Keep only the connected component with the most faces (others are dropped, their
+  // input vertices then map to nothing); otherwise several components are an error.
+  bool largest_component = false;
 };
 
 struct PreparedMesh {
@@ -24,6 +30,9 @@ PreparedMesh prepare_mesh(const PolygonMesh& input, const PrepareOptions& option
 struct MappedMesh {
   PreparedMesh prepared;
   MapResult map;
+  // The same verdict on the positions rounded to float32, as glTF stores them: thin parts
+  // squeezed below float32's resolution fold there although the double map is bijective.
+  MapCheck float32_check;
   QualityMetrics quality;
   double prepare_seconds = 0, metrics_seconds = 0;
 };
@@ -33,7 +42,21 @@ MappedMesh map_mesh(const PolygonMesh& input, const PrepareOptions& prepare,
                     const MapOptions& options, const MapControl& control = {});
 
 // The input mesh with every vertex moved to its sphere position (input order and faces;
-// unreferenced vertices that weld to nothing stay at the origin).
+// unreferenced vertices that weld to nothing stay at the origin, faces of dropped
+// components are left out).
 PolygonMesh sphere_on_input(const PolygonMesh& input, const MappedMesh& mapped);
+
+// The welded mesh (one vertex per surface point) on the sphere.
+PolygonMesh sphere_welded(const MappedMesh& mapped);
+
+// A spherical mesh as GLB bytes (normals = positions, `extras` on the mesh, Draco when
+// draco_position_bits > 0), and the verdict on the map as written: the file decoded again
+// by our own reader, positions float32 (and quantized, with Draco), checked like the map.
+struct WrittenGlb {
+  std::string bytes;
+  MapCheck check;
+};
+WrittenGlb sphere_glb(const PolygonMesh& sphere, const nlohmann::json& extras, bool inward,
+                      int draco_position_bits);
 
 }  // namespace spheremap

@@ -3,9 +3,11 @@
 set -uo pipefail
 spheremap=$1
 fail() { echo "FAIL: $*"; exit 1; }
-"$spheremap" --help | grep -q "spheremap map INPUT" || fail "--help"
-"$spheremap" map --help | grep -q -- "--method" || fail "map --help lists options"
-"$spheremap" map --help | grep -q "default 0.25" || fail "map --help shows defaults"
+help=$("$spheremap" --help) || fail "--help exit 0"
+[[ "$help" == *"spheremap map INPUT"* ]] || fail "--help"
+help=$("$spheremap" map --help) || fail "map --help exit 0"
+[[ "$help" == *"--method"* ]] || fail "map --help lists options"
+[[ "$help" == *"default 0.25"* ]] || fail "map --help shows defaults"
 "$spheremap" map x.obj -o y.obj --bogus 2>/dev/null; [ $? -eq 1 ] || fail "unknown option exit 1"
 "$spheremap" map x.obj 2>/dev/null; [ $? -eq 1 ] || fail "missing -o exit 1"
 "$spheremap" map /nonexistent.obj -o /tmp/y.obj 2>/dev/null; [ $? -eq 2 ] || fail "missing file exit 2"
@@ -19,4 +21,17 @@ grep -q '"genus": 0' "$tmp/info.json" || fail "info genus"
 grep -q '"bijective": true' "$tmp/m.json" || fail "tetrahedron bijective"
 printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n' > "$tmp/tri.obj"
 "$spheremap" info "$tmp/tri.obj" > /dev/null; [ $? -eq 2 ] || fail "info on open mesh exit 2"
+# Two tetrahedra: an error naming the components, or the larger with --largest-component.
+printf 'v 1 1 1\nv 1 -1 -1\nv -1 1 -1\nv -1 -1 1\nv 11 1 1\nv 11 -1 -1\nv 9 1 -1\nv 9 -1 1\nv 10 0 5\n' > "$tmp/two.obj"
+printf 'f 1 2 3\nf 1 4 2\nf 1 3 4\nf 2 4 3\nf 5 6 7\nf 5 8 6\nf 5 7 8\nf 6 8 7\n' >> "$tmp/two.obj"
+msg=$("$spheremap" map "$tmp/two.obj" -o "$tmp/two_s.obj" 2>&1); [ $? -eq 2 ] || fail "two parts exit 2"
+[[ "$msg" == *"[components]"*"2 connected components"* ]] || fail "components message: $msg"
+"$spheremap" map "$tmp/two.obj" -o "$tmp/two_s.obj" --largest-component --quiet || fail "largest component"
+[ "$(grep -c '^f' "$tmp/two_s.obj")" -eq 4 ] || fail "largest component keeps 4 faces"
+# GLB output, and the welded layout.
+"$spheremap" map "$tmp/tet.obj" -o "$tmp/tet.glb" --quiet || fail "glb output"
+[ "$(head -c 4 "$tmp/tet.glb")" = "glTF" ] || fail "glb magic"
+"$spheremap" info "$tmp/tet.glb" > /dev/null || fail "info reads glb"
+"$spheremap" map "$tmp/tet.obj" -o "$tmp/w.obj" --layout welded --quiet || fail "welded layout"
+"$spheremap" map "$tmp/tet.obj" -o "$tmp/w.obj" --layout bogus 2> /dev/null; [ $? -eq 1 ] || fail "bad layout exit 1"
 echo "cli usage: ok"

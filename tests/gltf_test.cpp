@@ -9,6 +9,7 @@
 #include "core/io/mesh_file.h"
 #include "core/io/text_reader.h"
 #include "core/pipeline.h"
+#include "core/sphere_geometry.h"
 #include "tests/corpus.h"
 #include "tests/mesh_generators.h"
 
@@ -232,6 +233,37 @@ INSTANTIATE_TEST_SUITE_P(Shared, CorpusGltf,
                                            "horse_quad", "spot_quad", "duck", "spot", "cheburashka",
                                            "hand", "beast", "armadillo", "horse", "scorpion",
                                            "igea"));
+
+}  // namespace
+}  // namespace spheremap
+
+namespace spheremap {
+namespace {
+
+TEST(SphereGlb, RoundTripsPlainAndDracoAndJudgesTheDecodedMap) {
+  const PolygonMesh sphere = testing::icosphere(3);
+  for (int bits : {0, 14}) {
+    const WrittenGlb file = sphere_glb(sphere, {{"k", 1}}, false, bits);
+    EXPECT_TRUE(file.check.bijective) << bits << " bits";
+    const PolygonMesh back = read_gltf(as_bytes(file.bytes));
+    ASSERT_EQ(back.vertex_count(), sphere.vertex_count());  // order kept (sequential Draco)
+    const double tolerance = bits ? 2.0 / (1 << bits) : 1e-7;
+    for (size_t v = 0; v < sphere.vertex_count(); ++v)
+      ASSERT_NEAR(norm(back.positions[v] - sphere.positions[v]), 0, tolerance) << v;
+    const Glb glb(file.bytes);
+    EXPECT_EQ(glb.json["meshes"][0]["extras"]["k"], 1);
+    EXPECT_EQ(glb.json.contains("extensionsRequired"), bits > 0);
+  }
+}
+
+TEST(SphereGlb, CatchesAMapThatFoldsOnlyOnceQuantized) {
+  // Two corners 1e-9 apart on a valid sphere map: fine in double, gone at 8-bit Draco.
+  PolygonMesh sphere = testing::icosphere(2);
+  const Triangle t = fan_triangulate(sphere).triangles[0];
+  sphere.positions[t[1]] = normalized_or(
+      sphere.positions[t[0]] + 1e-9 * (sphere.positions[t[1]] - sphere.positions[t[0]]), {});
+  EXPECT_FALSE(sphere_glb(sphere, {}, false, 8).check.bijective);
+}
 
 }  // namespace
 }  // namespace spheremap

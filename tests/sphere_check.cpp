@@ -53,9 +53,15 @@ int main(int argc, char** argv) {
       faces.push_back(f);
     }
   }
+  // Only vertices a face uses must be on the sphere (an unused one may sit anywhere).
+  std::vector<char> used(v.size(), 0);
+  for (const auto& f : faces)
+    for (long id : f)
+      if (id >= 0 && id < static_cast<long>(v.size())) used[static_cast<size_t>(id)] = 1;
   double max_radius_error = 0;
-  for (const P& p : v)
-    max_radius_error = std::fmax(max_radius_error, std::fabs(std::sqrt(dotp(p, p)) - 1));
+  for (size_t i = 0; i < v.size(); ++i)
+    if (used[i])
+      max_radius_error = std::fmax(max_radius_error, std::fabs(std::sqrt(dotp(v[i], v[i])) - 1));
   long positive = 0, negative = 0, fan_positive = 0, fan_negative = 0, triangles = 0;
   double area = 0;
   for (const auto& f : faces) {

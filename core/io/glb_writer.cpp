@@ -1,8 +1,12 @@
 #include "core/io/glb_writer.h"
 
+#include <draco/compression/encode.h>
+#include <draco/mesh/mesh.h>
+
 #include <algorithm>
 #include <cstring>
 #include <limits>
+#include <stdexcept>
 
 namespace spheremap {
 namespace {
@@ -29,46 +33,93 @@ std::pair<std::array<float, 3>, std::array<float, 3>> append_vec3(std::string& b
   return {lo, hi};
 }
 
+// Adds a float32 xyz attribute with one value per point; returns its unique id.
+uint32_t add_draco_vec3(draco::Mesh& out, draco::GeometryAttribute::Type type,
+                        const std::vector<Vec3>& values) {
+  draco::GeometryAttribute attribute;
+  attribute.Init(type, nullptr, 3, draco::DT_FLOAT32, false, 12, 0);
+  const int id = out.AddAttribute(attribute, true, static_cast<uint32_t>(values.size()));
+  for (uint32_t i = 0; i < values.size(); ++i) {
+    const float f[3] = {static_cast<float>(values[i].x), static_cast<float>(values[i].y),
+                        static_cast<float>(values[i].z)};
+    out.attribute(id)->SetAttributeValue(draco::AttributeValueIndex(i), f);
+  }
+  return out.attribute(id)->unique_id();
+}
+
+// The Draco stream of the mesh and the ids of its attributes.
+std::string encode_draco(const GlbMesh& mesh, nlohmann::json& attribute_ids) {
+  draco::Mesh out;
+  out.set_num_points(static_cast<uint32_t>(mesh.positions.size()));
+  attribute_ids["POSITION"] =
+      add_draco_vec3(out, draco::GeometryAttribute::POSITION, mesh.positions);
+  if (!mesh.normals.empty())
+    attribute_ids["NORMAL"] = add_draco_vec3(out, draco::GeometryAttribute::NORMAL, mesh.normals);
+  out.SetNumFaces(mesh.triangles.size());
+  for (uint32_t f = 0; f < mesh.triangles.size(); ++f) {
+    draco::Mesh::Face face;
+    for (int c = 0; c < 3; ++c) face[c] = draco::PointIndex(mesh.triangles[f][c]);
+    out.SetFace(draco::FaceIndex(f), face);
+  }
+  draco::Encoder encoder;
+  encoder.SetEncodingMethod(draco::MESH_SEQUENTIAL_ENCODING);
+  encoder.SetAttributeQuantization(draco::GeometryAttribute::POSITION, mesh.draco_position_bits);
+  encoder.SetAttributeQuantization(draco::GeometryAttribute::NORMAL, 10);
+  draco::EncoderBuffer buffer;
+  if (!encoder.EncodeMeshToBuffer(out, &buffer).ok())
+    throw std::runtime_error("Draco could not encode the mesh");
+  return std::string(buffer.data(), buffer.size());
+}
+
 }  // namespace
 
 std::string format_glb(const GlbMesh& mesh) {
+  const bool draco = mesh.draco_position_bits > 0;
+  const size_t n = mesh.positions.size();
   std::string bin;
   nlohmann::json views = nlohmann::json::array(), accessors = nlohmann::json::array();
-  const size_t n = mesh.positions.size();
-  auto add_view = [&](size_t offset, size_t length, int target) {
-    views.push_back(
-        {{"buffer", 0}, {"byteOffset", offset}, {"byteLength", length}, {"target", target}});
-    return views.size() - 1;
+  // With Draco, accessors describe the decoded data and have no bufferView.
+  auto add_accessor = [&](nlohmann::json accessor, const std::string& data, int target) {
+    if (!draco) {
+      views.push_back({{"buffer", 0},
+                       {"byteOffset", bin.size()},
+                       {"byteLength", data.size()},
+                       {"target", target}});
+      accessor["bufferView"] = views.size() - 1;
+      bin += data;
+      while (bin.size() % 4) bin.push_back('\0');
+    }
+    accessors.push_back(std::move(accessor));
+    return accessors.size() - 1;
   };
-  // POSITION
-  size_t offset = bin.size();
-  auto [lo, hi] = append_vec3(bin, mesh.positions);
-  accessors.push_back({{"bufferView", add_view(offset, bin.size() - offset, 34962)},
-                       {"componentType", 5126},
-                       {"count", n},
-                       {"type", "VEC3"},
-                       {"min", lo},
-                       {"max", hi}});
-  nlohmann::json attributes = {{"POSITION", 0}};
+  std::string data;
+  const auto [lo, hi] = append_vec3(data, mesh.positions);
+  nlohmann::json attributes;
+  attributes["POSITION"] = add_accessor(
+      {{"componentType", 5126}, {"count", n}, {"type", "VEC3"}, {"min", lo}, {"max", hi}}, data,
+      34962);
   if (!mesh.normals.empty()) {
-    offset = bin.size();
-    append_vec3(bin, mesh.normals);
-    accessors.push_back({{"bufferView", add_view(offset, bin.size() - offset, 34962)},
-                         {"componentType", 5126},
-                         {"count", n},
-                         {"type", "VEC3"}});
-    attributes["NORMAL"] = accessors.size() - 1;
+    data.clear();
+    append_vec3(data, mesh.normals);
+    attributes["NORMAL"] =
+        add_accessor({{"componentType", 5126}, {"count", n}, {"type", "VEC3"}}, data, 34962);
   }
-  offset = bin.size();
-  for (const Triangle& t : mesh.triangles) append_bytes(bin, t.data(), 12);
-  accessors.push_back({{"bufferView", add_view(offset, bin.size() - offset, 34963)},
-                       {"componentType", 5125},
-                       {"count", 3 * mesh.triangles.size()},
-                       {"type", "SCALAR"}});
-  const nlohmann::json primitive = {
-      {"attributes", attributes}, {"indices", accessors.size() - 1}, {"mode", 4}};
+  data.clear();
+  for (const Triangle& t : mesh.triangles) append_bytes(data, t.data(), 12);
+  const size_t indices = add_accessor(
+      {{"componentType", 5125}, {"count", 3 * mesh.triangles.size()}, {"type", "SCALAR"}}, data,
+      34963);
+  nlohmann::json primitive = {{"attributes", attributes}, {"indices", indices}, {"mode", 4}};
+  if (draco) {
+    nlohmann::json ids;
+    const std::string stream = encode_draco(mesh, ids);
+    views.push_back({{"buffer", 0}, {"byteOffset", bin.size()}, {"byteLength", stream.size()}});
+    bin += stream;
+    primitive["extensions"] = {
+        {"KHR_draco_mesh_compression", {{"bufferView", views.size() - 1}, {"attributes", ids}}}};
+  }
   while (bin.size() % 4) bin.push_back('\0');
-  const nlohmann::json json = {
+  nlohmann::json json = {
       {"asset", {{"version", "2.0"}, {"generator", "spheremap"}}},
       {"scene", 0},
       {"scenes", {{{"nodes", {0}}}}},
@@ -78,6 +129,10 @@ std::string format_glb(const GlbMesh& mesh) {
       {"bufferViews", views},
       {"buffers", {{{"byteLength", bin.size()}}}},
   };
+  if (draco) {
+    json["extensionsUsed"] = {"KHR_draco_mesh_compression"};
+    json["extensionsRequired"] = {"KHR_draco_mesh_compression"};
+  }
   std::string text = json.dump();
   while (text.size() % 4) text.push_back(' ');
   std::string out;

@@ -16,6 +16,9 @@ struct GlbMesh {
   std::vector<Vec3> normals;  // empty, or one per position
   std::vector<Triangle> triangles;
   nlohmann::json extras = nlohmann::json::object();
+  // > 0: compress with KHR_draco_mesh_compression (marked required), positions quantized
+  // to this many bits (normals to 10), sequential encoding so vertex order is kept.
+  int draco_position_bits = 0;
 };
 
 std::string format_glb(const GlbMesh& mesh);

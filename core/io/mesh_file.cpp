@@ -4,7 +4,6 @@
 #include <fstream>
 
 #include "core/input_error.h"
-#include "core/io/glb_writer.h"
 #include "core/io/obj.h"
 #include "core/io/off.h"
 #include "core/io/text_reader.h"
@@ -35,19 +34,10 @@ PolygonMesh read_mesh_file(const std::string& path, const GltfReadOptions& gltf)
   return ext == "obj" ? parse_obj(text) : parse_off(text);
 }
 
-void write_mesh_file(const std::string& path, const PolygonMesh& mesh, const nlohmann::json& extras,
-                     bool sphere_normals) {
-  const std::string ext = lowercase_extension(path);
-  if (ext != "obj" && ext != "glb")
-    throw InputError("io", "cannot write '" + path + "': use the .obj or .glb extension");
-  std::string text;
-  if (ext == "obj") {
-    text = format_obj(mesh);
-  } else {
-    GlbMesh glb{mesh.positions, sphere_normals ? mesh.positions : std::vector<Vec3>{},
-                fan_triangulate(mesh).triangles, extras};
-    text = format_glb(glb);
-  }
+void write_mesh_file(const std::string& path, const PolygonMesh& mesh) {
+  if (lowercase_extension(path) != "obj")
+    throw InputError("io", "cannot write '" + path + "': use the .obj extension");
+  const std::string text = format_obj(mesh);
   std::ofstream out(path, std::ios::binary);
   out.write(text.data(), static_cast<std::streamsize>(text.size()));
   if (!out) throw InputError("io", "cannot write '" + path + "'");
