@@ -28,7 +28,7 @@ struct Row {
   double seconds = 0;
   size_t vertices = 0, faces = 0, iterations = 0, attempts = 0, folds = 0, degenerate = 0;
   double work = 0, min_area = 0, area_mean = 0, k_mean = 0, k_p99 = 0, stretch = 0;
-  int bijective = 0, ok = 0;
+  int bijective = 0, float32 = 0, ok = 0;
 };
 
 Row run_one(const std::string& path, const MapOptions& options) {
@@ -46,6 +46,7 @@ Row run_one(const std::string& path, const MapOptions& options) {
   row.degenerate = m.map.check.degenerate;
   row.min_area = m.map.check.min_signed_area;
   row.bijective = m.map.check.bijective;
+  row.float32 = m.float32_check.bijective;
   row.area_mean = m.quality.area_log_ratio.mean;
   row.k_mean = m.quality.dilatation.mean;
   row.k_p99 = m.quality.dilatation.p99;
@@ -107,8 +108,9 @@ int main(int argc, char** argv) {
   std::printf(
       "| mesh | V | F | method | attempts | iterations | work | wall s | peak MiB | B/face | folds "
       "| "
-      "degenerate | min area | bijective | area mean abs(log) | K mean | K p99 | stretch L2 |\n"
-      "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+      "degenerate | min area | bijective | float32 | area mean abs(log) | K mean | K p99 | "
+      "stretch L2 |\n"
+      "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
   for (const std::string& path : meshes) {
     for (int paper = 0; paper < 2; ++paper) {
       MapOptions options;
@@ -128,17 +130,18 @@ int main(int argc, char** argv) {
         peak = std::max(peak, again_peak);
       }
       if (!r.ok) {
-        std::printf("| %s | | | %s | failed to run | | | | | | | | | | | | | |\n",
+        std::printf("| %s | | | %s | failed to run | | | | | | | | | | | | | | |\n",
                     name_of(path).c_str(), paper ? "paper" : "default");
         continue;
       }
       std::printf(
           "| %s | %zu | %zu | %s | %zu | %zu | %.1f | %.3f | %.1f | %.0f | %zu | %zu | %.1e | %s | "
-          "%.2f | %.2f | %.1f | %.2f |\n",
+          "%s | %.2f | %.2f | %.1f | %.2f |\n",
           name_of(path).c_str(), r.vertices, r.faces, paper ? "paper" : "default",
           paper ? size_t{0} : r.attempts, r.iterations, r.work, r.seconds, peak / 1024.0,
           peak * 1024.0 / static_cast<double>(r.faces), r.folds, r.degenerate, r.min_area,
-          r.bijective ? "yes" : "**no**", r.area_mean, r.k_mean, r.k_p99, r.stretch);
+          r.bijective ? "yes" : "**no**", r.bijective ? (r.float32 ? "yes" : "**no**") : "-",
+          r.area_mean, r.k_mean, r.k_p99, r.stretch);
       std::fflush(stdout);
     }
   }

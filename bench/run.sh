@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Runs the corpus benchmark on every valid corpus mesh (OBJ) and prints the table that
+# Runs the corpus benchmark on every valid corpus mesh (OBJ; igea_loop1 from its Draco GLB)
+# and prints the table that
 # BENCHMARKS.md quotes, after a line describing the machine.
 # Usage: bench/run.sh [corpus dir] [paper iteration cap]
 set -euo pipefail
@@ -15,12 +16,6 @@ for m in box spot_control cylinder knight horse_quad spot_quad duck spot chebura
          armadillo horse scorpion igea; do
   [ -f "$corpus/$m.obj" ] && meshes+=("$corpus/$m.obj")
 done
-# igea_loop1 ships as Draco only: decode it once to OBJ with the npm helper beside this file.
-loop1=build/igea_loop1.obj
-if [ -f "$corpus/igea_loop1.draco.glb" ] && [ ! -f "$loop1" ] && command -v npm > /dev/null; then
-  (cd bench/draco-to-obj && npm install --no-audit --no-fund --loglevel=error > /dev/null &&
-   node draco-to-obj.mjs "$corpus/igea_loop1.draco.glb" "../../$loop1") ||
-    echo "could not decode igea_loop1 (npm); skipped"
-fi
-[ -f "$loop1" ] && meshes+=("$loop1")
+# igea_loop1 ships as Draco only: read it as such.
+[ -f "$corpus/igea_loop1.draco.glb" ] && meshes+=("$corpus/igea_loop1.draco.glb")
 build/bench/corpus_bench --paper-cap "$cap" --paper-seconds 60 "${meshes[@]}"

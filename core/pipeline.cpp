@@ -5,6 +5,7 @@
 
 #include "core/io/glb_writer.h"
 #include "core/io/gltf_reader.h"
+#include "core/sphere_geometry.h"
 #include "core/union_find.h"
 
 namespace spheremap {
@@ -111,8 +112,12 @@ WrittenGlb sphere_glb(const PolygonMesh& sphere, const nlohmann::json& extras, b
   std::vector<Triangle> oriented = fan_triangulate(decoded).triangles;
   if (inward)
     for (Triangle& t : oriented) std::swap(t[1], t[2]);
-  // Unused input vertices (at the origin) are written but belong to no face: not judged.
-  out.check = check_map(decoded.positions, oriented);
+  // Quantized points sit slightly off the sphere; a reader takes their directions (the
+  // signs of the determinants do not change). Unused vertices belong to no face.
+  std::vector<Vec3> directions(decoded.positions.size());
+  for (size_t v = 0; v < directions.size(); ++v)
+    directions[v] = normalized_or(decoded.positions[v], Vec3{});
+  out.check = check_map(directions, oriented);
   if (decoded.vertex_count() != sphere.vertex_count()) out.check.bijective = false;
   return out;
 }
