@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
 # The README's second command and what CI runs: installs what is missing, builds with
-# warnings as errors, checks formatting, and runs the whole test suite through CTest.
+# warnings as errors, checks formatting, and runs the whole test suite through CTest,
+# then again built with AddressSanitizer + UndefinedBehaviorSanitizer (any report fails
+# the run; SPHEREMAP_SKIP_SANITIZERS=1 skips that pass for quick local runs).
 # Corpus tests read ../shared/meshes (or $SPHEREMAP_CORPUS) and are skipped without it.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -9,5 +11,11 @@ scripts/build.sh
 if command -v clang-format > /dev/null; then
   git ls-files '*.cpp' '*.h' | xargs clang-format --dry-run --Werror
 fi
-cd build
-ctest --output-on-failure -j "$(nproc)"
+(cd build && ctest --output-on-failure -j "$(nproc)")
+if [ "${SPHEREMAP_SKIP_SANITIZERS:-0}" != 1 ]; then
+  flags="-fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=undefined"
+  cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSPHEREMAP_WERROR=ON \
+    -DCMAKE_CXX_FLAGS="$flags" -DCMAKE_EXE_LINKER_FLAGS="-fsanitize=address,undefined" > /dev/null
+  cmake --build build-asan -j "$(nproc)"
+  (cd build-asan && ASAN_OPTIONS=detect_leaks=1 ctest --output-on-failure -j "$(nproc)")
+fi
