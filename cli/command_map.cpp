@@ -88,10 +88,12 @@ int run_map(int argc, char** argv) {
   MapCheck written = mapped.map.check;  // OBJ keeps every double digit
   if (glb) {
     // Encode, decode again, and judge the map as a reader of the file will see it.
-    written = sphere_glb(sphere, metrics, mapped.map.inward, draco_bits).check;
+    WrittenGlb file = sphere_glb(sphere, mapped.map.inward, draco_bits);
+    written = file.check;
     metrics["bijective_as_written"] = written.bijective;
     metrics["folds_as_written"] = written.folds;
-    const std::string bytes = sphere_glb(sphere, metrics, mapped.map.inward, draco_bits).bytes;
+    file.glb.json["meshes"][0]["extras"] = metrics;
+    const std::string bytes = serialize_glb(file.glb);
     std::ofstream out(output, std::ios::binary);
     out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
     if (!out) throw InputError("io", "cannot write '" + output + "'");

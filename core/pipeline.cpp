@@ -101,14 +101,14 @@ PolygonMesh sphere_welded(const MappedMesh& mapped) {
   return out;
 }
 
-WrittenGlb sphere_glb(const PolygonMesh& sphere, const nlohmann::json& extras, bool inward,
-                      int draco_position_bits) {
+WrittenGlb sphere_glb(const PolygonMesh& sphere, bool inward, int draco_position_bits) {
   WrittenGlb out;
   const std::vector<Triangle> triangles = fan_triangulate(sphere).triangles;
-  out.bytes =
-      format_glb({sphere.positions, sphere.positions, triangles, extras, draco_position_bits});
+  out.glb = build_glb({sphere.positions, sphere.positions, triangles, nlohmann::json::object(),
+                       draco_position_bits});
+  const std::string bytes = serialize_glb(out.glb);
   const PolygonMesh decoded =
-      read_gltf({reinterpret_cast<const uint8_t*>(out.bytes.data()), out.bytes.size()});
+      read_gltf({reinterpret_cast<const uint8_t*>(bytes.data()), bytes.size()});
   std::vector<Triangle> oriented = fan_triangulate(decoded).triangles;
   if (inward)
     for (Triangle& t : oriented) std::swap(t[1], t[2]);

@@ -5,6 +5,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "core/io/glb_writer.h"
 #include "core/metrics.h"
 #include "core/spherical_map.h"
 #include "core/topology.h"
@@ -49,14 +50,14 @@ PolygonMesh sphere_on_input(const PolygonMesh& input, const MappedMesh& mapped);
 // The welded mesh (one vertex per surface point) on the sphere.
 PolygonMesh sphere_welded(const MappedMesh& mapped);
 
-// A spherical mesh as GLB bytes (normals = positions, `extras` on the mesh, Draco when
-// draco_position_bits > 0), and the verdict on the map as written: the file decoded again
-// by our own reader, positions float32 (and quantized, with Draco), checked like the map.
+// A spherical mesh as a GLB (normals = positions, Draco when draco_position_bits > 0),
+// and the verdict on the map as written: the file decoded again by our own reader,
+// positions float32 (and quantized, with Draco), checked like the map. Set extras in
+// glb.json before serialize_glb(glb): they do not change what was checked.
 struct WrittenGlb {
-  std::string bytes;
+  GlbParts glb;
   MapCheck check;
 };
-WrittenGlb sphere_glb(const PolygonMesh& sphere, const nlohmann::json& extras, bool inward,
-                      int draco_position_bits);
+WrittenGlb sphere_glb(const PolygonMesh& sphere, bool inward, int draco_position_bits);
 
 }  // namespace spheremap

@@ -73,7 +73,7 @@ std::string encode_draco(const GlbMesh& mesh, nlohmann::json& attribute_ids) {
 
 }  // namespace
 
-std::string format_glb(const GlbMesh& mesh) {
+GlbParts build_glb(const GlbMesh& mesh) {
   const bool draco = mesh.draco_position_bits > 0;
   const size_t n = mesh.positions.size();
   std::string bin;
@@ -133,19 +133,23 @@ std::string format_glb(const GlbMesh& mesh) {
     json["extensionsUsed"] = {"KHR_draco_mesh_compression"};
     json["extensionsRequired"] = {"KHR_draco_mesh_compression"};
   }
-  std::string text = json.dump();
+  return {std::move(json), std::move(bin)};
+}
+
+std::string serialize_glb(const GlbParts& parts) {
+  std::string text = parts.json.dump();
   while (text.size() % 4) text.push_back(' ');
   std::string out;
-  out.reserve(28 + text.size() + bin.size());
+  out.reserve(28 + text.size() + parts.bin.size());
   append_u32(out, 0x46546C67);
   append_u32(out, 2);
-  append_u32(out, static_cast<uint32_t>(12 + 8 + text.size() + 8 + bin.size()));
+  append_u32(out, static_cast<uint32_t>(12 + 8 + text.size() + 8 + parts.bin.size()));
   append_u32(out, static_cast<uint32_t>(text.size()));
   append_u32(out, 0x4E4F534A);
   out += text;
-  append_u32(out, static_cast<uint32_t>(bin.size()));
+  append_u32(out, static_cast<uint32_t>(parts.bin.size()));
   append_u32(out, 0x004E4942);
-  out += bin;
+  out += parts.bin;
   return out;
 }
 

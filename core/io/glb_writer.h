@@ -21,6 +21,16 @@ struct GlbMesh {
   int draco_position_bits = 0;
 };
 
-std::string format_glb(const GlbMesh& mesh);
+// A GLB as its JSON and binary chunk: built once (encoding, Draco), serialized after the
+// JSON is changed if need be (extras do not touch the binary data).
+struct GlbParts {
+  nlohmann::json json;
+  std::string bin;
+};
+GlbParts build_glb(const GlbMesh& mesh);
+std::string serialize_glb(const GlbParts& parts);
+inline std::string format_glb(const GlbMesh& mesh) {
+  return serialize_glb(build_glb(mesh));
+}
 
 }  // namespace spheremap
