@@ -1,0 +1,23 @@
+// libFuzzer target: the OBJ and OFF readers (and welding + topology on what they return)
+// on arbitrary text. Any input must end in a mesh or an InputError.
+#include <cstddef>
+#include <cstdint>
+#include <string_view>
+
+#include "core/input_error.h"
+#include "core/io/obj.h"
+#include "core/io/off.h"
+#include "core/pipeline.h"
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+  const std::string_view text(reinterpret_cast<const char*>(data), size);
+  for (int format = 0; format < 2; ++format) {
+    try {
+      const spheremap::PolygonMesh mesh =
+          format == 0 ? spheremap::parse_obj(text) : spheremap::parse_off(text);
+      spheremap::prepare_mesh(mesh, {});
+    } catch (const spheremap::InputError&) {
+    }
+  }
+  return 0;
+}
