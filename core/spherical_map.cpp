@@ -80,8 +80,7 @@ MapResult map_to_sphere(const PolygonMesh& input, const MapOptions& options,
   const std::vector<uint32_t>* orders[] = {&morton, &identity};
   for (const std::vector<uint32_t>* order : orders) {
     MapOptions attempt_options = options;
-    attempt_options.attempts =
-        std::max<size_t>(1, options.attempts - std::min(attempts, options.attempts - 1));
+    attempt_options.attempts = options.attempts - attempts;       // >= 1: see the loop exit
     if (order != &morton) attempt_options.direct_iterations = 0;  // tried already
     result = map_in_order(reordered(input, *order), attempt_options, control);
     attempts += result.attempts, iterations += result.iterations;
