@@ -214,10 +214,6 @@ Document::AccessorView Document::accessor(size_t index) const {
   return v;
 }
 
-size_t Document::accessor_count(size_t index) const {
-  return accessor(index).count;
-}
-
 std::vector<double> Document::read_floats(size_t index, int components) const {
   const AccessorView v = accessor(index);
   if (v.component_type != 5126 || v.components != components)

@@ -22,7 +22,6 @@ class Document {
   // Accessor `index` read as doubles (positions) or indices, checked against its view.
   std::vector<double> read_floats(size_t index, int components) const;
   std::vector<uint32_t> read_indices(size_t index, size_t vertex_count) const;
-  size_t accessor_count(size_t index) const;
 
   // Array element `index` of json()[key], or fail naming the reference.
   const nlohmann::json& element(const char* key, size_t index) const;
