@@ -1,5 +1,4 @@
 #include <cstdio>
-#include <fstream>
 #include <iostream>
 
 #include "cli/arguments.h"
@@ -8,6 +7,7 @@
 #include "core/input_error.h"
 #include "core/io/mesh_file.h"
 #include "core/report_json.h"
+#include "core/sphere_asset.h"
 
 namespace spheremap::cli {
 namespace {
@@ -77,35 +77,28 @@ int run_map(int argc, char** argv) {
   double last_print = 0;
   const MappedMesh mapped =
       map_mesh(input, prepare, options, progress_printer(args.flag("quiet"), last_print));
-  nlohmann::json metrics = metrics_json(mapped, options);
   const std::string output = args.text("output", "");
   const bool glb = output.size() > 4 && output.substr(output.size() - 4) == ".glb";
   const int draco_bits =
       args.flag("draco") ? static_cast<int>(args.integer("draco-position-bits", 14, 8, 30)) : 0;
   if (draco_bits && !glb) throw UsageError("--draco needs a .glb output");
-  const PolygonMesh sphere =
-      layout == "welded" ? sphere_welded(mapped) : sphere_on_input(input, mapped);
+  const SphereLayout sphere_layout =
+      layout == "welded" ? SphereLayout::kWelded : SphereLayout::kOriginal;
+  nlohmann::json metrics;
   MapCheck written = mapped.map.check;  // OBJ keeps every double digit
   if (glb) {
-    // Encode, decode again, and judge the map as a reader of the file will see it.
-    WrittenGlb file = sphere_glb(sphere, mapped.map.inward, draco_bits);
-    written = file.check;
-    metrics["bijective_as_written"] = written.bijective;
-    metrics["folds_as_written"] = written.folds;
-    file.glb.json["meshes"][0]["extras"] = metrics;
-    const std::string bytes = serialize_glb(file.glb);
-    std::ofstream out(output, std::ios::binary);
-    out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-    if (!out) throw InputError("io", "cannot write '" + output + "'");
+    const SphereAsset asset = sphere_asset(input, mapped, options, sphere_layout, draco_bits);
+    written = asset.written;
+    metrics = asset.metrics;
+    write_binary_file(output, asset.glb);
   } else {
+    metrics = metrics_json(mapped, options);
     metrics["bijective_as_written"] = written.bijective;
     metrics["folds_as_written"] = written.folds;
-    write_mesh_file(output, sphere);
+    write_mesh_file(output, sphere_mesh(input, mapped, sphere_layout));
   }
   if (args.has("metrics")) {
-    std::ofstream out(args.text("metrics", ""));
-    out << metrics.dump(2) << "\n";
-    if (!out) throw InputError("io", "cannot write '" + args.text("metrics", "") + "'");
+    write_binary_file(args.text("metrics", ""), metrics.dump(2) + "\n");
   }
   if (mapped.map.check.bijective && !written.bijective) {
     std::fprintf(stderr,

@@ -10,5 +10,6 @@ inline constexpr int kExitNotBijective = 3;
 
 int run_map(int argc, char** argv);
 int run_info(int argc, char** argv);
+int run_serve(int argc, char** argv);
 
 }  // namespace spheremap::cli

@@ -1,4 +1,4 @@
-// spheremap: maps closed genus-0 meshes onto the unit sphere. Subcommands: map, info.
+// spheremap: maps closed genus-0 meshes onto the unit sphere. Subcommands: map, info, serve.
 #include <cstdio>
 #include <cstring>
 #include <exception>
@@ -15,6 +15,7 @@ const char* const kHelp = R"(spheremap: fold-free spherical maps of closed genus
 Usage:
   spheremap map INPUT -o OUTPUT [--metrics FILE.json] [options]   map onto the unit sphere
   spheremap info INPUT                                             topology report as JSON
+  spheremap serve [--config FILE] [--port N]                       the HTTP service
   spheremap COMMAND --help                                         options of a command
   spheremap --version
 
@@ -29,6 +30,7 @@ int main(int argc, char** argv) {
   try {
     if (command == "map") return run_map(argc, argv);
     if (command == "info") return run_info(argc, argv);
+    if (command == "serve") return run_serve(argc, argv);
     if (command == "--version") {
       std::puts("spheremap 0.1.0");
       return kExitOk;

@@ -61,16 +61,23 @@ PreparedMesh prepare_mesh(const PolygonMesh& input, const PrepareOptions& option
 
 MappedMesh map_mesh(const PolygonMesh& input, const PrepareOptions& prepare,
                     const MapOptions& options, const MapControl& control) {
-  MappedMesh out;
-  auto start = std::chrono::steady_clock::now();
-  out.prepared = prepare_mesh(input, prepare);
-  require_mappable(out.prepared.topology);
-  out.prepare_seconds = seconds_since(start);
+  const auto start = std::chrono::steady_clock::now();
+  PreparedMesh prepared = prepare_mesh(input, prepare);
+  const double prepare_seconds = seconds_since(start);
+  MappedMesh out = map_prepared(std::move(prepared), options, control);
+  out.prepare_seconds = prepare_seconds;
+  return out;
+}
 
+MappedMesh map_prepared(PreparedMesh prepared, const MapOptions& options,
+                        const MapControl& control) {
+  require_mappable(prepared.topology);
+  MappedMesh out;
+  out.prepared = std::move(prepared);
   out.map = map_to_sphere(out.prepared.welded.mesh, options, control);
   if (out.map.sphere.empty()) return out;  // cancelled
 
-  start = std::chrono::steady_clock::now();
+  const auto start = std::chrono::steady_clock::now();
   const PolygonMesh& mesh = out.prepared.welded.mesh;
   const OrientedTriangles oriented = oriented_triangles(mesh);
   out.quality = compute_metrics(mesh.positions, out.map.sphere, oriented.triangles);

@@ -42,6 +42,10 @@ struct MappedMesh {
 MappedMesh map_mesh(const PolygonMesh& input, const PrepareOptions& prepare,
                     const MapOptions& options, const MapControl& control = {});
 
+// The same from a mesh already prepared; throws InputError when it is not mappable.
+MappedMesh map_prepared(PreparedMesh prepared, const MapOptions& options,
+                        const MapControl& control = {});
+
 // The input mesh with every vertex moved to its sphere position (input order and faces;
 // unreferenced vertices that weld to nothing stay at the origin, faces of dropped
 // components are left out).

@@ -88,6 +88,15 @@ PolygonMesh capped_tube(int around, int along, double length) {
   return m;
 }
 
+PolygonMesh horseshoe() {
+  PolygonMesh m = capped_tube(12, 30, 12);
+  for (Vec3& p : m.positions) {
+    const double angle = p.z / 12 * 1.7 * M_PI, radius = 3 + p.x;
+    p = {radius * std::cos(angle), p.y, radius * std::sin(angle)};
+  }
+  return m;
+}
+
 PolygonMesh torus(int around, int along) {
   PolygonMesh m;
   for (int j = 0; j < along; ++j)

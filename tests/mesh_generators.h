@@ -14,6 +14,9 @@ PolygonMesh quad_cube(int n);
 // Closed tube of `around` x `along` quads (radius 1, length `length`), each end closed by
 // one `around`-gon: a long thin protrusion with n-gons.
 PolygonMesh capped_tube(int around, int along, double length);
+// capped_tube(12, 30, 12) bent around 306 degrees: genus 0 but far from star-shaped; the
+// paper's loop never unfolds it (469 folds after 20000 iterations), the default method does.
+PolygonMesh horseshoe();
 // Torus (genus 1) of `around` x `along` quads.
 PolygonMesh torus(int around, int along);
 // Two disjoint tetrahedra.

@@ -5,6 +5,7 @@
 #include <array>
 #include <cmath>
 
+#include "core/input_error.h"
 #include "core/io/gltf_document.h"
 
 namespace spheremap {
@@ -218,7 +219,9 @@ class Reader {
       fail("the Draco data has no 3-component attribute with id " + std::to_string(position_id));
     const size_t points = mesh.num_points();
     if (points > options_.max_vertices)
-      fail("Draco mesh has " + std::to_string(points) + " vertices, over the limit");
+      throw InputError("too_large", "the Draco mesh has " + std::to_string(points) +
+                                        " vertices, over the limit of " +
+                                        std::to_string(options_.max_vertices));
     positions.resize(points * 3);
     for (uint32_t i = 0; i < points; ++i) {
       std::array<float, 3> v{};
@@ -241,9 +244,13 @@ class Reader {
     const uint32_t base = static_cast<uint32_t>(mesh_.vertex_count());
     const size_t count = positions.size() / 3;
     if (mesh_.vertex_count() + count > options_.max_vertices)
-      fail("over " + std::to_string(options_.max_vertices) + " vertices");
+      throw InputError(
+          "too_large",
+          "the meshes have over " + std::to_string(options_.max_vertices) + " vertices, the limit");
     if (mesh_.face_count() + tris.size() / 3 > options_.max_triangles)
-      fail("over " + std::to_string(options_.max_triangles) + " triangles");
+      throw InputError("too_large", "the meshes have over " +
+                                        std::to_string(options_.max_triangles) +
+                                        " triangles, the limit");
     for (size_t i = 0; i < count; ++i) {
       const double x = positions[3 * i], y = positions[3 * i + 1], z = positions[3 * i + 2];
       mesh_.positions.push_back({m[0] * x + m[4] * y + m[8] * z + m[12],

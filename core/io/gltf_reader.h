@@ -16,6 +16,7 @@ namespace spheremap {
 struct GltfReadOptions {
   int mesh_index = -1;    // >= 0: only this mesh (identity transform), not the scene
   std::string mesh_name;  // non-empty: only the mesh of this name
+  // Over either cap: InputError("too_large") (the service answers 413).
   size_t max_vertices = 20'000'000;
   size_t max_triangles = 40'000'000;
 };

@@ -37,9 +37,12 @@ PolygonMesh read_mesh_file(const std::string& path, const GltfReadOptions& gltf)
 void write_mesh_file(const std::string& path, const PolygonMesh& mesh) {
   if (lowercase_extension(path) != "obj")
     throw InputError("io", "cannot write '" + path + "': use the .obj extension");
-  const std::string text = format_obj(mesh);
+  write_binary_file(path, format_obj(mesh));
+}
+
+void write_binary_file(const std::string& path, const std::string& bytes) {
   std::ofstream out(path, std::ios::binary);
-  out.write(text.data(), static_cast<std::streamsize>(text.size()));
+  out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
   if (!out) throw InputError("io", "cannot write '" + path + "'");
 }
 

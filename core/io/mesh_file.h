@@ -14,4 +14,7 @@ PolygonMesh read_mesh_file(const std::string& path, const GltfReadOptions& gltf 
 // OBJ only (GLB output goes through sphere_glb, which checks the file it writes).
 void write_mesh_file(const std::string& path, const PolygonMesh& mesh);
 
+// Writes bytes (a GLB, a JSON report) to path; InputError("io") when it cannot.
+void write_binary_file(const std::string& path, const std::string& bytes);
+
 }  // namespace spheremap

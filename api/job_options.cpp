@@ -1,0 +1,146 @@
+#include "api/job_options.h"
+
+#include <algorithm>
+#include <sstream>
+
+#include "api/problem.h"
+
+namespace spheremap::api {
+namespace {
+
+[[noreturn]] void invalid(const std::string& detail) {
+  throw Problem(400, "invalid_options", "Invalid job options", detail);
+}
+
+double number(const nlohmann::json& value, const std::string& key, double min, double max) {
+  if (!value.is_number() || !(value.get<double>() >= min && value.get<double>() <= max)) {
+    std::ostringstream detail;
+    detail << "option '" << key << "' must be a number in [" << min << ", " << max << "], got "
+           << value.dump();
+    invalid(detail.str());
+  }
+  return value.get<double>();
+}
+
+long long integer(const nlohmann::json& value, const std::string& key, long long min,
+                  long long max) {
+  const double x = number(value, key, static_cast<double>(min), static_cast<double>(max));
+  if (x != static_cast<double>(static_cast<long long>(x)))
+    invalid("option '" + key + "' must be an integer, got " + value.dump());
+  return static_cast<long long>(x);
+}
+
+bool boolean(const nlohmann::json& value, const std::string& key) {
+  if (!value.is_boolean())
+    invalid("option '" + key + "' must be true or false, got " + value.dump());
+  return value.get<bool>();
+}
+
+std::string text(const nlohmann::json& value, const std::string& key,
+                 std::initializer_list<const char*> allowed) {
+  if (value.is_string())
+    for (const char* a : allowed)
+      if (value.get<std::string>() == a) return a;
+  std::string list;
+  for (const char* a : allowed) list += (list.empty() ? "" : ", ") + std::string(a);
+  invalid("option '" + key + "' must be one of " + list + ", got " + value.dump());
+}
+
+std::vector<std::string> outputs(const nlohmann::json& value) {
+  std::vector<std::string> names;
+  if (value.is_string()) {
+    std::stringstream list(value.get<std::string>());
+    for (std::string name; std::getline(list, name, ',');) names.push_back(name);
+  } else if (value.is_array()) {
+    for (const auto& v : value) {
+      if (!v.is_string()) invalid("option 'outputs' must list names, got " + value.dump());
+      names.push_back(v.get<std::string>());
+    }
+  } else {
+    invalid("option 'outputs' must be a list of names, got " + value.dump());
+  }
+  const auto& known = available_outputs();
+  for (const std::string& name : names)
+    if (std::find(known.begin(), known.end(), name) == known.end()) {
+      std::string list;
+      for (const auto& k : known) list += (list.empty() ? "" : ", ") + k;
+      invalid("option 'outputs': unknown output '" + name + "'; available: " + list);
+    }
+  if (std::find(names.begin(), names.end(), "sphere") == names.end())
+    names.insert(names.begin(), "sphere");  // the map itself is always made
+  return names;
+}
+
+}  // namespace
+
+const std::vector<std::string>& available_outputs() {
+  static const std::vector<std::string> names = {"sphere"};
+  return names;
+}
+
+JobOptions parse_job_options(const nlohmann::json& options) {
+  if (!options.is_object()) invalid("options must be a JSON object, got " + options.dump());
+  JobOptions out;
+  if (options.contains("method") &&
+      text(options["method"], "method", {"coarse-to-fine", "paper"}) == "paper") {
+    out.map.method = Method::kPaper;
+    out.map.smoothing.placement = OffsetPlacement::kPaper;
+    out.map.smoothing.limit_weight = 1.0;
+  }
+  bool draco = false;
+  for (const auto& [key, value] : options.items()) {
+    if (key == "method") continue;
+    if (key == "alpha")
+      out.map.alpha = number(value, key, 0, 1);
+    else if (key == "offset")
+      out.map.smoothing.offset = number(value, key, 0, 0.5);
+    else if (key == "limit_weight")
+      out.map.smoothing.limit_weight = number(value, key, 0, 1);
+    else if (key == "min_iterations")
+      out.map.min_level_iterations = static_cast<size_t>(integer(value, key, 0, 1000000));
+    else if (key == "max_iterations")
+      out.map.max_iterations = static_cast<size_t>(integer(value, key, 0, 1000000));
+    else if (key == "attempts")
+      out.map.attempts = static_cast<size_t>(integer(value, key, 1, 16));
+    else if (key == "time_limit_seconds")
+      out.map.time_limit_seconds = number(value, key, 0.01, 86400);
+    else if (key == "weld_tolerance")
+      out.prepare.weld_tolerance = number(value, key, 0, 1);
+    else if (key == "largest_component")
+      out.prepare.largest_component = boolean(value, key);
+    else if (key == "draco")
+      draco = boolean(value, key);
+    else if (key == "draco_position_bits")
+      out.draco_position_bits = static_cast<int>(integer(value, key, 8, 30));
+    else if (key == "layout")
+      out.layout = text(value, key, {"original", "welded"}) == "welded" ? SphereLayout::kWelded
+                                                                        : SphereLayout::kOriginal;
+    else if (key == "mesh") {
+      if (value.is_string())
+        out.gltf.mesh_name = value.get<std::string>();
+      else
+        out.gltf.mesh_index = static_cast<int>(integer(value, key, 0, 1 << 30));
+    } else if (key == "outputs")
+      out.outputs = outputs(value);
+    else
+      invalid("unknown option '" + key + "'");
+  }
+  if (!draco)
+    out.draco_position_bits = 0;
+  else if (out.draco_position_bits == 0)
+    out.draco_position_bits = 14;
+  return out;
+}
+
+nlohmann::json options_from_query(const std::multimap<std::string, std::string>& params) {
+  nlohmann::json options = nlohmann::json::object();
+  for (const auto& [key, value] : params) {
+    const nlohmann::json parsed = nlohmann::json::parse(value, nullptr, false);
+    options[key] = parsed.is_discarded() || parsed.is_object() || parsed.is_array()
+                       ? nlohmann::json(value)
+                       : parsed;
+  }
+  return options;
+}
+
+}  // namespace spheremap::api

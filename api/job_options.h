@@ -1,0 +1,31 @@
+// The options of a job, as a JSON object (the `options` part of a multipart request, or
+// query parameters): mapping parameters within the server's caps, which outputs to make,
+// Draco on or off. Unknown keys and out-of-range values are 400 problems naming the key.
+#pragma once
+
+#include <nlohmann/json.hpp>
+
+#include "core/io/gltf_reader.h"
+#include "server/job.h"
+
+namespace spheremap::api {
+
+struct JobOptions {
+  PrepareOptions prepare;
+  GltfReadOptions gltf;
+  MapOptions map;
+  SphereLayout layout = SphereLayout::kOriginal;
+  int draco_position_bits = 0;
+  std::vector<std::string> outputs = {"sphere"};
+};
+
+// Throws Problem(400, "invalid_options").
+JobOptions parse_job_options(const nlohmann::json& options);
+
+// Query parameters as option values: "true"/"false" and numbers as such, text otherwise.
+nlohmann::json options_from_query(const std::multimap<std::string, std::string>& params);
+
+// The outputs a job can ask for.
+const std::vector<std::string>& available_outputs();
+
+}  // namespace spheremap::api

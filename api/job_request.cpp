@@ -1,0 +1,122 @@
+#include "api/job_request.h"
+
+#include <algorithm>
+
+#include "api/job_options.h"
+#include "api/problem.h"
+#include "core/input_error.h"
+#include "core/report_json.h"
+
+namespace spheremap::api {
+namespace {
+
+const char* const kAccepted =
+    "model/gltf-binary (a .glb), model/gltf+json (a .gltf with embedded buffers), or "
+    "multipart/form-data with a 'mesh' file part and an optional 'options' JSON part";
+
+}  // namespace
+
+const char* const kFormEncodedHint =
+    "the body was sent as application/x-www-form-urlencoded (curl's default for "
+    "--data-binary), which would mangle a binary mesh; send it with -H "
+    "'Content-Type: model/gltf-binary' --data-binary @mesh.glb, or as a form with "
+    "-F mesh=@mesh.glb";
+
+namespace {
+
+std::string media_type(const httplib::Request& request) {
+  std::string type = request.get_header_value("Content-Type");
+  type = type.substr(0, type.find(';'));
+  type.erase(std::remove(type.begin(), type.end(), ' '), type.end());
+  std::transform(type.begin(), type.end(), type.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return type;
+}
+
+// The mesh bytes and the options JSON of the request, by content type.
+struct Body {
+  std::string_view mesh;
+  std::string format;
+  nlohmann::json options = nlohmann::json::object();
+};
+
+Body split_body(const httplib::Request& request) {
+  const std::string type = media_type(request);
+  Body body;
+  if (type == "model/gltf-binary" || type == "application/octet-stream") {
+    body.mesh = request.body;
+  } else if (type == "model/gltf+json") {
+    body.mesh = request.body;
+  } else if (type == "multipart/form-data") {
+    if (!request.has_file("mesh"))
+      throw Problem(400, "missing_mesh", "No mesh in the form",
+                    "the multipart body has no 'mesh' part; send the file as -F mesh=@FILE.glb");
+    const auto& part = request.files.find("mesh")->second;
+    body.mesh = part.content;
+    if (request.has_file("options")) {
+      const std::string& text = request.files.find("options")->second.content;
+      body.options = nlohmann::json::parse(text, nullptr, false);
+      if (body.options.is_discarded())
+        throw Problem(400, "invalid_options", "Invalid job options",
+                      "the 'options' part is not valid JSON");
+    }
+  } else if (type == "application/x-www-form-urlencoded") {
+    throw Problem(415, "unsupported_media_type", "Unsupported media type", kFormEncodedHint);
+  } else {
+    throw Problem(415, "unsupported_media_type", "Unsupported media type",
+                  (type.empty() ? std::string("no Content-Type") : "Content-Type '" + type + "'") +
+                      "; send " + kAccepted);
+  }
+  if (body.mesh.empty())
+    throw Problem(400, "empty_body", "Empty mesh", "the request carries no mesh bytes");
+  const bool binary = body.mesh.size() >= 4 && body.mesh.substr(0, 4) == "glTF";
+  body.format = binary ? "glb" : "gltf";
+  // Query parameters add to (and override) the options part.
+  nlohmann::json query = options_from_query(request.params);
+  for (const auto& [key, value] : query.items()) body.options[key] = value;
+  return body;
+}
+
+}  // namespace
+
+std::unique_ptr<server::JobSpec> read_job_request(const httplib::Request& request,
+                                                  const server::ServerConfig& config) {
+  Body body = split_body(request);
+  JobOptions options = parse_job_options(body.options);
+  options.gltf.max_vertices = config.max_vertices;
+  options.gltf.max_triangles = config.max_faces;
+
+  auto spec = std::make_unique<server::JobSpec>();
+  try {
+    spec->input = read_gltf({reinterpret_cast<const uint8_t*>(body.mesh.data()), body.mesh.size()},
+                            options.gltf);
+  } catch (const InputError& e) {
+    if (e.check() == "too_large")
+      throw Problem(413, "too_large", "Mesh too large", e.what(), {{"check", e.check()}});
+    throw Problem(400, "malformed_gltf", "Malformed glTF", e.what(), {{"check", e.check()}});
+  }
+  spec->prepared = prepare_mesh(spec->input, options.prepare);
+  const auto failures = mapping_failures(spec->prepared.topology);
+  if (!failures.empty()) {
+    nlohmann::json list = nlohmann::json::array();
+    std::string detail;
+    for (const auto& f : failures) {
+      list.push_back({{"check", f.check}, {"message", f.message}});
+      detail += (detail.empty() ? "" : "; ") + f.message;
+    }
+    throw Problem(422, "not_mappable", "Mesh cannot be mapped", detail,
+                  {{"check", failures.front().check},
+                   {"failures", list},
+                   {"topology", topology_json(spec->prepared)}});
+  }
+  spec->map = options.map;
+  spec->layout = options.layout;
+  spec->draco_position_bits = options.draco_position_bits;
+  spec->outputs = options.outputs;
+  spec->input_bytes = body.mesh.size();
+  spec->input_format = body.format;
+  spec->options_echo = body.options;
+  return spec;
+}
+
+}  // namespace spheremap::api

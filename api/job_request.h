@@ -1,0 +1,22 @@
+// A job submission (POST /v1/jobs, POST /v1/map) read into a JobSpec: the content type,
+// the mesh (GLB, glTF JSON or a multipart `mesh` part), the options, the server's caps,
+// and the topology checks, so that every accepted job can be mapped. Errors are Problems:
+// 400 malformed, 413 too large, 415 wrong type, 422 not a closed genus-0 manifold.
+#pragma once
+
+#include <httplib.h>
+
+#include <memory>
+
+#include "server/config.h"
+#include "server/job.h"
+
+namespace spheremap::api {
+
+// The 415 detail for a mesh sent as a form (curl's default for --data-binary).
+extern const char* const kFormEncodedHint;
+
+std::unique_ptr<server::JobSpec> read_job_request(const httplib::Request& request,
+                                                  const server::ServerConfig& config);
+
+}  // namespace spheremap::api

@@ -1,0 +1,319 @@
+#include "api/routes.h"
+
+#include <atomic>
+#include <charconv>
+
+#include "api/job_request.h"
+#include "api/job_view.h"
+#include "api/problem.h"
+#include "server/log.h"
+
+namespace spheremap::api {
+namespace {
+
+using server::Clock;
+using server::Job;
+using server::JobStatus;
+using server::JobStore;
+using server::Service;
+
+const char* const kJobId = "([0-9a-f]{32})";
+
+void send_json(httplib::Response& response, int status, const nlohmann::json& body) {
+  response.status = status;
+  response.set_content(body.dump(2) + "\n", "application/json");
+}
+
+// The job of the path's first capture, or a 404 / 410 problem.
+std::shared_ptr<Job> find_job(Service& service, const httplib::Request& request) {
+  const std::string id = request.matches[1];
+  JobStore::Lookup found = service.store().find(id);
+  if (found.job) return found.job;
+  if (found.evicted)
+    throw Problem(410, "gone", "Job results expired",
+                  "job " + id + " finished and its results were dropped (result_ttl_seconds " +
+                      "or result_memory_bytes reached)");
+  throw Problem(404, "job_not_found", "No such job", "no job with id " + id);
+}
+
+// Reads, checks and queues a submission; throws Problems for every refusal.
+std::shared_ptr<Job> submit(Service& service, const httplib::Request& request) {
+  if (!service.ready())
+    throw Problem(503, "shutting_down", "Shutting down",
+                  "the server is shutting down and accepts no new jobs");
+  if (service.store().queued() >= service.config().queue_capacity)
+    throw Problem(429, "queue_full", "Queue full",
+                  "the job queue is full (" + std::to_string(service.config().queue_capacity) +
+                      " jobs waiting); retry later");
+  std::unique_ptr<server::JobSpec> spec;
+  try {
+    spec = read_job_request(request, service.config());
+  } catch (const Problem& p) {
+    service.metrics().rejected(p.extra.value("check", p.slug));
+    throw;
+  }
+  std::shared_ptr<Job> job;
+  switch (service.store().submit(std::move(spec), job)) {
+    case JobStore::Admission::kAccepted:
+      return job;
+    case JobStore::Admission::kQueueFull:
+      throw Problem(429, "queue_full", "Queue full", "the job queue is full; retry later");
+    case JobStore::Admission::kShuttingDown:
+      throw Problem(503, "shutting_down", "Shutting down",
+                    "the server is shutting down and accepts no new jobs");
+  }
+  return job;
+}
+
+void post_job(Service& service, const httplib::Request& request, httplib::Response& response) {
+  const std::shared_ptr<Job> job = submit(service, request);
+  response.set_header("Location", job_path(job->id));
+  response.set_header("Spheremap-Job", job->id);
+  send_json(response, 202, job_json(*job, service.store().queue_position(*job)));
+}
+
+// Prefer: wait=N (RFC 7240) shortens or lengthens the wait, within the configured one.
+double sync_wait_seconds(const httplib::Request& request, double configured) {
+  const std::string prefer = request.get_header_value("Prefer");
+  const size_t at = prefer.find("wait=");
+  if (at == std::string::npos) return configured;
+  double wait = configured;
+  const char* begin = prefer.data() + at + 5;
+  std::from_chars(begin, prefer.data() + prefer.size(), wait);
+  return std::clamp(wait, 0.0, configured);
+}
+
+void post_map(Service& service, std::atomic<int>& waiting, const httplib::Request& request,
+              httplib::Response& response) {
+  const std::shared_ptr<Job> job = submit(service, request);
+  response.set_header("Spheremap-Job", job->id);
+  // Waiting holds an HTTP thread: at most half of them may wait, so the rest can serve.
+  const int max_waiting = std::max(1, service.config().http_threads / 2);
+  const double wait = sync_wait_seconds(request, service.config().sync_timeout_seconds);
+  bool done = false;
+  if (waiting.fetch_add(1) < max_waiting) {
+    std::unique_lock lock(job->mutex);
+    done = job->finished_cv.wait_for(lock, std::chrono::duration<double>(wait),
+                                     [&] { return server::is_terminal(job->status); });
+  }
+  waiting.fetch_sub(1);
+  if (!done) {
+    response.set_header("Location", job_path(job->id));
+    send_json(response, 202, job_json(*job, service.store().queue_position(*job)));
+    return;
+  }
+  std::lock_guard lock(job->mutex);
+  if (job->status == JobStatus::kSucceeded) {
+    const server::Artifact& sphere = job->artifacts.front();
+    response.set_header("Content-Location", job_path(job->id) + "/artifacts/sphere.glb");
+    response.set_header("Link",
+                        "<" + job_path(job->id) + "/artifacts/metrics.json>; rel=\"describedby\"");
+    response.set_header("Spheremap-Bijective",
+                        job->metrics.value("bijective_as_written", false) ? "true" : "false");
+    response.set_header("Spheremap-Folds",
+                        std::to_string(job->metrics.value("folds_as_written", size_t{0})));
+    response.set_content(sphere.bytes, sphere.content_type);
+    response.status = 200;
+    return;
+  }
+  const server::JobError error = job->error.value_or(
+      server::JobError{503, "cancelled", "Job cancelled",
+                       job->cancel_reason.empty() ? "the job was cancelled" : job->cancel_reason});
+  throw Problem(error.status, error.problem, error.title, error.detail, {{"job", job->id}});
+}
+
+void get_artifact(Service& service, const httplib::Request& request, httplib::Response& response) {
+  const std::shared_ptr<Job> job = find_job(service, request);
+  const std::string name = request.matches[2];
+  std::lock_guard lock(job->mutex);
+  for (const server::Artifact& a : job->artifacts)
+    if (a.name == name) {
+      response.set_content(a.bytes, a.content_type);
+      if (name.ends_with(".glb"))
+        response.set_header("Content-Disposition", "attachment; filename=\"" + name + "\"");
+      return;
+    }
+  if (!server::is_terminal(job->status))
+    throw Problem(409, "not_ready", "Job not finished",
+                  "job " + job->id + " is " + std::string(to_string(job->status)) +
+                      "; artifacts exist once it has succeeded");
+  throw Problem(404, "artifact_not_found", "No such artifact",
+                "job " + job->id + " has no artifact '" + name + "'");
+}
+
+void delete_job(Service& service, const httplib::Request& request, httplib::Response& response) {
+  const std::shared_ptr<Job> job = find_job(service, request);
+  if (service.store().cancel(job, "cancelled by the client")) {
+    JobStatus status;
+    {
+      std::lock_guard lock(job->mutex);
+      status = job->status;
+    }
+    // A queued job is cancelled now; a running one stops within a fraction of a second.
+    send_json(response, status == JobStatus::kCancelled ? 200 : 202, job_json(*job, 0));
+    return;
+  }
+  service.store().remove(job->id);
+  response.status = 204;
+}
+
+std::string status_title(int status) {
+  switch (status) {
+    case 400:
+      return "Bad request";
+    case 404:
+      return "Not found";
+    case 405:
+      return "Method not allowed";
+    case 413:
+      return "Request too large";
+    case 414:
+      return "URI too long";
+    case 415:
+      return "Unsupported media type";
+    case 416:
+      return "Range not satisfiable";
+    default:
+      return "HTTP " + std::to_string(status);
+  }
+}
+
+// Wraps a handler: Problems become problem+json responses.
+template <typename Body>
+httplib::Server::Handler guarded(Body body) {
+  return [body](const httplib::Request& request, httplib::Response& response) {
+    try {
+      body(request, response);
+    } catch (const Problem& problem) {
+      if (problem.status == 429) response.set_header("Retry-After", "5");
+      if (problem.status == 503) response.set_header("Retry-After", "30");
+      send_problem(response, problem, request.path);
+    }
+  };
+}
+
+thread_local Clock::time_point request_start;
+
+}  // namespace
+
+void install_api(httplib::Server& http, Service& service) {
+  const server::ServerConfig& config = service.config();
+  const size_t http_threads = static_cast<size_t>(config.http_threads);
+  http.new_task_queue = [http_threads] { return new httplib::ThreadPool(http_threads); };
+  http.set_payload_max_length(config.max_body_bytes);
+  const auto to_duration = [](double s) {
+    return std::chrono::microseconds(static_cast<long long>(s * 1e6));
+  };
+  http.set_read_timeout(to_duration(config.read_timeout_seconds));
+  http.set_write_timeout(to_duration(config.read_timeout_seconds));
+  http.set_keep_alive_timeout(
+      static_cast<time_t>(std::max(1.0, config.keep_alive_timeout_seconds)));
+  http.set_keep_alive_max_count(100);
+
+  http.set_pre_routing_handler([](const httplib::Request&, httplib::Response&) {
+    request_start = Clock::now();
+    return httplib::Server::HandlerResponse::Unhandled;
+  });
+  http.set_logger([&service](const httplib::Request& request, const httplib::Response& response) {
+    service.metrics().request(response.status);
+    nlohmann::json line = {
+        {"event", "request"},
+        {"method", request.method},
+        {"path", request.path},
+        {"status", response.status},
+        {"ms",
+         server::rounded_seconds(
+             std::chrono::duration<double, std::milli>(Clock::now() - request_start).count())},
+        {"bytes_in", request.body.size()},
+        {"bytes_out", response.body.size()},
+        {"remote", request.remote_addr}};
+    if (response.has_header("Spheremap-Job"))
+      line["job"] = response.get_header_value("Spheremap-Job");
+    server::log_event(std::move(line));
+  });
+  http.set_exception_handler(
+      [](const httplib::Request& request, httplib::Response& response, std::exception_ptr error) {
+        std::string what = "unknown exception";
+        try {
+          std::rethrow_exception(error);
+        } catch (const std::exception& e) {
+          what = e.what();
+        } catch (...) {
+        }
+        server::log_event({{"event", "handler_exception"}, {"path", request.path}, {"what", what}});
+        send_problem(response,
+                     Problem(500, "internal", "Internal error",
+                             "the server failed to handle this request; it is logged"),
+                     request.path);
+      });
+  http.set_error_handler(httplib::Server::HandlerWithResponse([&config](
+                                                                  const httplib::Request& request,
+                                                                  httplib::Response& response) {
+    if (!response.body.empty()) return httplib::Server::HandlerResponse::Unhandled;
+    std::string detail = status_title(response.status);
+    std::string slug = "http_" + std::to_string(response.status);
+    if (response.status == 404) {
+      slug = "not_found";
+      detail = "no route for " + request.method + " " + request.path + "; see /v1/openapi.yaml";
+    } else if (response.status == 413 && request.get_header_value("Content-Type")
+                                             .starts_with("application/x-www-form-urlencoded")) {
+      // httplib refuses form bodies over 8 KB itself; the real mistake is the type.
+      response.status = 415;
+      slug = "unsupported_media_type";
+      detail = kFormEncodedHint;
+    } else if (response.status == 413) {
+      slug = "too_large";
+      detail = "the request body is over max_body_bytes (" + std::to_string(config.max_body_bytes) +
+               " bytes)";
+    }
+    send_problem(response, Problem(response.status, slug, status_title(response.status), detail),
+                 request.path);
+    return httplib::Server::HandlerResponse::Handled;
+  }));
+
+  http.Get("/healthz", [](const httplib::Request&, httplib::Response& response) {
+    send_json(response, 200, {{"status", "ok"}});
+  });
+  http.Get(
+      "/readyz", guarded([&service](const httplib::Request&, httplib::Response& response) {
+        if (!service.ready())
+          throw Problem(503, "shutting_down", "Shutting down", "the server is draining its jobs");
+        const auto counts = service.store().counts();
+        send_json(response, 200,
+                  {{"status", "ready"}, {"queued", counts.queued}, {"running", counts.running}});
+      }));
+  http.Get("/metrics", [&service](const httplib::Request&, httplib::Response& response) {
+    service.store().evict();
+    response.set_content(
+        service.metrics().render(service.store().counts(), service.config().queue_capacity,
+                                 service.config().effective_workers()),
+        "text/plain; version=0.0.4; charset=utf-8");
+  });
+  http.Get("/v1/openapi.yaml", [](const httplib::Request&, httplib::Response& response) {
+    response.set_content(kOpenApiYaml, "application/yaml");
+  });
+  http.Post("/v1/jobs",
+            guarded([&service](const httplib::Request& request, httplib::Response& response) {
+              post_job(service, request, response);
+            }));
+  auto sync_waiting = std::make_shared<std::atomic<int>>(0);
+  http.Post("/v1/map", guarded([&service, sync_waiting](const httplib::Request& request,
+                                                        httplib::Response& response) {
+              post_map(service, *sync_waiting, request, response);
+            }));
+  http.Get(std::string("/v1/jobs/") + kJobId,
+           guarded([&service](const httplib::Request& request, httplib::Response& response) {
+             const std::shared_ptr<Job> job = find_job(service, request);
+             send_json(response, 200, job_json(*job, service.store().queue_position(*job)));
+           }));
+  http.Get(std::string("/v1/jobs/") + kJobId + "/artifacts/([A-Za-z0-9_.-]+)",
+           guarded([&service](const httplib::Request& request, httplib::Response& response) {
+             get_artifact(service, request, response);
+           }));
+  http.Delete(std::string("/v1/jobs/") + kJobId,
+              guarded([&service](const httplib::Request& request, httplib::Response& response) {
+                delete_job(service, request, response);
+              }));
+}
+
+}  // namespace spheremap::api

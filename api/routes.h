@@ -1,0 +1,19 @@
+// The HTTP API (documented in api/openapi.yaml, served at /v1/openapi.yaml): routes,
+// limits and handlers installed on a cpp-httplib server. Handlers only parse, check and
+// answer; mapping runs in the service's worker pool.
+#pragma once
+
+#include <httplib.h>
+
+#include "server/service.h"
+
+namespace spheremap::api {
+
+// Installs every route, the body limit, timeouts, the thread count, the request log and
+// the error and exception handlers (problem+json, never an exception's text in a header).
+void install_api(httplib::Server& http, server::Service& service);
+
+// The OpenAPI document, embedded at build time.
+extern const char* const kOpenApiYaml;
+
+}  // namespace spheremap::api

@@ -1,0 +1,87 @@
+#include <unistd.h>
+
+#include <algorithm>
+#include <iostream>
+
+#include "cli/arguments.h"
+#include "cli/commands.h"
+#include "server/config.h"
+#include "server/serve.h"
+
+namespace spheremap::cli {
+namespace {
+
+const char* const kUsage =
+    R"(Usage: spheremap serve [--config FILE] [--port N] [--host ADDRESS] [--SETTING VALUE ...]
+
+Runs the HTTP mapping service (API: GET /v1/openapi.yaml). Settings come from the
+built-in defaults, then the JSON file of --config (or $SPHEREMAP_CONFIG), then
+SPHEREMAP_<SETTING> environment variables (e.g. SPHEREMAP_PORT=9000), then these flags;
+the effective configuration is logged at start. config/spheremap.json documents every
+setting with its default. Logs are JSON lines on stderr. SIGTERM or SIGINT drains the
+jobs (shutdown_grace_seconds) and exits 0.
+
+  --config FILE             a JSON file of settings
+  --port N                  TCP port (default 8080; 0 = any free port, logged)
+  --host ADDRESS            listen address (default 127.0.0.1; 0.0.0.0 = all interfaces)
+  --workers N               jobs mapped at once (default 0 = the machine's cores)
+  --threads-per-job N       engine threads per job (default 0 = cores / workers)
+  --queue-capacity N        jobs waiting at most; more get 429 (default 32)
+  --max-body-bytes N        largest request body (default 67108864)
+  --max-vertices N, --max-faces N
+                            largest mesh accepted (default 2000000 / 4000000)
+  --job-time-limit-seconds S  per job (default 300)
+  --result-ttl-seconds S, --result-memory-bytes N, --max-jobs-kept N
+                            how long and how much finished results are kept (defaults
+                            3600 s, 1 GiB, 10000 jobs); older ones are evicted (410 Gone)
+  --sync-timeout-seconds S  POST /v1/map waits at most this long, then answers 202 (30)
+  --shutdown-grace-seconds S  time given to jobs on SIGTERM before they are cancelled (30)
+  --http-threads N, --keep-alive-timeout-seconds S, --read-timeout-seconds S
+                            connection handling (16, 5 s, 30 s)
+)";
+
+std::string flag_name(std::string setting) {
+  std::replace(setting.begin(), setting.end(), '_', '-');
+  return setting;
+}
+
+std::map<std::string, std::string> spheremap_environment() {
+  std::map<std::string, std::string> out;
+  for (char** entry = environ; *entry; ++entry) {
+    const std::string text = *entry;
+    const size_t equals = text.find('=');
+    if (text.starts_with("SPHEREMAP_") && equals != std::string::npos)
+      out[text.substr(0, equals)] = text.substr(equals + 1);
+  }
+  return out;
+}
+
+}  // namespace
+
+int run_serve(int argc, char** argv) {
+  std::set<std::string> values = {"config"};
+  for (const std::string& name : server::setting_names()) values.insert(flag_name(name));
+  Arguments args(argc, argv, 2, values, {"help"});
+  if (args.flag("help")) {
+    std::cout << kUsage;
+    return kExitOk;
+  }
+  if (!args.positional().empty()) throw UsageError("serve takes no positional arguments");
+  server::ServerConfig config;
+  const auto environment = spheremap_environment();
+  try {
+    std::string file = args.text("config", "");
+    if (file.empty() && environment.count("SPHEREMAP_CONFIG"))
+      file = environment.at("SPHEREMAP_CONFIG");
+    if (!file.empty()) server::apply_file(config, file);
+    server::apply_environment(config, environment);
+    for (const std::string& name : server::setting_names())
+      if (args.has(flag_name(name)))
+        server::apply_setting(config, name, args.text(flag_name(name), ""), "--" + flag_name(name));
+  } catch (const server::ConfigError& e) {
+    throw UsageError(std::string("configuration: ") + e.what());
+  }
+  return server::serve(config);
+}
+
+}  // namespace spheremap::cli

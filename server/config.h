@@ -1,0 +1,61 @@
+// The service's configuration: built-in defaults, then a JSON file, then SPHEREMAP_*
+// environment variables, then command-line flags, each overriding the one before.
+// Every key is documented in config/spheremap.json and the README.
+#pragma once
+
+#include <cstddef>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <stdexcept>
+#include <string>
+
+namespace spheremap::server {
+
+struct ServerConfig {
+  std::string host = "127.0.0.1";     // "0.0.0.0" for all interfaces (the container does)
+  int port = 8080;                    // 0: any free port (tests)
+  int workers = 0;                    // mapping jobs at once; 0 = the machine's cores
+  int threads_per_job = 0;            // engine threads per job; 0 = cores / workers (at least 1)
+  int http_threads = 16;              // connections served at once (requests only, no mesh work)
+  size_t queue_capacity = 32;         // jobs waiting for a worker; more get 429
+  size_t max_body_bytes = 64u << 20;  // queued inputs stay under queue_capacity x this
+  size_t max_vertices = 2'000'000;    // of the glTF as sent (before welding)
+  size_t max_faces = 4'000'000;       // triangles of the glTF as sent
+  double job_time_limit_seconds = 300;
+  double result_ttl_seconds = 3600;          // finished jobs are kept this long...
+  size_t result_memory_bytes = 1024u << 20;  // ...and within this many artifact bytes
+  size_t max_jobs_kept = 10000;              // finished jobs kept at most, whatever their size
+  double sync_timeout_seconds = 30;          // POST /v1/map waits this long, then answers 202
+  double shutdown_grace_seconds = 30;        // on SIGTERM: time for queued and running jobs
+  double keep_alive_timeout_seconds = 5;
+  double read_timeout_seconds = 30;  // a client that stalls while sending is dropped
+
+  // The resolved worker and thread counts for this machine.
+  int effective_workers() const;
+  int effective_threads_per_job() const;
+  nlohmann::json to_json() const;  // with the resolved counts, for the start-up log
+};
+
+class ConfigError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+// Applies a JSON object of settings (unknown keys and out-of-range values are errors that
+// name the key and `source`).
+void apply_json(ServerConfig& config, const nlohmann::json& settings, const std::string& source);
+
+// Applies SPHEREMAP_<KEY> variables (KEY = the setting in upper case) from `environment`.
+void apply_environment(ServerConfig& config, const std::map<std::string, std::string>& environment);
+
+// Applies one setting given as text (a flag or a variable).
+void apply_setting(ServerConfig& config, const std::string& key, const std::string& value,
+                   const std::string& source);
+
+// Reads and applies a JSON configuration file.
+void apply_file(ServerConfig& config, const std::string& path);
+
+// The names of every setting, in the order of the documentation.
+const std::vector<std::string>& setting_names();
+
+}  // namespace spheremap::server

@@ -1,0 +1,79 @@
+// One mapping job: what was asked, where it stands, and what it produced.
+#pragma once
+
+#include <atomic>
+#include <chrono>
+#include <condition_variable>
+#include <memory>
+#include <mutex>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/pipeline.h"
+#include "core/sphere_asset.h"
+
+namespace spheremap::server {
+
+enum class JobStatus { kQueued, kRunning, kSucceeded, kFailed, kCancelled };
+std::string_view to_string(JobStatus status);
+inline bool is_terminal(JobStatus s) {
+  return s != JobStatus::kQueued && s != JobStatus::kRunning;
+}
+
+// What a client asked for, checked and ready to run: the mesh is already read and
+// prepared (welded, validated), so a job that is accepted can be mapped.
+struct JobSpec {
+  PolygonMesh input;
+  PreparedMesh prepared;
+  MapOptions map;
+  SphereLayout layout = SphereLayout::kOriginal;
+  int draco_position_bits = 0;  // 0 = no Draco
+  std::vector<std::string> outputs = {"sphere"};
+  size_t input_bytes = 0;
+  std::string input_format;                                // "glb", "gltf"
+  nlohmann::json options_echo = nlohmann::json::object();  // as the client sent them
+};
+
+struct Artifact {
+  std::string name, content_type, bytes;
+};
+
+// Why a job failed, as a problem (RFC 9457) the API can return.
+struct JobError {
+  int status = 500;     // the HTTP status that fits
+  std::string problem;  // the problem type slug ("not_bijective", "time_limit", ...)
+  std::string title, detail;
+};
+
+struct JobProgress {
+  std::string stage = "queued";
+  int level = 0, levels = 0;
+  size_t vertices = 0, iteration = 0, folds = 0;
+};
+
+using Clock = std::chrono::steady_clock;
+
+struct Job {
+  std::string id;
+  Clock::time_point created = Clock::now();
+  std::chrono::system_clock::time_point created_wall = std::chrono::system_clock::now();
+  std::atomic<bool> cancel{false};
+
+  mutable std::mutex mutex;  // guards everything below
+  std::condition_variable finished_cv;
+  JobStatus status = JobStatus::kQueued;
+  std::unique_ptr<JobSpec> spec;  // released once the job ends
+  size_t input_vertices = 0, input_faces = 0, input_bytes = 0;
+  JobProgress progress;
+  std::optional<Clock::time_point> started, finished;
+  std::vector<Artifact> artifacts;
+  nlohmann::json metrics;  // when succeeded
+  std::optional<JobError> error;
+  std::string cancel_reason;
+
+  size_t artifact_bytes() const;  // caller holds mutex
+};
+
+}  // namespace spheremap::server

@@ -1,0 +1,246 @@
+#include "server/job_store.h"
+
+#include <algorithm>
+#include <cstdio>
+#include <random>
+
+namespace spheremap::server {
+namespace {
+
+// Remembered evicted ids, so that GET answers 410 rather than 404 for a while.
+constexpr size_t kEvictedIdsKept = 100000;
+
+// Ends a job that never ran or has stopped (caller holds the store's lock).
+void mark_terminal(Job& job, JobStatus status) {
+  std::lock_guard lock(job.mutex);
+  job.status = status;
+  job.finished = Clock::now();
+  job.progress.stage = std::string(to_string(status));
+  job.spec.reset();  // the input mesh is not needed any more
+}
+
+}  // namespace
+
+std::string new_job_id() {
+  static std::mutex mutex;
+  static std::random_device device;
+  static std::mt19937_64 generator((static_cast<uint64_t>(device()) << 32) ^ device() ^
+                                   static_cast<uint64_t>(Clock::now().time_since_epoch().count()));
+  std::lock_guard lock(mutex);
+  char text[33];
+  std::snprintf(text, sizeof text, "%016llx%016llx", static_cast<unsigned long long>(generator()),
+                static_cast<unsigned long long>(generator()));
+  return text;
+}
+
+JobStore::JobStore(StoreLimits limits, Observer observer)
+    : limits_(limits), observer_(std::move(observer)) {}
+
+JobStore::Admission JobStore::submit(std::unique_ptr<JobSpec> spec, std::shared_ptr<Job>& job) {
+  {
+    std::lock_guard lock(mutex_);
+    if (!accepting_) return Admission::kShuttingDown;
+    if (queue_.size() >= limits_.queue_capacity) return Admission::kQueueFull;
+    job = std::make_shared<Job>();
+    do job->id = new_job_id();
+    while (jobs_.count(job->id));
+    job->input_vertices = spec->input.vertex_count();
+    job->input_faces = spec->input.face_count();
+    job->input_bytes = spec->input_bytes;
+    job->spec = std::move(spec);
+    jobs_[job->id] = job;
+    queue_.push_back(job);
+  }
+  queue_cv_.notify_one();
+  if (observer_) observer_(job, JobStatus::kQueued);
+  return Admission::kAccepted;
+}
+
+std::shared_ptr<Job> JobStore::next() {
+  std::shared_ptr<Job> job;
+  {
+    std::unique_lock lock(mutex_);
+    queue_cv_.wait(lock, [&] { return closed_ || !queue_.empty(); });
+    if (closed_) return nullptr;
+    job = queue_.front();
+    queue_.pop_front();
+    ++running_;
+    std::lock_guard job_lock(job->mutex);
+    job->status = JobStatus::kRunning;
+    job->started = Clock::now();
+    job->progress.stage = "starting";
+  }
+  if (observer_) observer_(job, JobStatus::kRunning);
+  return job;
+}
+
+void JobStore::finish(const std::shared_ptr<Job>& job, JobStatus status) {
+  std::vector<std::shared_ptr<Job>> evicted;
+  {
+    std::lock_guard lock(mutex_);
+    --running_;
+    mark_terminal(*job, status);
+    {
+      std::lock_guard job_lock(job->mutex);
+      result_bytes_ += job->artifact_bytes();
+    }
+    finished_.push_back(job);
+    evict_locked(evicted);
+  }
+  job->finished_cv.notify_all();
+  idle_cv_.notify_all();
+  if (observer_) observer_(job, status);
+}
+
+JobStore::Lookup JobStore::find(const std::string& id) {
+  evict();
+  std::lock_guard lock(mutex_);
+  const auto it = jobs_.find(id);
+  if (it != jobs_.end()) return {it->second, false};
+  return {nullptr, evicted_.count(id) > 0};
+}
+
+size_t JobStore::queue_position(const Job& job) const {
+  std::lock_guard lock(mutex_);
+  for (size_t i = 0; i < queue_.size(); ++i)
+    if (queue_[i].get() == &job) return i + 1;
+  return 0;
+}
+
+bool JobStore::cancel(const std::shared_ptr<Job>& job, const std::string& reason) {
+  bool was_queued = false;
+  {
+    std::lock_guard lock(mutex_);
+    const auto queued = std::find(queue_.begin(), queue_.end(), job);
+    if (queued != queue_.end()) {
+      queue_.erase(queued);
+      {
+        std::lock_guard job_lock(job->mutex);
+        job->cancel_reason = reason;
+      }
+      mark_terminal(*job, JobStatus::kCancelled);
+      finished_.push_back(job);
+      was_queued = true;
+    } else {
+      std::lock_guard job_lock(job->mutex);
+      if (job->status != JobStatus::kRunning) return false;
+      if (job->cancel_reason.empty()) job->cancel_reason = reason;
+      job->cancel = true;  // the engine polls it; the worker ends the job
+    }
+  }
+  if (was_queued) {
+    job->finished_cv.notify_all();
+    idle_cv_.notify_all();
+    if (observer_) observer_(job, JobStatus::kCancelled);
+  }
+  return true;
+}
+
+bool JobStore::remove(const std::string& id) {
+  std::lock_guard lock(mutex_);
+  const auto it = jobs_.find(id);
+  if (it == jobs_.end()) return false;
+  std::shared_ptr<Job> job = it->second;
+  {
+    std::lock_guard job_lock(job->mutex);
+    if (!is_terminal(job->status)) return false;
+    result_bytes_ -= job->artifact_bytes();
+  }
+  jobs_.erase(it);
+  finished_.erase(std::remove(finished_.begin(), finished_.end(), job), finished_.end());
+  return true;
+}
+
+void JobStore::stop_accepting() {
+  std::lock_guard lock(mutex_);
+  accepting_ = false;
+}
+
+bool JobStore::accepting() const {
+  std::lock_guard lock(mutex_);
+  return accepting_;
+}
+
+void JobStore::cancel_all(const std::string& reason) {
+  std::vector<std::shared_ptr<Job>> active;
+  {
+    std::lock_guard lock(mutex_);
+    for (const auto& [id, job] : jobs_) active.push_back(job);
+  }
+  for (const auto& job : active) cancel(job, reason);
+}
+
+bool JobStore::wait_idle(Clock::time_point deadline) {
+  std::unique_lock lock(mutex_);
+  return idle_cv_.wait_until(lock, deadline, [&] { return queue_.empty() && running_ == 0; });
+}
+
+void JobStore::close() {
+  {
+    std::lock_guard lock(mutex_);
+    closed_ = true;
+  }
+  queue_cv_.notify_all();
+}
+
+size_t JobStore::queued() const {
+  std::lock_guard lock(mutex_);
+  return queue_.size();
+}
+
+void JobStore::evict() {
+  std::vector<std::shared_ptr<Job>> evicted;
+  std::lock_guard lock(mutex_);
+  evict_locked(evicted);
+}
+
+void JobStore::evict_locked(std::vector<std::shared_ptr<Job>>& evicted) {
+  const auto now = Clock::now();
+  const auto ttl = std::chrono::duration<double>(limits_.result_ttl_seconds);
+  while (!finished_.empty()) {
+    const std::shared_ptr<Job>& oldest = finished_.front();
+    bool expired;
+    size_t bytes;
+    {
+      std::lock_guard job_lock(oldest->mutex);
+      expired = now - *oldest->finished > ttl;
+      bytes = oldest->artifact_bytes();
+    }
+    if (!expired && result_bytes_ <= limits_.result_memory_bytes &&
+        finished_.size() <= limits_.max_jobs_kept)
+      break;
+    result_bytes_ -= bytes;
+    jobs_.erase(oldest->id);
+    remember_evicted(oldest->id);
+    ++evicted_total_;
+    evicted.push_back(oldest);  // freed outside the lock
+    finished_.pop_front();
+  }
+}
+
+void JobStore::remember_evicted(const std::string& id) {
+  evicted_.insert(id);
+  evicted_order_.push_back(id);
+  if (evicted_order_.size() > kEvictedIdsKept) {
+    evicted_.erase(evicted_order_.front());
+    evicted_order_.pop_front();
+  }
+}
+
+StoreCounts JobStore::counts() const {
+  std::lock_guard lock(mutex_);
+  StoreCounts c;
+  c.queued = queue_.size();
+  c.running = running_;
+  c.result_bytes = result_bytes_;
+  c.evicted = evicted_total_;
+  for (const auto& job : finished_) {
+    std::lock_guard job_lock(job->mutex);
+    if (job->status == JobStatus::kSucceeded) ++c.succeeded;
+    if (job->status == JobStatus::kFailed) ++c.failed;
+    if (job->status == JobStatus::kCancelled) ++c.cancelled;
+  }
+  return c;
+}
+
+}  // namespace spheremap::server

@@ -1,0 +1,91 @@
+// Every job the service knows: a bounded queue of jobs waiting for a worker, the running
+// ones, and finished ones kept for a TTL within a memory cap (oldest evicted first; an
+// evicted id is remembered so that a later GET can say 410 Gone). Thread-safe.
+#pragma once
+
+#include <deque>
+#include <functional>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <unordered_map>
+#include <unordered_set>
+
+#include "server/job.h"
+
+namespace spheremap::server {
+
+struct StoreLimits {
+  size_t queue_capacity = 32;
+  double result_ttl_seconds = 3600;
+  size_t result_memory_bytes = 1u << 30;
+  size_t max_jobs_kept = 10000;
+};
+
+struct StoreCounts {
+  size_t queued = 0, running = 0, succeeded = 0, failed = 0, cancelled = 0;
+  size_t result_bytes = 0, evicted = 0;
+};
+
+class JobStore {
+ public:
+  // Called after every status change, outside the store's lock.
+  using Observer = std::function<void(const std::shared_ptr<Job>&, JobStatus)>;
+
+  JobStore(StoreLimits limits, Observer observer);
+
+  enum class Admission { kAccepted, kQueueFull, kShuttingDown };
+  // Queues a job for `spec`; `job` is set when accepted.
+  Admission submit(std::unique_ptr<JobSpec> spec, std::shared_ptr<Job>& job);
+
+  // Blocks until a job is queued (returned as running) or the store is closed (nullptr).
+  std::shared_ptr<Job> next();
+  // A worker is done with a running job: it is in a terminal state now.
+  void finish(const std::shared_ptr<Job>& job, JobStatus status);
+
+  struct Lookup {
+    std::shared_ptr<Job> job;
+    bool evicted = false;  // known, but its results were dropped (TTL or memory cap)
+  };
+  Lookup find(const std::string& id);
+  size_t queue_position(const Job& job) const;  // 1 = next to run; 0 = not queued
+
+  // Cancels a queued job at once and asks a running one to stop (its worker ends it).
+  // Returns false when the job has already finished.
+  bool cancel(const std::shared_ptr<Job>& job, const std::string& reason);
+  // Forgets a finished job; false when it is still queued or running.
+  bool remove(const std::string& id);
+
+  void stop_accepting();  // new submissions get kShuttingDown
+  bool accepting() const;
+  // Cancels every queued job and asks every running one to stop.
+  void cancel_all(const std::string& reason);
+  // Waits until nothing is queued or running, or the deadline; true when idle.
+  bool wait_idle(Clock::time_point deadline);
+  void close();  // next() returns nullptr from now on
+
+  size_t queued() const;  // cheap: for the 429 check before a body is parsed
+  void evict();           // drops finished jobs past the TTL or over the caps
+  StoreCounts counts() const;
+
+ private:
+  void evict_locked(std::vector<std::shared_ptr<Job>>& evicted);
+  void remember_evicted(const std::string& id);
+
+  const StoreLimits limits_;
+  const Observer observer_;
+  mutable std::mutex mutex_;
+  std::condition_variable queue_cv_, idle_cv_;
+  std::unordered_map<std::string, std::shared_ptr<Job>> jobs_;
+  std::deque<std::shared_ptr<Job>> queue_;
+  std::deque<std::shared_ptr<Job>> finished_;  // oldest first
+  std::deque<std::string> evicted_order_;
+  std::unordered_set<std::string> evicted_;
+  size_t running_ = 0, result_bytes_ = 0, evicted_total_ = 0;
+  bool accepting_ = true, closed_ = false;
+};
+
+// A new random job id (128 bits, hex): not guessable from another job's id.
+std::string new_job_id();
+
+}  // namespace spheremap::server

@@ -1,0 +1,83 @@
+#include "server/service.h"
+
+#include "server/job_runner.h"
+#include "server/log.h"
+
+namespace spheremap::server {
+namespace {
+
+double seconds_between(Clock::time_point from, Clock::time_point to) {
+  return std::chrono::duration<double>(to - from).count();
+}
+
+StoreLimits store_limits(const ServerConfig& c) {
+  return {c.queue_capacity, c.result_ttl_seconds, c.result_memory_bytes, c.max_jobs_kept};
+}
+
+}  // namespace
+
+Service::Service(ServerConfig config)
+    : config_(std::move(config)),
+      store_(store_limits(config_),
+             [this](const std::shared_ptr<Job>& job, JobStatus status) { observe(job, status); }) {
+  for (int i = 0; i < config_.effective_workers(); ++i) workers_.emplace_back([this] { work(); });
+}
+
+Service::~Service() {
+  drain(0);
+}
+
+void Service::work() {
+  const RunLimits limits{config_.job_time_limit_seconds, config_.effective_threads_per_job()};
+  while (std::shared_ptr<Job> job = store_.next()) store_.finish(job, run_job(*job, limits));
+}
+
+void Service::observe(const std::shared_ptr<Job>& job, JobStatus status) {
+  nlohmann::json line = {{"event", "job"}, {"job", job->id}, {"status", to_string(status)}};
+  std::lock_guard lock(job->mutex);
+  if (status == JobStatus::kQueued) {
+    line["vertices"] = job->input_vertices;
+    line["faces"] = job->input_faces;
+    line["bytes"] = job->input_bytes;
+    metrics_.job_accepted(job->input_bytes, job->input_faces);
+  } else if (status == JobStatus::kRunning) {
+    line["waited_s"] = rounded_seconds(seconds_between(job->created, *job->started));
+  } else {
+    const Clock::time_point end = job->finished.value_or(Clock::now());
+    const double run = job->started ? seconds_between(*job->started, end) : 0;
+    const double wait = seconds_between(job->created, job->started.value_or(end));
+    line["run_s"] = rounded_seconds(run);
+    line["total_s"] = rounded_seconds(seconds_between(job->created, end));
+    if (job->error) {
+      line["problem"] = job->error->problem;
+      line["detail"] = job->error->detail;
+    }
+    if (!job->cancel_reason.empty()) line["reason"] = job->cancel_reason;
+    if (job->metrics.contains("bijective_as_written"))
+      line["bijective_as_written"] = job->metrics["bijective_as_written"];
+    metrics_.job_ended(status, run, wait);
+  }
+  log_event(std::move(line));
+}
+
+void Service::drain(double grace_seconds) {
+  if (drained_.exchange(true)) return;
+  store_.stop_accepting();
+  const auto counts = store_.counts();
+  log_event({{"event", "draining"},
+             {"queued", counts.queued},
+             {"running", counts.running},
+             {"grace_s", grace_seconds}});
+  const auto deadline = Clock::now() + std::chrono::duration_cast<Clock::duration>(
+                                           std::chrono::duration<double>(grace_seconds));
+  if (!store_.wait_idle(deadline)) {
+    store_.cancel_all("the server shut down before the job finished");
+    store_.wait_idle(Clock::now() + std::chrono::hours(24));  // the engine stops in ms
+  }
+  store_.close();
+  for (std::thread& t : workers_) t.join();
+  workers_.clear();
+  log_event({{"event", "drained"}});
+}
+
+}  // namespace spheremap::server

@@ -1,0 +1,477 @@
+// The HTTP service end to end: the real server on a loopback port, a real HTTP client
+// (cpp-httplib's), real meshes (generated, and the shared corpus when present).
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <sstream>
+#include <thread>
+
+#include "core/io/glb_writer.h"
+#include "core/io/gltf_reader.h"
+#include "core/map_check.h"
+#include "core/sphere_geometry.h"
+#include "tests/corpus.h"
+#include "tests/mesh_generators.h"
+#include "tests/test_server.h"
+
+namespace spheremap {
+namespace {
+
+using nlohmann::json;
+using testing::TestServer;
+
+std::string glb_of(const PolygonMesh& mesh, int draco_bits = 0) {
+  return format_glb({mesh.positions, {}, fan_triangulate(mesh).triangles, {}, draco_bits});
+}
+
+std::string read_bytes(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream out;
+  out << in.rdbuf();
+  return out.str();
+}
+
+server::ServerConfig small_config() {
+  server::ServerConfig config;
+  config.workers = 2;
+  config.threads_per_job = 1;
+  config.http_threads = 8;
+  return config;
+}
+
+httplib::Result post_glb(httplib::Client& client, const std::string& body,
+                         const std::string& path = "/v1/jobs") {
+  return client.Post(path.c_str(), body, "model/gltf-binary");
+}
+
+json body_json(const httplib::Result& result) {
+  return json::parse(result->body);
+}
+
+// Polls the job until it reaches a terminal state (or a minute passes).
+json wait_for(httplib::Client& client, const std::string& id) {
+  json job;
+  for (int i = 0; i < 6000; ++i) {
+    auto result = client.Get(("/v1/jobs/" + id).c_str());
+    if (!result || result->status != 200) return json{{"status", "lost"}};
+    job = json::parse(result->body);
+    const std::string status = job["status"];
+    if (status != "queued" && status != "running") return job;
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  return job;
+}
+
+void expect_problem(const httplib::Result& result, int status, const std::string& slug) {
+  ASSERT_TRUE(result);
+  EXPECT_EQ(result->status, status) << result->body;
+  EXPECT_EQ(result->get_header_value("Content-Type"), "application/problem+json");
+  const json problem = json::parse(result->body);
+  EXPECT_EQ(problem["type"], "/v1/problems/" + slug) << result->body;
+  EXPECT_EQ(problem["status"], status);
+  EXPECT_FALSE(problem["detail"].get<std::string>().empty());
+}
+
+// Our own verdict on a downloaded sphere GLB: every vertex on the unit sphere, no fold,
+// signed areas summing to 4 pi (for the faces as written or all reversed).
+bool glb_is_bijective_sphere(const std::string& glb) {
+  const PolygonMesh mesh = read_gltf({reinterpret_cast<const uint8_t*>(glb.data()), glb.size()});
+  std::vector<Vec3> directions;
+  for (const Vec3& p : mesh.positions) {
+    if (std::abs(norm(p) - 1) > 1e-3) return false;
+    directions.push_back(normalized_or(p, Vec3{}));
+  }
+  std::vector<Triangle> triangles = fan_triangulate(mesh).triangles;
+  if (check_map(directions, triangles).bijective) return true;
+  for (Triangle& t : triangles) std::swap(t[1], t[2]);
+  return check_map(directions, triangles).bijective;
+}
+
+// A job that keeps a worker busy for as long as the test needs, whatever the machine: the
+// paper's loop on a mesh it never unfolds, with no iteration cap (stopped by the test, or
+// by its 60 s time limit).
+const char* const kSlowJob = "/v1/jobs?method=paper&max_iterations=1000000&time_limit_seconds=60";
+
+TEST(Service, HealthReadinessMetricsAndSpec) {
+  TestServer server(small_config());
+  auto client = server.client();
+  auto health = client.Get("/healthz");
+  ASSERT_TRUE(health);
+  EXPECT_EQ(health->status, 200);
+  auto ready = client.Get("/readyz");
+  EXPECT_EQ(ready->status, 200);
+  auto spec = client.Get("/v1/openapi.yaml");
+  EXPECT_EQ(spec->status, 200);
+  EXPECT_NE(spec->body.find("openapi: 3"), std::string::npos);
+  EXPECT_NE(spec->body.find("/v1/jobs/{id}/artifacts/{name}:"), std::string::npos);
+  auto metrics = client.Get("/metrics");
+  EXPECT_EQ(metrics->status, 200);
+  EXPECT_NE(metrics->body.find("spheremap_queue_depth 0"), std::string::npos);
+  EXPECT_NE(metrics->body.find("spheremap_job_run_seconds_bucket{le=\"+Inf\"} 0"),
+            std::string::npos);
+  expect_problem(client.Get("/v1/nothing"), 404, "not_found");
+  expect_problem(client.Get("/v1/jobs/0123456789abcdef0123456789abcdef"), 404, "job_not_found");
+}
+
+TEST(Service, SubmitPollDownload) {
+  TestServer server(small_config());
+  auto client = server.client();
+  auto submitted = post_glb(client, glb_of(testing::capped_tube(12, 30, 12)));
+  ASSERT_TRUE(submitted);
+  ASSERT_EQ(submitted->status, 202) << submitted->body;
+  const json accepted = body_json(submitted);
+  const std::string id = accepted["id"];
+  EXPECT_EQ(submitted->get_header_value("Location"), "/v1/jobs/" + id);
+  EXPECT_TRUE(accepted["status"] == "queued" || accepted["status"] == "running");
+
+  const json done = wait_for(client, id);
+  ASSERT_EQ(done["status"], "succeeded") << done.dump(2);
+  EXPECT_TRUE(done["metrics"]["bijective"]);
+  EXPECT_TRUE(done["metrics"]["bijective_as_written"]);
+  auto sphere = client.Get(done["artifacts"]["sphere.glb"]["href"].get<std::string>().c_str());
+  ASSERT_EQ(sphere->status, 200);
+  EXPECT_EQ(sphere->get_header_value("Content-Type"), "model/gltf-binary");
+  EXPECT_TRUE(glb_is_bijective_sphere(sphere->body));
+  auto metrics = client.Get(("/v1/jobs/" + id + "/artifacts/metrics.json").c_str());
+  ASSERT_EQ(metrics->status, 200);
+  EXPECT_EQ(json::parse(metrics->body)["faces"], done["metrics"]["faces"]);
+  expect_problem(client.Get(("/v1/jobs/" + id + "/artifacts/remesh.glb").c_str()), 404,
+                 "artifact_not_found");
+
+  auto prometheus = client.Get("/metrics")->body;
+  EXPECT_NE(prometheus.find("spheremap_jobs_finished_total{status=\"succeeded\"} 1"),
+            std::string::npos)
+      << prometheus;
+
+  // Deleting a finished job forgets it.
+  auto deleted = client.Delete(("/v1/jobs/" + id).c_str());
+  EXPECT_EQ(deleted->status, 204);
+  expect_problem(client.Get(("/v1/jobs/" + id).c_str()), 404, "job_not_found");
+}
+
+TEST(Service, MultipartWithOptionsMakesDraco) {
+  TestServer server(small_config());
+  auto client = server.client();
+  httplib::MultipartFormDataItems form = {
+      {"mesh", glb_of(testing::quad_cube(6)), "cube.glb", "model/gltf-binary"},
+      {"options", R"({"draco": true, "draco_position_bits": 16, "layout": "welded"})", "",
+       "application/json"}};
+  auto submitted = client.Post("/v1/jobs", form);
+  ASSERT_EQ(submitted->status, 202) << submitted->body;
+  const json done = wait_for(client, body_json(submitted)["id"]);
+  ASSERT_EQ(done["status"], "succeeded") << done.dump(2);
+  auto sphere = client.Get(done["artifacts"]["sphere.glb"]["href"].get<std::string>().c_str());
+  EXPECT_NE(sphere->body.find("KHR_draco_mesh_compression"), std::string::npos);
+  EXPECT_TRUE(glb_is_bijective_sphere(sphere->body));
+  // welded: one vertex per surface point (6x6 quads per face of a cube: 6*36+2 points)
+  const PolygonMesh read =
+      read_gltf({reinterpret_cast<const uint8_t*>(sphere->body.data()), sphere->body.size()});
+  EXPECT_EQ(read.vertex_count(), 218u);
+}
+
+TEST(Service, SynchronousMap) {
+  TestServer server(small_config());
+  auto client = server.client();
+  auto result = post_glb(client, glb_of(testing::icosphere(3)), "/v1/map");
+  ASSERT_TRUE(result);
+  ASSERT_EQ(result->status, 200) << result->body;
+  EXPECT_EQ(result->get_header_value("Content-Type"), "model/gltf-binary");
+  EXPECT_EQ(result->get_header_value("Spheremap-Bijective"), "true");
+  EXPECT_TRUE(glb_is_bijective_sphere(result->body));
+  // A wait shorter than the job answers 202 and the job's location.
+  httplib::Headers prefer = {{"Prefer", "wait=0"}};
+  auto later = client.Post("/v1/map?method=paper&max_iterations=1000000&time_limit_seconds=60",
+                           prefer, glb_of(testing::horseshoe()), "model/gltf-binary");
+  ASSERT_EQ(later->status, 202) << later->body;
+  EXPECT_FALSE(later->get_header_value("Location").empty());
+  EXPECT_EQ(client.Delete(later->get_header_value("Location").c_str())->status, 202);
+  // A job that fails answers its problem: the paper's loop cannot unfold a horseshoe.
+  auto failed = client.Post("/v1/map?method=paper&max_iterations=200", glb_of(testing::horseshoe()),
+                            "model/gltf-binary");
+  expect_problem(failed, 422, "not_bijective");
+  EXPECT_NE(failed->body.find("folded triangles left"), std::string::npos);
+  EXPECT_FALSE(failed->get_header_value("Spheremap-Job").empty());
+  // The default method maps it.
+  auto mapped = post_glb(client, glb_of(testing::horseshoe()), "/v1/map");
+  EXPECT_EQ(mapped->status, 200);
+  EXPECT_TRUE(glb_is_bijective_sphere(mapped->body));
+}
+
+TEST(Service, WrongContentTypesGet415WithAHint) {
+  TestServer server(small_config());
+  auto client = server.client();
+  const std::string glb = glb_of(testing::icosphere(2));
+  // curl --data-binary without -H sends application/x-www-form-urlencoded; httplib refuses
+  // such bodies over 8 KB on its own, and both sizes must say what to do.
+  for (const std::string& body : {glb, glb.substr(0, 1000)}) {
+    auto form = client.Post("/v1/jobs", body, "application/x-www-form-urlencoded");
+    expect_problem(form, 415, "unsupported_media_type");
+    EXPECT_NE(form->body.find("Content-Type: model/gltf-binary"), std::string::npos);
+  }
+  expect_problem(client.Post("/v1/jobs", glb, "text/plain"), 415, "unsupported_media_type");
+  httplib::MultipartFormDataItems no_mesh = {{"file", glb, "a.glb", "model/gltf-binary"}};
+  expect_problem(client.Post("/v1/jobs", no_mesh), 400, "missing_mesh");
+}
+
+TEST(Service, InvalidOptionsNameTheKey) {
+  TestServer server(small_config());
+  auto client = server.client();
+  const std::string glb = glb_of(testing::icosphere(2));
+  for (const char* query : {"?attempts=0", "?layout=sideways", "?colour=blue", "?draco=maybe",
+                            "?outputs=sphere,teapot", "?alpha=2"}) {
+    auto result = client.Post((std::string("/v1/jobs") + query).c_str(), glb, "model/gltf-binary");
+    expect_problem(result, 400, "invalid_options");
+    const std::string key = std::string(query).substr(1, std::string(query).find('=') - 1);
+    EXPECT_NE(json::parse(result->body)["detail"].get<std::string>().find(key), std::string::npos)
+        << result->body;
+  }
+}
+
+TEST(Service, HostileFilesGet400AndTheServerKeepsServing) {
+  TestServer server(small_config());
+  auto client = server.client();
+  const std::string glb = glb_of(testing::icosphere(2));
+  std::vector<std::string> hostile = {
+      glb.substr(0, glb.size() / 2),  // truncated
+      std::string(4096, '\xff'),      // garbage
+      "glTF" + std::string(8, '\0'),  // header only
+      R"({"asset":{"version":"2.0"},"buffers":[{"uri":"file:///etc/passwd","byteLength":10}],
+          "bufferViews":[{"buffer":0,"byteLength":10}],
+          "accessors":[{"bufferView":0,"componentType":5126,"count":1000000000,"type":"VEC3"}],
+          "meshes":[{"primitives":[{"attributes":{"POSITION":0}}]}]})",
+  };
+  std::string corrupted = glb;
+  corrupted[12] = '\x7f';  // JSON chunk length
+  hostile.push_back(corrupted);
+  for (const std::string& body : hostile) {
+    auto result = post_glb(client, body);
+    expect_problem(result, 400, "malformed_gltf");
+  }
+  expect_problem(client.Post("/v1/jobs", "", "model/gltf-binary"), 400, "empty_body");
+  EXPECT_EQ(client.Get("/healthz")->status, 200);
+  auto good = post_glb(client, glb);
+  ASSERT_EQ(good->status, 202);
+  EXPECT_EQ(wait_for(client, body_json(good)["id"])["status"], "succeeded");
+}
+
+TEST(Service, InvalidMeshesGet422WithTheirCheck) {
+  TestServer server(small_config());
+  auto client = server.client();
+  const std::pair<PolygonMesh, std::string> cases[] = {
+      {testing::torus(12, 8), "genus"},
+      {testing::without_face(testing::icosphere(2), 3), "boundary"},
+      {testing::two_tetrahedra(), "components"},
+      {testing::pinched_tetrahedra(), "non_manifold_vertex"},
+  };
+  for (const auto& [mesh, check] : cases) {
+    auto result = post_glb(client, glb_of(mesh));
+    expect_problem(result, 422, "not_mappable");
+    EXPECT_EQ(json::parse(result->body)["check"], check) << result->body;
+  }
+  auto prometheus = client.Get("/metrics")->body;
+  EXPECT_NE(prometheus.find("spheremap_rejections_total{reason=\"genus\"} 1"), std::string::npos);
+}
+
+TEST(Service, OversizeGets413) {
+  server::ServerConfig config = small_config();
+  config.max_body_bytes = 30000;
+  config.max_faces = 1000;
+  TestServer server(config);
+  auto client = server.client();
+  expect_problem(post_glb(client, glb_of(testing::icosphere(4))), 413, "too_large");  // 120 KB
+  auto faces = post_glb(client, glb_of(testing::icosphere(3)));  // 1280 triangles, 23 KB
+  expect_problem(faces, 413, "too_large");
+  EXPECT_NE(faces->body.find("1000"), std::string::npos);
+  EXPECT_EQ(post_glb(client, glb_of(testing::icosphere(2)))->status, 202);
+}
+
+TEST(Service, FullQueueGets429AndCancelWorksQueuedAndRunning) {
+  server::ServerConfig config = small_config();
+  config.workers = 1;
+  config.queue_capacity = 1;
+  TestServer server(config);
+  auto client = server.client();
+  const std::string glb = glb_of(testing::horseshoe());
+  auto running = client.Post(kSlowJob, glb, "model/gltf-binary");
+  ASSERT_EQ(running->status, 202);
+  const std::string running_id = body_json(running)["id"];
+  // Wait until the worker has it, so the next one stays queued.
+  for (int i = 0;
+       i < 1000 && body_json(client.Get(("/v1/jobs/" + running_id).c_str()))["status"] != "running";
+       ++i)
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  auto queued = client.Post(kSlowJob, glb, "model/gltf-binary");
+  ASSERT_EQ(queued->status, 202);
+  const std::string queued_id = body_json(queued)["id"];
+  EXPECT_EQ(body_json(queued)["queue_position"], 1);
+
+  auto full = client.Post("/v1/jobs", glb, "model/gltf-binary");
+  expect_problem(full, 429, "queue_full");
+  EXPECT_EQ(full->get_header_value("Retry-After"), "5");
+
+  auto cancel_queued = client.Delete(("/v1/jobs/" + queued_id).c_str());
+  ASSERT_EQ(cancel_queued->status, 200);
+  EXPECT_EQ(body_json(cancel_queued)["status"], "cancelled");
+
+  const auto asked = std::chrono::steady_clock::now();
+  auto cancel_running = client.Delete(("/v1/jobs/" + running_id).c_str());
+  ASSERT_EQ(cancel_running->status, 202);
+  const json stopped = wait_for(client, running_id);
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - asked).count();
+  EXPECT_EQ(stopped["status"], "cancelled");
+  EXPECT_EQ(stopped["cancel_reason"], "cancelled by the client");
+  EXPECT_LT(seconds, 5.0);  // generous for sanitizer builds; ~ms in release
+  // The queue has room again.
+  EXPECT_EQ(client.Post("/v1/jobs", glb, "model/gltf-binary")->status, 202);
+}
+
+TEST(Service, EvictedResultsAreGone) {
+  server::ServerConfig config = small_config();
+  config.result_memory_bytes = 0;  // nothing is kept once finished
+  TestServer server(config);
+  auto client = server.client();
+  auto submitted = post_glb(client, glb_of(testing::icosphere(2)));
+  const std::string id = body_json(submitted)["id"];
+  for (int i = 0; i < 6000 && client.Get(("/v1/jobs/" + id).c_str())->status == 200; ++i)
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  expect_problem(client.Get(("/v1/jobs/" + id).c_str()), 410, "gone");
+  expect_problem(client.Get(("/v1/jobs/" + id + "/artifacts/sphere.glb").c_str()), 410, "gone");
+}
+
+TEST(Service, DrainFinishesOrCancelsEveryJob) {
+  server::ServerConfig config = small_config();
+  config.workers = 1;
+  TestServer server(config);
+  auto client = server.client();
+  const std::string glb = glb_of(testing::horseshoe());
+  std::vector<std::string> ids;
+  ids.push_back(body_json(client.Post(kSlowJob, glb, "model/gltf-binary"))["id"]);
+  for (int i = 0; i < 3; ++i) ids.push_back(body_json(post_glb(client, glb))["id"]);
+  std::thread drain([&] { server.service().drain(0.5); });
+  std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  expect_problem(client.Get("/readyz"), 503, "shutting_down");
+  expect_problem(post_glb(client, glb), 503, "shutting_down");
+  drain.join();
+  for (const std::string& id : ids) {
+    const json job = body_json(client.Get(("/v1/jobs/" + id).c_str()));
+    EXPECT_TRUE(job["status"] == "cancelled" || job["status"] == "succeeded") << job.dump(2);
+  }
+  EXPECT_EQ(body_json(client.Get(("/v1/jobs/" + ids[0]).c_str()))["status"], "cancelled");
+}
+
+// Every valid corpus mesh, sent as GLB and as Draco GLB, maps bijectively through the
+// service; every bad one is refused with 422 and its check.
+class ServiceCorpus : public ::testing::Test {};
+
+TEST_F(ServiceCorpus, ValidMeshesSucceedBijective) {
+  SKIP_WITHOUT_CORPUS("spot.glb");
+  TestServer server(small_config());
+  auto client = server.client();
+  std::vector<std::pair<std::string, std::string>> submitted;  // file, id
+  for (const char* mesh :
+       {"box", "spot_control", "cylinder", "knight", "horse_quad", "spot_quad", "duck", "spot",
+        "cheburashka", "hand", "beast", "armadillo", "horse", "scorpion"})
+    for (const char* form : {".glb", ".draco.glb"}) {
+      const std::string file = std::string(mesh) + form;
+      auto result = post_glb(client, read_bytes(testing::corpus_path(file)));
+      ASSERT_EQ(result->status, 202) << file << ": " << result->body;
+      submitted.push_back({file, body_json(result)["id"]});
+    }
+  for (const auto& [file, id] : submitted) {
+    const json job = wait_for(client, id);
+    ASSERT_EQ(job["status"], "succeeded") << file << ": " << job.dump(2);
+    EXPECT_TRUE(job["metrics"]["bijective"]) << file;
+    // beast and scorpion are bijective in double precision only (BENCHMARKS.md): their
+    // thinnest triangles fold once rounded to float32, and the metrics say so.
+    const bool float32_holds =
+        file.find("beast") == std::string::npos && file.find("scorpion") == std::string::npos;
+    if (float32_holds) {
+      EXPECT_TRUE(job["metrics"]["bijective_as_written"]) << file;
+      auto sphere = client.Get(job["artifacts"]["sphere.glb"]["href"].get<std::string>().c_str());
+      EXPECT_TRUE(glb_is_bijective_sphere(sphere->body)) << file;
+    }
+  }
+}
+
+TEST_F(ServiceCorpus, BadMeshesGet422WithTheirReason) {
+  SKIP_WITHOUT_CORPUS("bad/torus.glb");
+  TestServer server(small_config());
+  auto client = server.client();
+  const std::pair<const char*, const char*> cases[] = {{"bunny_holes", "boundary"},
+                                                       {"torus", "genus"},
+                                                       {"skull_genus2", "genus"},
+                                                       {"cow_nmvertex", "non_manifold_vertex"},
+                                                       {"tetrahedra5", "components"}};
+  for (const auto& [mesh, check] : cases)
+    for (const char* form : {".glb", ".draco.glb"}) {
+      const std::string file = std::string("bad/") + mesh + form;
+      auto result = post_glb(client, read_bytes(testing::corpus_path(file)));
+      expect_problem(result, 422, "not_mappable");
+      EXPECT_EQ(json::parse(result->body)["check"], check) << file;
+    }
+  auto holes = post_glb(client, read_bytes(testing::corpus_path("bad/bunny_holes.glb")));
+  EXPECT_NE(json::parse(holes->body)["detail"].get<std::string>().find(
+                "5 boundary loops (223 boundary edges)"),
+            std::string::npos);
+}
+
+}  // namespace
+}  // namespace spheremap
+
+namespace spheremap::server {
+namespace {
+
+TEST(ServerConfig, FileThenEnvironmentThenFlags) {
+  const std::string path = ::testing::TempDir() + "/spheremap_config.json";
+  std::ofstream(path) << R"({"_doc": "comment", "port": 9001, "workers": 3, "host": "0.0.0.0"})";
+  ServerConfig config;
+  apply_file(config, path);
+  EXPECT_EQ(config.port, 9001);
+  EXPECT_EQ(config.host, "0.0.0.0");
+  apply_environment(config, {{"SPHEREMAP_PORT", "9002"},
+                             {"SPHEREMAP_QUEUE_CAPACITY", "5"},
+                             {"SPHEREMAP_SKIP_SANITIZERS", "1"}});
+  EXPECT_EQ(config.port, 9002);
+  EXPECT_EQ(config.queue_capacity, 5u);
+  apply_setting(config, "port", "9003", "--port");
+  EXPECT_EQ(config.port, 9003);
+  EXPECT_EQ(config.workers, 3);
+  EXPECT_EQ(config.to_json()["workers"], 3);
+  EXPECT_GE(config.effective_threads_per_job(), 1);
+}
+
+TEST(ServerConfig, ErrorsNameTheSettingAndTheSource) {
+  ServerConfig config;
+  auto message = [&](auto&& apply) -> std::string {
+    try {
+      apply();
+    } catch (const ConfigError& e) {
+      return e.what();
+    }
+    return "";
+  };
+  EXPECT_EQ(message([&] { apply_setting(config, "port", "80x", "--port"); }),
+            "--port: port must be a number, got '80x'");
+  EXPECT_EQ(message([&] { apply_setting(config, "port", "70000", "SPHEREMAP_PORT"); }),
+            "SPHEREMAP_PORT: port must be an integer in [0, 65535], got 70000");
+  EXPECT_EQ(message([&] {
+              apply_json(config, {{"prot", 1}}, "a.json");
+            }),
+            "a.json: unknown setting 'prot'");
+  EXPECT_EQ(message([&] {
+              apply_json(config, {{"workers", 1.5}}, "a.json");
+            }),
+            "a.json: workers must be an integer in [0, 1024], got 1.5");
+  EXPECT_NE(message([&] { apply_file(config, "/nonexistent/spheremap.json"); }).find("cannot read"),
+            std::string::npos);
+}
+
+TEST(ServerConfig, TheDocumentedFileHoldsTheDefaults) {
+  ServerConfig from_file;
+  apply_file(from_file, std::string(SPHEREMAP_SOURCE_DIR) + "/config/spheremap.json");
+  EXPECT_EQ(from_file.to_json(), ServerConfig().to_json());
+}
+
+}  // namespace
+}  // namespace spheremap::server
