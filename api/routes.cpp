@@ -209,6 +209,8 @@ void install_api(httplib::Server& http, Service& service) {
   http.set_keep_alive_timeout(
       static_cast<time_t>(std::max(1.0, config.keep_alive_timeout_seconds)));
   http.set_keep_alive_max_count(100);
+  // Without it a small response waits for the client's delayed ACK: 40 ms per request.
+  http.set_tcp_nodelay(true);
 
   http.set_pre_routing_handler([](const httplib::Request&, httplib::Response&) {
     request_start = Clock::now();

@@ -33,21 +33,6 @@ scene in world space, unless --mesh picks one mesh.
 
 )";
 
-// Progress lines on stderr once a run has taken a second, at most twice a second.
-MapControl progress_printer(bool quiet, double& last_print) {
-  MapControl control;
-  if (quiet) return control;
-  control.on_progress = [&last_print](const MapProgress& p) {
-    if (p.elapsed_seconds < 1.0 || p.elapsed_seconds - last_print < 0.5) return;
-    last_print = p.elapsed_seconds;
-    std::fprintf(stderr,
-                 "spheremap: %5.1f s  %-9s level %d/%d (%zu vertices)  iteration %zu  folds %zu\n",
-                 p.elapsed_seconds, std::string(p.stage).c_str(), p.level, p.levels, p.vertices,
-                 p.iteration, p.folds);
-  };
-  return control;
-}
-
 }  // namespace
 
 int run_map(int argc, char** argv) {

@@ -11,5 +11,8 @@ inline constexpr int kExitNotBijective = 3;
 int run_map(int argc, char** argv);
 int run_info(int argc, char** argv);
 int run_serve(int argc, char** argv);
+int run_remesh(int argc, char** argv);
+int run_uv(int argc, char** argv);
+int run_morph(int argc, char** argv);
 
 }  // namespace spheremap::cli

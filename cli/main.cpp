@@ -1,4 +1,5 @@
-// spheremap: maps closed genus-0 meshes onto the unit sphere. Subcommands: map, info, serve.
+// spheremap: maps closed genus-0 meshes onto the unit sphere. Subcommands: map, info,
+// remesh, uv, morph, serve.
 #include <cstdio>
 #include <cstring>
 #include <exception>
@@ -15,6 +16,9 @@ const char* const kHelp = R"(spheremap: fold-free spherical maps of closed genus
 Usage:
   spheremap map INPUT -o OUTPUT [--metrics FILE.json] [options]   map onto the unit sphere
   spheremap info INPUT                                             topology report as JSON
+  spheremap remesh INPUT -o OUT.glb [--resolution N]               octahedral remesh
+  spheremap uv INPUT -o OUT.glb                                    texture coordinates
+  spheremap morph INPUT -o OUT.glb                                 mesh-to-sphere morph
   spheremap serve [--config FILE] [--port N]                       the HTTP service
   spheremap COMMAND --help                                         options of a command
   spheremap --version
@@ -31,6 +35,9 @@ int main(int argc, char** argv) {
     if (command == "map") return run_map(argc, argv);
     if (command == "info") return run_info(argc, argv);
     if (command == "serve") return run_serve(argc, argv);
+    if (command == "remesh") return run_remesh(argc, argv);
+    if (command == "uv") return run_uv(argc, argv);
+    if (command == "morph") return run_morph(argc, argv);
     if (command == "--version") {
       std::puts("spheremap 0.1.0");
       return kExitOk;

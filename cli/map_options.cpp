@@ -1,5 +1,7 @@
 #include "cli/map_options.h"
 
+#include <cstdio>
+
 namespace spheremap::cli {
 
 const std::set<std::string> kMapValueOptions = {
@@ -100,6 +102,21 @@ void read_map_options(const Arguments& args, PrepareOptions& prepare, MapOptions
       args.integer("attempts", static_cast<long long>(options.attempts), 1, 100));
   prepare.weld_tolerance = args.number("weld-tolerance", 0, 0, 1);
   prepare.largest_component = args.flag("largest-component");
+}
+
+// Progress lines on stderr once a run has taken a second, at most twice a second.
+MapControl progress_printer(bool quiet, double& last_print) {
+  MapControl control;
+  if (quiet) return control;
+  control.on_progress = [&last_print](const MapProgress& p) {
+    if (p.elapsed_seconds < 1.0 || p.elapsed_seconds - last_print < 0.5) return;
+    last_print = p.elapsed_seconds;
+    std::fprintf(stderr,
+                 "spheremap: %5.1f s  %-9s level %d/%d (%zu vertices)  iteration %zu  folds %zu\n",
+                 p.elapsed_seconds, std::string(p.stage).c_str(), p.level, p.levels, p.vertices,
+                 p.iteration, p.folds);
+  };
+  return control;
 }
 
 GltfReadOptions gltf_options(const Arguments& args) {

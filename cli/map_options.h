@@ -16,6 +16,10 @@ extern const char* const kMapOptionsHelp;
 
 void read_map_options(const Arguments& args, PrepareOptions& prepare, MapOptions& options);
 
+// Progress lines on stderr once a run has taken a second, at most twice a second;
+// `last_print` must outlive the returned control.
+MapControl progress_printer(bool quiet, double& last_print);
+
 // --mesh INDEX|NAME: which glTF mesh to read (default: the whole default scene).
 GltfReadOptions gltf_options(const Arguments& args);
 

@@ -111,8 +111,11 @@ PolygonMesh sphere_welded(const MappedMesh& mapped) {
 WrittenGlb sphere_glb(const PolygonMesh& sphere, bool inward, int draco_position_bits) {
   WrittenGlb out;
   const std::vector<Triangle> triangles = fan_triangulate(sphere).triangles;
-  out.glb = build_glb({sphere.positions, sphere.positions, triangles, nlohmann::json::object(),
-                       draco_position_bits});
+  GlbMesh mesh;
+  mesh.positions = mesh.normals = sphere.positions;
+  mesh.triangles = triangles;
+  mesh.draco_position_bits = draco_position_bits;
+  out.glb = build_glb(mesh);
   const std::string bytes = serialize_glb(out.glb);
   const PolygonMesh decoded =
       read_gltf({reinterpret_cast<const uint8_t*>(bytes.data()), bytes.size()});

@@ -51,7 +51,11 @@ struct Glb {
 
 std::string sphere_glb() {
   const PolygonMesh m = testing::icosphere(1);
-  return format_glb({m.positions, m.positions, fan_triangulate(m).triangles, {{"note", "test"}}});
+  GlbMesh glb;
+  glb.positions = glb.normals = m.positions;
+  glb.triangles = fan_triangulate(m).triangles;
+  glb.extras = {{"note", "test"}};
+  return format_glb(glb);
 }
 
 std::string read_error(const std::string& bytes) {

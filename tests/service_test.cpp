@@ -21,7 +21,11 @@ using nlohmann::json;
 using testing::TestServer;
 
 std::string glb_of(const PolygonMesh& mesh, int draco_bits = 0) {
-  return format_glb({mesh.positions, {}, fan_triangulate(mesh).triangles, {}, draco_bits});
+  GlbMesh glb;
+  glb.positions = mesh.positions;
+  glb.triangles = fan_triangulate(mesh).triangles;
+  glb.draco_position_bits = draco_bits;
+  return format_glb(glb);
 }
 
 std::string read_bytes(const std::string& path) {

@@ -75,20 +75,23 @@ std::string encode_draco(const GlbMesh& mesh, nlohmann::json& attribute_ids) {
 
 GlbParts build_glb(const GlbMesh& mesh) {
   const bool draco = mesh.draco_position_bits > 0;
+  if (draco &&
+      (!mesh.texcoords.empty() || !mesh.morph_positions.empty() || !mesh.base_color_png.empty()))
+    throw std::invalid_argument("build_glb: Draco output carries positions and normals only");
   const size_t n = mesh.positions.size();
   std::string bin;
   nlohmann::json views = nlohmann::json::array(), accessors = nlohmann::json::array();
   // With Draco, accessors describe the decoded data and have no bufferView.
+  auto add_view = [&](const std::string& data, int target) {
+    nlohmann::json view = {{"buffer", 0}, {"byteOffset", bin.size()}, {"byteLength", data.size()}};
+    if (target) view["target"] = target;
+    views.push_back(std::move(view));
+    bin += data;
+    while (bin.size() % 4) bin.push_back('\0');
+    return views.size() - 1;
+  };
   auto add_accessor = [&](nlohmann::json accessor, const std::string& data, int target) {
-    if (!draco) {
-      views.push_back({{"buffer", 0},
-                       {"byteOffset", bin.size()},
-                       {"byteLength", data.size()},
-                       {"target", target}});
-      accessor["bufferView"] = views.size() - 1;
-      bin += data;
-      while (bin.size() % 4) bin.push_back('\0');
-    }
+    if (!draco) accessor["bufferView"] = add_view(data, target);
     accessors.push_back(std::move(accessor));
     return accessors.size() - 1;
   };
@@ -104,12 +107,69 @@ GlbParts build_glb(const GlbMesh& mesh) {
     attributes["NORMAL"] =
         add_accessor({{"componentType", 5126}, {"count", n}, {"type", "VEC3"}}, data, 34962);
   }
+  if (!mesh.texcoords.empty()) {
+    data.clear();
+    for (const auto& uv : mesh.texcoords) append_bytes(data, uv.data(), 8);
+    attributes["TEXCOORD_0"] =
+        add_accessor({{"componentType", 5126}, {"count", n}, {"type", "VEC2"}}, data, 34962);
+  }
+  nlohmann::json targets = nlohmann::json::array();
+  if (!mesh.morph_positions.empty()) {
+    data.clear();
+    const auto [dlo, dhi] = append_vec3(data, mesh.morph_positions);
+    nlohmann::json target;
+    target["POSITION"] = add_accessor(
+        {{"componentType", 5126}, {"count", n}, {"type", "VEC3"}, {"min", dlo}, {"max", dhi}}, data,
+        34962);
+    if (!mesh.morph_normals.empty()) {
+      data.clear();
+      append_vec3(data, mesh.morph_normals);
+      target["NORMAL"] =
+          add_accessor({{"componentType", 5126}, {"count", n}, {"type", "VEC3"}}, data, 34962);
+    }
+    targets.push_back(target);
+  }
   data.clear();
   for (const Triangle& t : mesh.triangles) append_bytes(data, t.data(), 12);
   const size_t indices = add_accessor(
       {{"componentType", 5125}, {"count", 3 * mesh.triangles.size()}, {"type", "SCALAR"}}, data,
       34963);
   nlohmann::json primitive = {{"attributes", attributes}, {"indices", indices}, {"mode", 4}};
+  if (!targets.empty()) primitive["targets"] = targets;
+  nlohmann::json extra_members = nlohmann::json::object();
+  if (!mesh.base_color_png.empty()) {
+    primitive["material"] = 0;
+    extra_members["images"] = {
+        {{"bufferView", add_view(mesh.base_color_png, 0)}, {"mimeType", "image/png"}}};
+    // Linear magnification, trilinear minification, clamped: the square has no wrap.
+    extra_members["samplers"] = {
+        {{"magFilter", 9729}, {"minFilter", 9987}, {"wrapS", 33071}, {"wrapT", 33071}}};
+    extra_members["textures"] = {{{"source", 0}, {"sampler", 0}}};
+    extra_members["materials"] = {{{"name", "checker"},
+                                   {"pbrMetallicRoughness",
+                                    {{"baseColorTexture", {{"index", 0}}},
+                                     {"metallicFactor", 0.0},
+                                     {"roughnessFactor", 0.9}}}}};
+  }
+  if (!targets.empty() && mesh.morph_seconds > 0) {
+    const float half = static_cast<float>(mesh.morph_seconds / 2);
+    const float times[] = {0, half, 2 * half}, weights[] = {0, 1, 0};
+    std::string time_data, weight_data;
+    append_bytes(time_data, times, sizeof times);
+    append_bytes(weight_data, weights, sizeof weights);
+    const size_t input = add_accessor({{"componentType", 5126},
+                                       {"count", 3},
+                                       {"type", "SCALAR"},
+                                       {"min", {0.0}},
+                                       {"max", {2 * half}}},
+                                      time_data, 0);
+    const size_t output =
+        add_accessor({{"componentType", 5126}, {"count", 3}, {"type", "SCALAR"}}, weight_data, 0);
+    extra_members["animations"] = {
+        {{"name", "mesh to sphere"},
+         {"samplers", {{{"input", input}, {"output", output}, {"interpolation", "LINEAR"}}}},
+         {"channels", {{{"sampler", 0}, {"target", {{"node", 0}, {"path", "weights"}}}}}}}};
+  }
   if (draco) {
     nlohmann::json ids;
     const std::string stream = encode_draco(mesh, ids);
@@ -129,6 +189,8 @@ GlbParts build_glb(const GlbMesh& mesh) {
       {"bufferViews", views},
       {"buffers", {{{"byteLength", bin.size()}}}},
   };
+  for (const auto& [key, value] : extra_members.items()) json[key] = value;
+  if (!targets.empty()) json["meshes"][0]["weights"] = {0.0};
   if (draco) {
     json["extensionsUsed"] = {"KHR_draco_mesh_compression"};
     json["extensionsRequired"] = {"KHR_draco_mesh_compression"};

@@ -1,8 +1,10 @@
 // Writing a triangle mesh as a self-contained GLB (glTF 2.0 binary): float32 POSITION
-// (with the min/max glTF requires) and optional NORMAL, uint32 indices, one node, and
-// `extras` on the mesh (our metrics).
+// (with the min/max glTF requires), optional NORMAL and TEXCOORD_0, uint32 indices, one
+// node, `extras` on the mesh (our metrics); optionally a textured material, a morph
+// target and its animation.
 #pragma once
 
+#include <array>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -18,7 +20,15 @@ struct GlbMesh {
   nlohmann::json extras = nlohmann::json::object();
   // > 0: compress with KHR_draco_mesh_compression (marked required), positions quantized
   // to this many bits (normals to 10), sequential encoding so vertex order is kept.
+  // Not with the members below.
   int draco_position_bits = 0;
+
+  std::vector<std::array<float, 2>> texcoords;  // TEXCOORD_0: empty, or one per position
+  std::string base_color_png;                   // non-empty: a material with this texture
+  // One morph target: a displacement per position (and per normal, when given), the mesh's
+  // weight 0; with morph_seconds > 0, an animation plays the weight 0 -> 1 -> 0 over it.
+  std::vector<Vec3> morph_positions, morph_normals;
+  double morph_seconds = 0;
 };
 
 // A GLB as its JSON and binary chunk: built once (encoding, Draco), serialized after the

@@ -1,0 +1,49 @@
+#!/usr/bin/env bash
+# The three assets built on the map (remesh, uv, morph) for every valid corpus mesh up
+# to 100K faces (generated meshes without the corpus): each written by the tool, checked
+# by the Khronos glTF validator (0 errors) and decoded by gltf-transform; the remesh read
+# back by `spheremap info` (our own validator: closed, manifold, genus 0); the UV map has
+# no flipped triangle. Usage: validate_assets.sh SPHEREMAP MAKE_TEST_MESHES CORPUS
+set -uo pipefail
+spheremap=$1 make_meshes=$2 corpus=$3
+here=$(cd "$(dirname "$0")" && pwd)
+command -v npm > /dev/null || { echo "npm not found: skipped"; exit 77; }
+if [ ! -d "$here/node_modules/gltf-validator" ] || [ ! -d "$here/node_modules/@gltf-transform/core" ]; then
+  (cd "$here" && npm install --no-audit --no-fund --loglevel=error) || { echo "npm install failed"; exit 1; }
+fi
+out=$(mktemp -d)
+trap 'rm -rf "$out"' EXIT
+inputs=()
+if [ -d "$corpus" ]; then
+  for m in box spot_control cylinder knight horse_quad spot_quad duck spot cheburashka hand \
+           beast armadillo horse scorpion; do
+    [ -f "$corpus/$m.obj" ] && inputs+=("$corpus/$m.obj")
+  done
+else
+  echo "corpus not found: generated meshes only"
+fi
+"$make_meshes" "$out"
+inputs+=("$out/icosphere4.glb" "$out/horseshoe.glb")
+failed=0
+files=()
+for input in "${inputs[@]}"; do
+  name=$(basename "${input%.*}")
+  for kind in remesh uv morph; do
+    extra=()
+    [ "$kind" = remesh ] && extra=(--resolution 128)
+    if ! "$spheremap" "$kind" "$input" -o "$out/$name.$kind.glb" --metrics "$out/$name.$kind.json" \
+        "${extra[@]}" --quiet; then
+      echo "FAIL: $kind $name"; failed=1; continue
+    fi
+    files+=("$out/$name.$kind.glb")
+  done
+  info=$("$spheremap" info "$out/$name.remesh.glb")
+  if ! grep -q '"mappable": true' <<< "$info" || ! grep -q '"genus": 0' <<< "$info"; then
+    echo "FAIL: $name remesh is not closed genus 0: $info"; failed=1
+  fi
+  if ! grep -q '"flipped_triangles": 0' "$out/$name.uv.json"; then
+    echo "FAIL: $name has flipped UV triangles"; failed=1
+  fi
+done
+node "$here/validate.mjs" "${files[@]}" || failed=1
+exit $failed

@@ -1,0 +1,164 @@
+// The assets built on the map: the octahedral unfolding, point location, the remesh, the
+// texture coordinates, surface distance, PNG and the GLB assets.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "core/io/gltf_reader.h"
+#include "core/map_outputs.h"
+#include "core/octahedral.h"
+#include "core/remesh.h"
+#include "core/sphere_locator.h"
+#include "core/surface_distance.h"
+#include "core/texcoords.h"
+#include "core/topology.h"
+#include "core/weld.h"
+#include "tests/mesh_generators.h"
+
+namespace spheremap {
+namespace {
+
+Vec3 random_direction(std::mt19937& rng) {
+  std::normal_distribution<double> g;
+  const Vec3 v{g(rng), g(rng), g(rng)};
+  return v * (1 / norm(v));
+}
+
+TEST(Octahedral, RoundTripsEverywhere) {
+  std::mt19937 rng(7);
+  for (int i = 0; i < 10000; ++i) {
+    const Vec3 d = random_direction(rng);
+    const Vec2 s = octahedral_encode(d);
+    EXPECT_LE(std::abs(s[0]), 1.0);
+    EXPECT_LE(std::abs(s[1]), 1.0);
+    EXPECT_NEAR(norm(octahedral_decode(s) - d), 0, 1e-12);
+  }
+  // Poles and the border's identification.
+  EXPECT_NEAR(norm(octahedral_decode({0, 0}) - Vec3{0, 0, 1}), 0, 1e-15);
+  EXPECT_NEAR(norm(octahedral_decode({1, 1}) - Vec3{0, 0, -1}), 0, 1e-15);
+  for (double v : {0.1, 0.5, 0.9}) {
+    EXPECT_NEAR(norm(octahedral_decode({1, v}) - octahedral_decode({1, -v})), 0, 1e-15);
+    EXPECT_NEAR(norm(octahedral_decode({v, -1}) - octahedral_decode({-v, -1})), 0, 1e-15);
+  }
+}
+
+TEST(SphereLocator, FindsTheTriangleOfEveryPoint) {
+  const PolygonMesh sphere = testing::icosphere(4);
+  const std::vector<Triangle> triangles = fan_triangulate(sphere).triangles;
+  const SphereLocator locator(sphere.positions, triangles);
+  std::mt19937 rng(3);
+  for (int i = 0; i < 20000; ++i) {
+    const Vec3 p = random_direction(rng);
+    const SphereHit hit = locator.locate(p);
+    ASSERT_NE(hit.triangle, UINT32_MAX);
+    const Triangle& t = triangles[hit.triangle];
+    Vec3 back;
+    for (int k = 0; k < 3; ++k) back += sphere.positions[t[k]] * hit.barycentric[k];
+    // The barycentric point is p's central projection onto the chord triangle.
+    EXPECT_NEAR(norm(back * (1 / norm(back)) - p), 0, 1e-9);
+  }
+  // The vertices themselves (on three or more triangles' edges).
+  for (const Vec3& v : sphere.positions) EXPECT_NE(locator.locate(v).triangle, UINT32_MAX);
+}
+
+TEST(Remesh, OfASphereIsAClosedGenusZeroSphere) {
+  const PolygonMesh sphere = testing::icosphere(4);
+  const std::vector<Triangle> triangles = fan_triangulate(sphere).triangles;
+  for (int n : {2, 8, 64}) {
+    const OctahedralRemesh remesh =
+        octahedral_remesh(sphere.positions, sphere.positions, triangles, n);
+    EXPECT_EQ(remesh.unlocated, 0u);
+    EXPECT_EQ(remesh.triangles.size(), 2u * n * n);
+    // The stitched border: the border's samples pair up, the 4 corners become one; then
+    // V - E + F = (n^2 + 2) - 3n^2 + 2n^2 = 2.
+    EXPECT_EQ(remesh.vertex_count, static_cast<size_t>(n * n + 2));
+    const TopologyReport report = analyze_topology(stitched_mesh(remesh));
+    EXPECT_TRUE(mapping_failures(report).empty()) << n;
+    EXPECT_EQ(report.genus(), 0);
+    EXPECT_GT(report.signed_volume, 0);  // outward
+    for (const Vec3& p : remesh.positions) EXPECT_NEAR(norm(p), 1, 0.02);
+  }
+  EXPECT_THROW(octahedral_remesh(sphere.positions, sphere.positions, triangles, 7),
+               std::invalid_argument);
+}
+
+TEST(SurfaceDistance, IsZeroForTheSameSurfaceAndMeasuresAnOffset) {
+  const PolygonMesh a = testing::icosphere(3);
+  const std::vector<Triangle> t = fan_triangulate(a).triangles;
+  const SurfaceDistance same = surface_distance(a.positions, t, a.positions, t);
+  EXPECT_LT(same.hausdorff, 1e-12);  // centroids: rounding only
+  EXPECT_LT(same.rms, 1e-12);
+  PolygonMesh b = a;
+  for (Vec3& p : b.positions) p.x += 0.1;
+  const SurfaceDistance moved = surface_distance(a.positions, t, b.positions, t);
+  EXPECT_NEAR(same.diagonal, 2 * std::sqrt(3.0), 1e-9);
+  // A shifted sphere: no point is farther than the shift, most are closer.
+  EXPECT_LE(moved.hausdorff, 0.1 / moved.diagonal + 1e-12);
+  EXPECT_GT(moved.hausdorff, 0.09 / moved.diagonal);
+  EXPECT_LT(moved.rms, moved.hausdorff);
+}
+
+TEST(Texcoords, SplitAlongTheCutsAndNeverFlip) {
+  const PolygonMesh sphere = testing::icosphere(4);
+  const std::vector<Triangle> triangles = fan_triangulate(sphere).triangles;
+  const UvMesh uv = octahedral_texcoords(sphere.positions, sphere.positions, triangles);
+  EXPECT_GT(uv.split_triangles, 0u);
+  EXPECT_GT(uv.seam_vertices, 0u);
+  EXPECT_EQ(uv.flipped, 0u);
+  // No triangle spans a cut: every UV edge is short (the grid's triangles are small).
+  double longest = 0;
+  for (const Triangle& t : uv.triangles)
+    for (int k = 0; k < 3; ++k) {
+      const Vec2 &a = uv.square[t[k]], &b = uv.square[t[(k + 1) % 3]];
+      longest = std::max(longest, std::hypot(a[0] - b[0], a[1] - b[1]));
+    }
+  EXPECT_LT(longest, 0.2);
+  // The pieces cover the surface: same area as the input.
+  double area_in = 0, area_out = 0;
+  for (const Triangle& t : triangles)
+    area_in += norm(cross(sphere.positions[t[1]] - sphere.positions[t[0]],
+                          sphere.positions[t[2]] - sphere.positions[t[0]]));
+  for (const Triangle& t : uv.triangles)
+    area_out += norm(
+        cross(uv.positions[t[1]] - uv.positions[t[0]], uv.positions[t[2]] - uv.positions[t[0]]));
+  EXPECT_NEAR(area_out, area_in, 1e-9 * area_in);
+  // Welded back by position, the cut closes again: a closed genus-0 surface.
+  PolygonMesh welded_input;
+  welded_input.positions = uv.positions;
+  for (const Triangle& t : uv.triangles) welded_input.add_face(t);
+  const WeldResult welded = weld(welded_input, 0);
+  EXPECT_TRUE(mapping_failures(analyze_topology(welded.mesh)).empty());
+  const UvStretch stretch = uv_stretch(uv.positions, uv.square, uv.triangles);
+  EXPECT_GE(stretch.l2, 1.0);
+  EXPECT_LT(stretch.l2, 1.5);  // the octahedral map of a sphere is mildly distorted
+}
+
+TEST(MapOutputs, AssetsOfAMappedHorseshoe) {
+  const MappedMesh mapped = map_mesh(testing::horseshoe(), {}, {});
+  ASSERT_TRUE(mapped.map.check.bijective);
+  const auto bytes = [](const std::string& s) {
+    return std::span<const uint8_t>(reinterpret_cast<const uint8_t*>(s.data()), s.size());
+  };
+  const RemeshAsset remesh = remesh_asset(mapped, 32);
+  EXPECT_TRUE(remesh.metrics["closed_genus0"]);
+  EXPECT_EQ(remesh.metrics["unlocated_samples"], 0);
+  EXPECT_LT(remesh.metrics["distance"]["rms"].get<double>(), 0.05);
+  EXPECT_EQ(remesh.geometry_image_png.substr(1, 3), "PNG");
+  // Read back, welded by position: closed, genus 0.
+  const WeldResult back = weld(read_gltf(bytes(remesh.glb)), 0);
+  EXPECT_TRUE(mapping_failures(analyze_topology(back.mesh)).empty());
+
+  const UvAsset uv = uv_asset(mapped);
+  EXPECT_EQ(uv.metrics["flipped_triangles"], 0);
+  EXPECT_NE(uv.glb.find("TEXCOORD_0"), std::string::npos);
+  EXPECT_NE(uv.glb.find("image/png"), std::string::npos);
+
+  const MorphAsset morph = morph_asset(mapped, 3);
+  EXPECT_NE(morph.glb.find("\"targets\""), std::string::npos);
+  EXPECT_NE(morph.glb.find("\"path\":\"weights\""), std::string::npos);
+  EXPECT_EQ(read_gltf(bytes(morph.glb)).vertex_count(), mapped.prepared.welded.mesh.vertex_count());
+}
+
+}  // namespace
+}  // namespace spheremap
