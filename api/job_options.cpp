@@ -1,6 +1,8 @@
 #include "api/job_options.h"
 
 #include <algorithm>
+#include <functional>
+#include <map>
 #include <sstream>
 
 #include "api/problem.h"
@@ -74,13 +76,14 @@ std::vector<std::string> outputs(const nlohmann::json& value) {
 }  // namespace
 
 const std::vector<std::string>& available_outputs() {
-  static const std::vector<std::string> names = {"sphere"};
+  static const std::vector<std::string> names = {"sphere", "remesh", "uv", "morph"};
   return names;
 }
 
 JobOptions parse_job_options(const nlohmann::json& options) {
   if (!options.is_object()) invalid("options must be a JSON object, got " + options.dump());
   JobOptions out;
+  // The method first: it sets the defaults the other options then override.
   if (options.contains("method") &&
       text(options["method"], "method", {"coarse-to-fine", "paper"}) == "paper") {
     out.map.method = Method::kPaper;
@@ -88,42 +91,68 @@ JobOptions parse_job_options(const nlohmann::json& options) {
     out.map.smoothing.limit_weight = 1.0;
   }
   bool draco = false;
+  using Json = nlohmann::json;
+  using Setter = std::function<void(const Json&, const std::string&)>;
+  const std::map<std::string, Setter> setters = {
+      {"method", [](const Json&, const std::string&) {}},
+      {"alpha", [&](const Json& v, const std::string& k) { out.map.alpha = number(v, k, 0, 1); }},
+      {"offset", [&](const Json& v,
+                     const std::string& k) { out.map.smoothing.offset = number(v, k, 0, 0.5); }},
+      {"limit_weight",
+       [&](const Json& v, const std::string& k) {
+         out.map.smoothing.limit_weight = number(v, k, 0, 1);
+       }},
+      {"min_iterations",
+       [&](const Json& v, const std::string& k) {
+         out.map.min_level_iterations = static_cast<size_t>(integer(v, k, 0, 1000000));
+       }},
+      {"max_iterations",
+       [&](const Json& v, const std::string& k) {
+         out.map.max_iterations = static_cast<size_t>(integer(v, k, 0, 1000000));
+       }},
+      {"attempts",
+       [&](const Json& v, const std::string& k) {
+         out.map.attempts = static_cast<size_t>(integer(v, k, 1, 16));
+       }},
+      {"time_limit_seconds",
+       [&](const Json& v, const std::string& k) {
+         out.map.time_limit_seconds = number(v, k, 0.01, 86400);
+       }},
+      {"weld_tolerance",
+       [&](const Json& v, const std::string& k) {
+         out.prepare.weld_tolerance = number(v, k, 0, 1);
+       }},
+      {"largest_component",
+       [&](const Json& v, const std::string& k) { out.prepare.largest_component = boolean(v, k); }},
+      {"draco", [&](const Json& v, const std::string& k) { draco = boolean(v, k); }},
+      {"draco_position_bits",
+       [&](const Json& v, const std::string& k) {
+         out.draco_position_bits = static_cast<int>(integer(v, k, 8, 30));
+       }},
+      {"layout",
+       [&](const Json& v, const std::string& k) {
+         out.layout = text(v, k, {"original", "welded"}) == "welded" ? SphereLayout::kWelded
+                                                                     : SphereLayout::kOriginal;
+       }},
+      {"mesh",
+       [&](const Json& v, const std::string& k) {
+         if (v.is_string())
+           out.gltf.mesh_name = v.get<std::string>();
+         else
+           out.gltf.mesh_index = static_cast<int>(integer(v, k, 0, 1 << 30));
+       }},
+      {"outputs", [&](const Json& v, const std::string&) { out.outputs = outputs(v); }},
+      {"resolution",
+       [&](const Json& v, const std::string& k) {
+         out.remesh_resolution = static_cast<int>(integer(v, k, 2, 1024));
+         if (out.remesh_resolution % 2)
+           invalid("option 'resolution' must be even, got " + v.dump());
+       }},
+  };
   for (const auto& [key, value] : options.items()) {
-    if (key == "method") continue;
-    if (key == "alpha")
-      out.map.alpha = number(value, key, 0, 1);
-    else if (key == "offset")
-      out.map.smoothing.offset = number(value, key, 0, 0.5);
-    else if (key == "limit_weight")
-      out.map.smoothing.limit_weight = number(value, key, 0, 1);
-    else if (key == "min_iterations")
-      out.map.min_level_iterations = static_cast<size_t>(integer(value, key, 0, 1000000));
-    else if (key == "max_iterations")
-      out.map.max_iterations = static_cast<size_t>(integer(value, key, 0, 1000000));
-    else if (key == "attempts")
-      out.map.attempts = static_cast<size_t>(integer(value, key, 1, 16));
-    else if (key == "time_limit_seconds")
-      out.map.time_limit_seconds = number(value, key, 0.01, 86400);
-    else if (key == "weld_tolerance")
-      out.prepare.weld_tolerance = number(value, key, 0, 1);
-    else if (key == "largest_component")
-      out.prepare.largest_component = boolean(value, key);
-    else if (key == "draco")
-      draco = boolean(value, key);
-    else if (key == "draco_position_bits")
-      out.draco_position_bits = static_cast<int>(integer(value, key, 8, 30));
-    else if (key == "layout")
-      out.layout = text(value, key, {"original", "welded"}) == "welded" ? SphereLayout::kWelded
-                                                                        : SphereLayout::kOriginal;
-    else if (key == "mesh") {
-      if (value.is_string())
-        out.gltf.mesh_name = value.get<std::string>();
-      else
-        out.gltf.mesh_index = static_cast<int>(integer(value, key, 0, 1 << 30));
-    } else if (key == "outputs")
-      out.outputs = outputs(value);
-    else
-      invalid("unknown option '" + key + "'");
+    const auto setter = setters.find(key);
+    if (setter == setters.end()) invalid("unknown option '" + key + "'");
+    setter->second(value, key);
   }
   if (!draco)
     out.draco_position_bits = 0;

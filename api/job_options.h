@@ -17,6 +17,7 @@ struct JobOptions {
   SphereLayout layout = SphereLayout::kOriginal;
   int draco_position_bits = 0;
   std::vector<std::string> outputs = {"sphere"};
+  int remesh_resolution = 256;
 };
 
 // Throws Problem(400, "invalid_options").

@@ -113,6 +113,7 @@ std::unique_ptr<server::JobSpec> read_job_request(const httplib::Request& reques
   spec->layout = options.layout;
   spec->draco_position_bits = options.draco_position_bits;
   spec->outputs = options.outputs;
+  spec->remesh_resolution = options.remesh_resolution;
   spec->input_bytes = body.mesh.size();
   spec->input_format = body.format;
   spec->options_echo = body.options;

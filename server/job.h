@@ -30,7 +30,8 @@ struct JobSpec {
   MapOptions map;
   SphereLayout layout = SphereLayout::kOriginal;
   int draco_position_bits = 0;  // 0 = no Draco
-  std::vector<std::string> outputs = {"sphere"};
+  std::vector<std::string> outputs = {"sphere"};  // and "remesh", "uv", "morph"
+  int remesh_resolution = 256;
   size_t input_bytes = 0;
   std::string input_format;                                // "glb", "gltf"
   nlohmann::json options_echo = nlohmann::json::object();  // as the client sent them

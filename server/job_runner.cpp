@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "core/input_error.h"
+#include "core/map_outputs.h"
 
 namespace spheremap::server {
 namespace {
@@ -22,13 +23,48 @@ JobError map_failure(const MappedMesh& mapped, double time_limit) {
   return {422, "not_bijective", "No bijective map", detail.str()};
 }
 
-void make_artifacts(Job& job, const JobSpec& spec, const MappedMesh& mapped) {
+void add_artifact(Job& job, std::string name, std::string type, std::string bytes) {
+  std::lock_guard lock(job.mutex);
+  job.artifacts.push_back({std::move(name), std::move(type), std::move(bytes)});
+}
+
+void set_stage(Job& job, const char* stage) {
+  std::lock_guard lock(job.mutex);
+  job.progress.stage = stage;
+}
+
+// The sphere, then each asset asked for (checking for cancellation between them), then
+// metrics.json with everything measured.
+void make_artifacts(Job& job, const JobSpec& spec, const MappedMesh& mapped, int threads) {
   SphereAsset sphere =
       sphere_asset(spec.input, mapped, spec.map, spec.layout, spec.draco_position_bits);
+  nlohmann::json metrics = std::move(sphere.metrics);
+  add_artifact(job, "sphere.glb", "model/gltf-binary", std::move(sphere.glb));
+  auto wanted = [&](const char* name) {
+    return std::find(spec.outputs.begin(), spec.outputs.end(), name) != spec.outputs.end();
+  };
+  if (wanted("remesh") && !job.cancel) {
+    set_stage(job, "remesh");
+    RemeshAsset remesh = remesh_asset(mapped, spec.remesh_resolution, threads);
+    metrics["remesh"] = std::move(remesh.metrics);
+    add_artifact(job, "remesh.glb", "model/gltf-binary", std::move(remesh.glb));
+    add_artifact(job, "geometry_image.png", "image/png", std::move(remesh.geometry_image_png));
+  }
+  if (wanted("uv") && !job.cancel) {
+    set_stage(job, "uv");
+    UvAsset uv = uv_asset(mapped);
+    metrics["uv"] = std::move(uv.metrics);
+    add_artifact(job, "uv.glb", "model/gltf-binary", std::move(uv.glb));
+  }
+  if (wanted("morph") && !job.cancel) {
+    set_stage(job, "morph");
+    MorphAsset morph = morph_asset(mapped);
+    metrics["morph"] = std::move(morph.metrics);
+    add_artifact(job, "morph.glb", "model/gltf-binary", std::move(morph.glb));
+  }
+  add_artifact(job, "metrics.json", "application/json", metrics.dump(2) + "\n");
   std::lock_guard lock(job.mutex);
-  job.metrics = std::move(sphere.metrics);
-  job.artifacts.push_back({"sphere.glb", "model/gltf-binary", std::move(sphere.glb)});
-  job.artifacts.push_back({"metrics.json", "application/json", job.metrics.dump(2) + "\n"});
+  job.metrics = std::move(metrics);
 }
 
 }  // namespace
@@ -63,7 +99,7 @@ JobStatus run_job(Job& job, const RunLimits& limits) {
       std::lock_guard lock(job.mutex);
       job.progress.stage = "writing";
     }
-    make_artifacts(job, *spec, mapped);
+    make_artifacts(job, *spec, mapped, limits.threads);
     return job.cancel ? JobStatus::kCancelled : JobStatus::kSucceeded;
   } catch (const InputError& e) {
     std::lock_guard lock(job.mutex);
