@@ -47,11 +47,10 @@ class Clipper {
 
   void add(const Triangle& t) {
     std::vector<Corner> polygon;
-    for (uint32_t v : t) polygon.push_back({sphere_[v], surface_[v], v, v});
-    const Vec3& a = sphere_[t[0]];
+    for (uint32_t v : t) polygon.push_back({point(v), surface_[v], v, v});
+    const Vec3 a = point(t[0]), b = point(t[1]), c = point(t[2]);
     auto same_side = [&](int axis) {
-      return sign_of(sphere_[t[1]][axis]) == sign_of(a[axis]) &&
-             sign_of(sphere_[t[2]][axis]) == sign_of(a[axis]);
+      return sign_of(b[axis]) == sign_of(a[axis]) && sign_of(c[axis]) == sign_of(a[axis]);
     };
     if (same_side(0) && same_side(1) && same_side(2)) {
       emit(polygon, sign_of(a.x), sign_of(a.y));
@@ -71,6 +70,15 @@ class Clipper {
   }
 
  private:
+  // The sphere point with coordinates within rounding of a plane put on it: maps of
+  // symmetric meshes hold vertices at x = 1e-16, and clipping there makes slivers.
+  Vec3 point(uint32_t v) const {
+    Vec3 p = sphere_[v];
+    for (double* c : {&p.x, &p.y, &p.z})
+      if (std::abs(*c) < 1e-12) *c = 0;
+    return p;
+  }
+
   // Sutherland-Hodgman: the part of the polygon where sign * coordinate[axis] >= 0.
   std::vector<Corner> clip(const std::vector<Corner>& polygon, int axis, double sign) {
     std::vector<Corner> out;
@@ -91,8 +99,8 @@ class Clipper {
     Corner from = p, to = q;
     Corner out;
     if (on_common_edge(p, q, u, w)) {
-      from = {sphere_[u], surface_[u], u, u};
-      to = {sphere_[w], surface_[w], w, w};
+      from = {point(u), surface_[u], u, u};
+      to = {point(w), surface_[w], w, w};
       out.a = u, out.b = w;
     }
     const double t = from.chord[axis] / (from.chord[axis] - to.chord[axis]);
@@ -149,8 +157,15 @@ UvMesh octahedral_texcoords(std::span<const Vec3> surface, std::span<const Vec3>
   for (const Triangle& t : out.triangles) {
     const Vec2 &a = out.square[t[0]], &b = out.square[t[1]], &c = out.square[t[2]];
     const double area = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
-    if (area < 0) ++out.flipped;
-    if (area == 0) ++out.degenerate;
+    const double longest =
+        std::max({(b[0] - a[0]) * (b[0] - a[0]) + (b[1] - a[1]) * (b[1] - a[1]),
+                  (c[0] - a[0]) * (c[0] - a[0]) + (c[1] - a[1]) * (c[1] - a[1]),
+                  (c[0] - b[0]) * (c[0] - b[0]) + (c[1] - b[1]) * (c[1] - b[1])});
+    // Collinear within rounding (a clipped sliver along a cut): neither way round.
+    if (std::abs(area) <= 1e-15 * longest)
+      ++out.degenerate;
+    else if (area < 0)
+      ++out.flipped;
   }
   return out;
 }

@@ -19,8 +19,11 @@ struct UvMesh {
   std::vector<Triangle> triangles;
   size_t split_triangles = 0;  // input triangles clipped at the octant planes
   size_t seam_vertices = 0;    // vertices made by clipping, or copied for a cut's other side
-  size_t flipped = 0;          // triangles whose (u, v) area is negative
-  size_t degenerate = 0;       // triangles whose (u, v) area is zero
+  // Triangles whose (u, v) area is negative. Within an octant the unfolding keeps the
+  // orientation, so a flip here is a fold of the map itself (a sliver whose sign double
+  // precision got wrong), never the cut.
+  size_t flipped = 0;
+  size_t degenerate = 0;  // (u, v) corners collinear within rounding
 };
 
 // `triangles`: positively oriented on the sphere (a bijective map's oriented triangles).

@@ -29,7 +29,7 @@ struct JobSpec {
   PreparedMesh prepared;
   MapOptions map;
   SphereLayout layout = SphereLayout::kOriginal;
-  int draco_position_bits = 0;  // 0 = no Draco
+  int draco_position_bits = 0;                    // 0 = no Draco
   std::vector<std::string> outputs = {"sphere"};  // and "remesh", "uv", "morph"
   int remesh_resolution = 256;
   size_t input_bytes = 0;

@@ -184,8 +184,8 @@ TEST(Service, RemeshUvAndMorphArtifacts) {
   ASSERT_EQ(submitted->status, 202) << submitted->body;
   const json done = wait_for(client, body_json(submitted)["id"]);
   ASSERT_EQ(done["status"], "succeeded") << done.dump(2);
-  for (const char* name : {"sphere.glb", "remesh.glb", "geometry_image.png", "uv.glb", "morph.glb",
-                           "metrics.json"})
+  for (const char* name :
+       {"sphere.glb", "remesh.glb", "geometry_image.png", "uv.glb", "morph.glb", "metrics.json"})
     EXPECT_TRUE(done["artifacts"].contains(name)) << name;
   EXPECT_TRUE(done["metrics"]["remesh"]["closed_genus0"]);
   EXPECT_EQ(done["metrics"]["remesh"]["resolution"], 32);
@@ -195,7 +195,8 @@ TEST(Service, RemeshUvAndMorphArtifacts) {
   const PolygonMesh grid =
       read_gltf({reinterpret_cast<const uint8_t*>(remesh->body.data()), remesh->body.size()});
   EXPECT_EQ(grid.vertex_count(), 33u * 33u);
-  auto image = client.Get(done["artifacts"]["geometry_image.png"]["href"].get<std::string>().c_str());
+  auto image =
+      client.Get(done["artifacts"]["geometry_image.png"]["href"].get<std::string>().c_str());
   EXPECT_EQ(image->get_header_value("Content-Type"), "image/png");
   EXPECT_EQ(image->body.substr(1, 3), "PNG");
   expect_problem(client.Post("/v1/jobs?outputs=remesh&resolution=33", glb_of(testing::horseshoe()),

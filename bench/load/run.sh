@@ -43,6 +43,11 @@ for load in "small 1" "small 2" "small 4" "small 8" "medium 1" "medium 4" "mixed
     -s bench/load/post_mesh.lua $url -- $files | grep '^LOAD' | cut -d' ' -f2-
 done
 echo "RSS after the levels: $(rss) MiB"
+# Let the overload's accepted jobs finish, so the soak starts from an empty queue.
+for _ in $(seq 300); do
+  curl -s $url/metrics | grep -q '^spheremap_queue_depth 0$' && break
+  sleep 1
+done
 if [ "$soak" -gt 0 ]; then
   echo "Soak: mixed load, c=8, ${soak}s; RSS every 60 s (MiB):"
   wrk -t 2 -c 8 -d "${soak}s" --timeout 30s -s bench/load/post_mesh.lua $url -- \
@@ -55,5 +60,6 @@ if [ "$soak" -gt 0 ]; then
   grep '^LOAD' "$work/soak.txt" | sed 's/^LOAD/  soak/'
 fi
 echo "RSS at end: $(rss) MiB"
-curl -s $url/metrics | grep -E '^spheremap_(jobs_finished_total|rejections_total|jobs\{)' | tr '\n' ' '
+echo "Responses by code over the whole run:"
+curl -s $url/metrics | grep -E '^spheremap_(http_responses_total|jobs_finished_total)' | tr '\n' ' '
 echo
