@@ -71,7 +71,8 @@ RemeshAsset remesh_asset(const MappedMesh& mapped, int resolution, int threads) 
   const double sample_seconds = seconds_since(start);
 
   // Our own validator on the stitched surface: closed, manifold, genus 0.
-  const TopologyReport topology = analyze_topology(stitched_mesh(remesh));
+  const PolygonMesh stitched = stitched_mesh(remesh);
+  const TopologyReport topology = analyze_topology(stitched);
   const auto failures = mapping_failures(topology);
   const auto distance_start = std::chrono::steady_clock::now();
   const SurfaceDistance distance = surface_distance(mesh.positions, oriented.triangles,
@@ -110,8 +111,12 @@ RemeshAsset remesh_asset(const MappedMesh& mapped, int resolution, int threads) 
   };
   // One vertex per sample (the border's identified samples have equal positions but their
   // own grid coordinates): TEXCOORD_0 is the grid, the geometry image's pixel centres.
+  // Normals of the stitched surface, so the border's copies shade alike.
+  const std::vector<Vec3> stitched_normals =
+      vertex_normals(stitched.positions, fan_triangulate(stitched).triangles);
   GlbMesh glb;
   glb.positions = remesh.positions;
+  for (uint32_t vertex : remesh.vertex) glb.normals.push_back(stitched_normals[vertex]);
   glb.triangles = remesh.triangles;
   glb.extras = {{"spheremap_remesh", asset.metrics}};
   glb.texcoords = std::move(texcoords);
