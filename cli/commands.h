@@ -14,5 +14,6 @@ int run_serve(int argc, char** argv);
 int run_remesh(int argc, char** argv);
 int run_uv(int argc, char** argv);
 int run_morph(int argc, char** argv);
+int run_health(int argc, char** argv);
 
 }  // namespace spheremap::cli

@@ -20,6 +20,7 @@ Usage:
   spheremap uv INPUT -o OUT.glb                                    texture coordinates
   spheremap morph INPUT -o OUT.glb                                 mesh-to-sphere morph
   spheremap serve [--config FILE] [--port N]                       the HTTP service
+  spheremap health [--port N]                                      is the service ready?
   spheremap COMMAND --help                                         options of a command
   spheremap --version
 
@@ -38,6 +39,7 @@ int main(int argc, char** argv) {
     if (command == "remesh") return run_remesh(argc, argv);
     if (command == "uv") return run_uv(argc, argv);
     if (command == "morph") return run_morph(argc, argv);
+    if (command == "health") return run_health(argc, argv);
     if (command == "--version") {
       std::puts("spheremap 0.1.0");
       return kExitOk;

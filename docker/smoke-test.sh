@@ -1,0 +1,89 @@
+#!/usr/bin/env bash
+# Builds the image (docker, or podman when no Docker engine runs), starts it on a
+# loopback port, maps a mesh over HTTP and checks the result is a bijective sphere, then
+# sends SIGTERM and checks a clean exit (0). Prints the image size and the start-to-ready
+# time. Without a registry it makes the base image debian:bookworm-slim itself with
+# debootstrap (minbase) and imports it. Usage: docker/smoke-test.sh [MESH.glb]
+set -euo pipefail
+cd "$(dirname "$0")/.."
+mesh=${1:-../shared/meshes/spot.glb}
+image=spheremap:smoke
+name=spheremap-smoke-$$
+port=18181
+sudo=
+[ "$(id -u)" = 0 ] || sudo=sudo
+work=$(mktemp -d)
+cleanup() { $engine rm -f "$name" > /dev/null 2>&1 || true; rm -rf "$work"; }
+fail() { echo "FAIL: $*"; $engine logs "$name" 2>&1 | tail -20 || true; exit 1; }
+
+if command -v docker > /dev/null && docker info > /dev/null 2>&1; then
+  engine=docker
+else
+  engine=podman
+  if ! command -v podman > /dev/null || ! command -v runc > /dev/null ||
+     ! command -v debootstrap > /dev/null; then
+    $sudo apt-get update -qq
+    DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends \
+      podman buildah runc debootstrap uidmap > /dev/null
+  fi
+  # podman here runs with runc (crun is not usable in this sandbox) and explicit ulimits.
+  if ! grep -qs '^runtime *= *"runc"' /etc/containers/containers.conf; then
+    $sudo mkdir -p /etc/containers
+    printf '[containers]\ndefault_ulimits = ["nofile=65536:65536", "nproc=65536:65536"]\n\n[engine]\nruntime = "runc"\n' |
+      $sudo tee /etc/containers/containers.conf > /dev/null
+  fi
+fi
+trap cleanup EXIT
+echo "engine: $engine"
+
+if ! $engine image inspect debian:bookworm-slim > /dev/null 2>&1 &&
+   ! timeout 60 $engine pull -q docker.io/library/debian:bookworm-slim > /dev/null 2>&1; then
+  echo "no registry: making debian:bookworm-slim with debootstrap"
+  rootfs=$work/rootfs
+  $sudo debootstrap --variant=minbase bookworm "$rootfs" http://deb.debian.org/debian > /dev/null
+  $sudo rm -rf "$rootfs"/var/cache/apt/archives/*.deb "$rootfs"/var/lib/apt/lists/*
+  $sudo tar -C "$rootfs" -c . | $engine import - debian:bookworm-slim > /dev/null
+  $sudo rm -rf "$rootfs"
+fi
+
+build_start=$(date +%s)
+network=()
+[ "$engine" = podman ] && network=(--network=host)
+$engine build "${network[@]}" -q -f docker/Dockerfile -t $image . > /dev/null
+echo "built $image in $(( $(date +%s) - build_start )) s"
+size=$($engine image inspect $image --format '{{.Size}}')
+echo "image size: $(( size / 1024 / 1024 )) MiB"
+
+start=$(date +%s.%N)
+$engine run -d --name "$name" -p 127.0.0.1:$port:8080 -e SPHEREMAP_WORKERS=2 $image > /dev/null
+ready=
+for _ in $(seq 200); do
+  if curl -sf "http://127.0.0.1:$port/readyz" > /dev/null; then ready=1; break; fi
+  sleep 0.05
+done
+[ -n "$ready" ] || fail "not ready"
+echo "start to ready: $(echo "$(date +%s.%N) - $start" | bc) s"
+$engine exec "$name" /usr/local/bin/spheremap health || fail "HEALTHCHECK command"
+[ "$($engine exec "$name" id -u)" != 0 ] || fail "runs as root"
+
+if [ ! -f "$mesh" ]; then  # a fresh clone without the corpus: a generated mesh
+  build/tests/make_test_meshes "$work" 2> /dev/null || fail "no mesh: build the project first"
+  mesh=$work/icosphere4.glb
+fi
+code=$(curl -sS -o "$work/sphere.glb" -D "$work/headers" -w '%{http_code}' \
+  -H 'Content-Type: model/gltf-binary' --data-binary @"$mesh" "http://127.0.0.1:$port/v1/map")
+[ "$code" = 200 ] || fail "POST /v1/map answered $code: $(cat "$work/sphere.glb")"
+grep -qi '^Spheremap-Bijective: true' "$work/headers" || fail "not bijective: $(cat "$work/headers")"
+job=$(grep -i '^Spheremap-Job:' "$work/headers" | tr -d '\r' | cut -d' ' -f2)
+curl -sSf "http://127.0.0.1:$port/v1/jobs/$job/artifacts/metrics.json" -o "$work/metrics.json"
+grep -q '"bijective": true' "$work/metrics.json" || fail "metrics: not bijective"
+grep -q '"bijective_as_written": true' "$work/metrics.json" || fail "metrics: folds as written"
+[ "$(head -c 4 "$work/sphere.glb")" = glTF ] || fail "not a GLB"
+echo "mapped $(basename "$mesh"): bijective sphere ($(stat -c %s "$work/sphere.glb") bytes)"
+
+$engine kill --signal TERM "$name" > /dev/null
+status=$($engine wait "$name")
+[ "$status" = 0 ] || fail "exit status $status after SIGTERM"
+$engine logs "$name" 2>&1 | grep -q '"event":"stopped"' || fail "no clean stop in the log"
+echo "SIGTERM: drained and exited 0"
+echo "container smoke test passed"
