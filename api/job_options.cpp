@@ -10,6 +10,14 @@
 namespace spheremap::api {
 namespace {
 
+// A value as JSON text for a message; invalid UTF-8 (a client's bytes) is replaced, not
+// thrown (found by tests/fuzz/options_fuzzer), and long values are cut.
+std::string shown(const nlohmann::json& value) {
+  std::string text = value.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+  if (text.size() > 200) text = text.substr(0, 200) + "...";
+  return text;
+}
+
 [[noreturn]] void invalid(const std::string& detail) {
   throw Problem(400, "invalid_options", "Invalid job options", detail);
 }
@@ -18,7 +26,7 @@ double number(const nlohmann::json& value, const std::string& key, double min, d
   if (!value.is_number() || !(value.get<double>() >= min && value.get<double>() <= max)) {
     std::ostringstream detail;
     detail << "option '" << key << "' must be a number in [" << min << ", " << max << "], got "
-           << value.dump();
+           << shown(value);
     invalid(detail.str());
   }
   return value.get<double>();
@@ -28,13 +36,13 @@ long long integer(const nlohmann::json& value, const std::string& key, long long
                   long long max) {
   const double x = number(value, key, static_cast<double>(min), static_cast<double>(max));
   if (x != static_cast<double>(static_cast<long long>(x)))
-    invalid("option '" + key + "' must be an integer, got " + value.dump());
+    invalid("option '" + key + "' must be an integer, got " + shown(value));
   return static_cast<long long>(x);
 }
 
 bool boolean(const nlohmann::json& value, const std::string& key) {
   if (!value.is_boolean())
-    invalid("option '" + key + "' must be true or false, got " + value.dump());
+    invalid("option '" + key + "' must be true or false, got " + shown(value));
   return value.get<bool>();
 }
 
@@ -45,7 +53,7 @@ std::string text(const nlohmann::json& value, const std::string& key,
       if (value.get<std::string>() == a) return a;
   std::string list;
   for (const char* a : allowed) list += (list.empty() ? "" : ", ") + std::string(a);
-  invalid("option '" + key + "' must be one of " + list + ", got " + value.dump());
+  invalid("option '" + key + "' must be one of " + list + ", got " + shown(value));
 }
 
 std::vector<std::string> outputs(const nlohmann::json& value) {
@@ -55,11 +63,11 @@ std::vector<std::string> outputs(const nlohmann::json& value) {
     for (std::string name; std::getline(list, name, ',');) names.push_back(name);
   } else if (value.is_array()) {
     for (const auto& v : value) {
-      if (!v.is_string()) invalid("option 'outputs' must list names, got " + value.dump());
+      if (!v.is_string()) invalid("option 'outputs' must list names, got " + shown(value));
       names.push_back(v.get<std::string>());
     }
   } else {
-    invalid("option 'outputs' must be a list of names, got " + value.dump());
+    invalid("option 'outputs' must be a list of names, got " + shown(value));
   }
   const auto& known = available_outputs();
   for (const std::string& name : names)
@@ -81,7 +89,7 @@ const std::vector<std::string>& available_outputs() {
 }
 
 JobOptions parse_job_options(const nlohmann::json& options) {
-  if (!options.is_object()) invalid("options must be a JSON object, got " + options.dump());
+  if (!options.is_object()) invalid("options must be a JSON object, got " + shown(options));
   JobOptions out;
   // The method first: it sets the defaults the other options then override.
   if (options.contains("method") &&
@@ -146,7 +154,7 @@ JobOptions parse_job_options(const nlohmann::json& options) {
        [&](const Json& v, const std::string& k) {
          out.remesh_resolution = static_cast<int>(integer(v, k, 2, 1024));
          if (out.remesh_resolution % 2)
-           invalid("option 'resolution' must be even, got " + v.dump());
+           invalid("option 'resolution' must be even, got " + shown(v));
        }},
   };
   for (const auto& [key, value] : options.items()) {

@@ -15,7 +15,10 @@ nlohmann::json problem_json(const Problem& problem, const std::string& instance)
 void send_problem(httplib::Response& response, const Problem& problem,
                   const std::string& instance) {
   response.status = problem.status;
-  response.set_content(problem_json(problem, instance).dump(2) + "\n", "application/problem+json");
+  // Details can quote a client's bytes: invalid UTF-8 is replaced, never thrown.
+  const auto replace = nlohmann::json::error_handler_t::replace;
+  response.set_content(problem_json(problem, instance).dump(2, ' ', false, replace) + "\n",
+                       "application/problem+json");
 }
 
 }  // namespace spheremap::api

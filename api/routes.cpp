@@ -21,7 +21,8 @@ const char* const kJobId = "([0-9a-f]{32})";
 
 void send_json(httplib::Response& response, int status, const nlohmann::json& body) {
   response.status = status;
-  response.set_content(body.dump(2) + "\n", "application/json");
+  response.set_content(body.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n",
+                       "application/json");
 }
 
 // The job of the path's first capture, or a 404 / 410 problem.

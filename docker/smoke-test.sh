@@ -26,11 +26,13 @@ else
     DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends \
       podman buildah runc debootstrap uidmap > /dev/null
   fi
-  # podman here runs with runc (crun is not usable in this sandbox) and explicit ulimits.
+  # podman here runs with runc (crun is not usable in this sandbox) and ulimits no higher
+  # than this process's own hard limits (raising them is not permitted here).
   if ! grep -qs '^runtime *= *"runc"' /etc/containers/containers.conf; then
+    nofile=$(ulimit -Hn) nproc=$(( $(ulimit -Hu) < 4096 ? $(ulimit -Hu) : 4096 ))
     $sudo mkdir -p /etc/containers
-    printf '[containers]\ndefault_ulimits = ["nofile=65536:65536", "nproc=65536:65536"]\n\n[engine]\nruntime = "runc"\n' |
-      $sudo tee /etc/containers/containers.conf > /dev/null
+    printf '[containers]\ndefault_ulimits = ["nofile=%s:%s", "nproc=%s:%s"]\n\n[engine]\nruntime = "runc"\n' \
+      "$nofile" "$nofile" "$nproc" "$nproc" | $sudo tee /etc/containers/containers.conf > /dev/null
   fi
 fi
 trap cleanup EXIT
@@ -48,7 +50,7 @@ fi
 
 build_start=$(date +%s)
 network=()
-[ "$engine" = podman ] && network=(--network=host)
+[ "$engine" = podman ] && network=(--network=host --format docker)  # docker format keeps HEALTHCHECK
 $engine build "${network[@]}" -q -f docker/Dockerfile -t $image . > /dev/null
 echo "built $image in $(( $(date +%s) - build_start )) s"
 size=$($engine image inspect $image --format '{{.Size}}')

@@ -254,12 +254,17 @@ TEST(Service, InvalidOptionsNameTheKey) {
   auto client = server.client();
   const std::string glb = glb_of(testing::icosphere(2));
   for (const char* query : {"?attempts=0", "?layout=sideways", "?colour=blue", "?draco=maybe",
-                            "?outputs=sphere,teapot", "?alpha=2"}) {
+                            "?outputs=sphere,teapot", "?alpha=2",
+                            // invalid UTF-8 in a value (found by tests/fuzz/options_fuzzer:
+                            // quoting it in the message threw, a 500)
+                            "?layout=%82%ff", "?%82%ff=1"}) {
     auto result = client.Post((std::string("/v1/jobs") + query).c_str(), glb, "model/gltf-binary");
     expect_problem(result, 400, "invalid_options");
     const std::string key = std::string(query).substr(1, std::string(query).find('=') - 1);
-    EXPECT_NE(json::parse(result->body)["detail"].get<std::string>().find(key), std::string::npos)
-        << result->body;
+    if (key[0] != '%') {
+      EXPECT_NE(json::parse(result->body)["detail"].get<std::string>().find(key), std::string::npos)
+          << result->body;
+    }
   }
 }
 

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Builds a libFuzzer target with clang (ASan + UBSan) and runs it for SECONDS (default 60)
 # from a seed corpus taken from the shared corpus: GLB and Draco GLB files for
-# gltf_fuzzer, small OBJ files for mesh_text_fuzzer. Crashes land in
+# gltf_fuzzer, small OBJ files for mesh_text_fuzzer, option sets for options_fuzzer.
+# Crashes land in
 # build-fuzz/crashes/; turn each into a regression test.
 # Usage: tests/fuzz/run.sh [SECONDS] [TARGET] [CORPUS_DIR]
 set -euo pipefail
@@ -16,6 +17,13 @@ seeds=build-fuzz/seeds/$target
 mkdir -p "$seeds" build-fuzz/crashes
 pattern='*.glb'
 [ "$target" = mesh_text_fuzzer ] && pattern='*.obj'
-find "$corpus" -name "$pattern" -size -200k -exec cp {} "$seeds/" \; 2> /dev/null || true
+if [ "$target" = options_fuzzer ]; then  # the options the tests and the README use
+  printf '%s' '{"draco": true, "draco_position_bits": 16, "layout": "welded"}' > "$seeds/a.json"
+  printf '%s' '{"method": "paper", "max_iterations": 200, "time_limit_seconds": 0.5}' > "$seeds/b.json"
+  printf '%s' '{"outputs": ["remesh", "uv", "morph"], "resolution": 64, "mesh": "cow"}' > "$seeds/c.json"
+  printf '%s' 'outputs=remesh,uv&resolution=32&draco=true&attempts=3&alpha=0.5' > "$seeds/d.txt"
+else
+  find "$corpus" -name "$pattern" -size -200k -exec cp {} "$seeds/" \; 2> /dev/null || true
+fi
 "build-fuzz/tests/fuzz/$target" -max_total_time="$seconds" -max_len=4000000 -rss_limit_mb=2048 \
   -artifact_prefix=build-fuzz/crashes/ -print_final_stats=1 "$seeds"
