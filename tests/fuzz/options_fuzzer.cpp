@@ -24,7 +24,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     const size_t end = std::min(text.find('&', start), text.size());
     const std::string pair = text.substr(start, end - start);
     const size_t equals = pair.find('=');
-    params.emplace(pair.substr(0, equals), equals == std::string::npos ? "" : pair.substr(equals + 1));
+    params.emplace(pair.substr(0, equals),
+                   equals == std::string::npos ? "" : pair.substr(equals + 1));
     start = end + 1;
   }
   try {
