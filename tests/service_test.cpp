@@ -367,6 +367,23 @@ TEST(Service, FullQueueGets429AndCancelWorksQueuedAndRunning) {
   EXPECT_EQ(client.Post("/v1/jobs", glb, "model/gltf-binary")->status, 202);
 }
 
+TEST(Service, AJobOverItsTimeLimitFailsAndTheWorkerGoesOn) {
+  server::ServerConfig config = small_config();
+  config.workers = 1;
+  config.job_time_limit_seconds = 0.3;  // the server's cap wins over the job's 60 s
+  TestServer server(config);
+  auto client = server.client();
+  auto slow = client.Post(kSlowJob, glb_of(testing::horseshoe()), "model/gltf-binary");
+  ASSERT_EQ(slow->status, 202);
+  const json failed = wait_for(client, body_json(slow)["id"]);
+  EXPECT_EQ(failed["status"], "failed");
+  EXPECT_EQ(failed["error"]["type"], "/v1/problems/time_limit") << failed.dump(2);
+  EXPECT_NE(failed["error"]["detail"].get<std::string>().find("0.3 s"), std::string::npos);
+  // The same worker takes the next job.
+  auto next = post_glb(client, glb_of(testing::icosphere(2)));
+  EXPECT_EQ(wait_for(client, body_json(next)["id"])["status"], "succeeded");
+}
+
 TEST(Service, EvictedResultsAreGone) {
   server::ServerConfig config = small_config();
   config.result_memory_bytes = 0;  // nothing is kept once finished
