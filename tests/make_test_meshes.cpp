@@ -1,5 +1,6 @@
 // Writes the generated test meshes as GLB files for the shell tests and the load bench
-// (no corpus needed): make_test_meshes OUTDIR -> OUTDIR/{icosphere2,icosphere4,horseshoe}.glb
+// (no corpus needed): make_test_meshes OUTDIR -> OUTDIR/{icosphere2,icosphere4,horseshoe,
+// torus}.glb
 #include <cstdio>
 #include <string>
 
@@ -23,5 +24,6 @@ int main(int argc, char** argv) {
   write("icosphere2", testing::icosphere(2));  // 320 triangles
   write("icosphere4", testing::icosphere(4));  // 5,120 triangles
   write("horseshoe", testing::horseshoe());    // 744 triangles, the paper's loop never unfolds it
+  write("torus", testing::torus(16, 12));      // genus 1: refused with 422
   return 0;
 }

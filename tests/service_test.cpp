@@ -2,6 +2,11 @@
 // (cpp-httplib's), real meshes (generated, and the shared corpus when present).
 #include <gtest/gtest.h>
 
+#include <arpa/inet.h>
+#include <netinet/in.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
 #include <fstream>
 #include <sstream>
 #include <thread>
@@ -382,6 +387,76 @@ TEST(Service, AJobOverItsTimeLimitFailsAndTheWorkerGoesOn) {
   // The same worker takes the next job.
   auto next = post_glb(client, glb_of(testing::icosphere(2)));
   EXPECT_EQ(wait_for(client, body_json(next)["id"])["status"], "succeeded");
+}
+
+TEST(Service, AJobThatThrowsFailsAndTheWorkerGoesOn) {
+  server::ServerConfig config = small_config();
+  config.workers = 1;
+  TestServer server(config);
+  // A spec the API would refuse (an odd remesh resolution): building the remesh throws
+  // std::invalid_argument inside the worker.
+  auto spec = std::make_unique<server::JobSpec>();
+  spec->input = testing::icosphere(2);
+  spec->prepared = prepare_mesh(spec->input, {});
+  spec->outputs = {"sphere", "remesh"};
+  spec->remesh_resolution = 3;
+  std::shared_ptr<server::Job> job;
+  ASSERT_EQ(server.service().store().submit(std::move(spec), job),
+            server::JobStore::Admission::kAccepted);
+  auto client = server.client();
+  const json failed = wait_for(client, job->id);
+  EXPECT_EQ(failed["status"], "failed");
+  EXPECT_EQ(failed["error"]["type"], "/v1/problems/internal") << failed.dump(2);
+  auto next = post_glb(client, glb_of(testing::icosphere(2)));
+  EXPECT_EQ(wait_for(client, body_json(next)["id"])["status"], "succeeded");
+}
+
+// A raw TCP client that can stop half-way.
+int connect_to(int port) {
+  const int fd = socket(AF_INET, SOCK_STREAM, 0);
+  sockaddr_in address{};
+  address.sin_family = AF_INET;
+  address.sin_port = htons(static_cast<uint16_t>(port));
+  address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  EXPECT_EQ(connect(fd, reinterpret_cast<sockaddr*>(&address), sizeof address), 0);
+  return fd;
+}
+
+TEST(Service, ClientsThatHangUpLeaveNothingBehind) {
+  server::ServerConfig config = small_config();
+  config.read_timeout_seconds = 1;
+  TestServer server(config);
+  const std::string glb = glb_of(testing::icosphere(4));
+  // Mid-upload: headers promise the whole mesh, half is sent, the client goes away.
+  for (int i = 0; i < 20; ++i) {
+    const int fd = connect_to(server.port());
+    const std::string head =
+        "POST /v1/jobs HTTP/1.1\r\nHost: x\r\nContent-Type: model/gltf-binary"
+        "\r\nContent-Length: " +
+        std::to_string(glb.size()) + "\r\n\r\n";
+    ASSERT_GT(send(fd, head.data(), head.size(), MSG_NOSIGNAL), 0);
+    ASSERT_GT(send(fd, glb.data(), glb.size() / 2, MSG_NOSIGNAL), 0);
+    close(fd);
+  }
+  // Mid-download: a finished job's artifact requested, the connection closed unread.
+  auto client = server.client();
+  auto done = wait_for(client, body_json(post_glb(client, glb))["id"]);
+  ASSERT_EQ(done["status"], "succeeded");
+  const std::string path = done["artifacts"]["sphere.glb"]["href"];
+  for (int i = 0; i < 20; ++i) {
+    const int fd = connect_to(server.port());
+    const std::string request = "GET " + path + " HTTP/1.1\r\nHost: x\r\n\r\n";
+    ASSERT_GT(send(fd, request.data(), request.size(), MSG_NOSIGNAL), 0);
+    char first[64];
+    EXPECT_GT(recv(fd, first, sizeof first, 0), 0);
+    close(fd);
+  }
+  // Only the one complete submission became a job; the server still serves.
+  EXPECT_EQ(client.Get("/healthz")->status, 200);
+  const std::string metrics = client.Get("/metrics")->body;
+  EXPECT_NE(metrics.find("spheremap_input_faces_count 1\n"), std::string::npos) << metrics;
+  EXPECT_NE(metrics.find("spheremap_jobs{state=\"queued\"} 0"), std::string::npos);
+  EXPECT_NE(metrics.find("spheremap_jobs{state=\"running\"} 0"), std::string::npos);
 }
 
 TEST(Service, EvictedResultsAreGone) {
