@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Builds a libFuzzer target with clang (ASan + UBSan) and runs it for SECONDS (default 60)
 # from a seed corpus taken from the shared corpus: GLB and Draco GLB files for
-# gltf_fuzzer, small OBJ files for mesh_text_fuzzer, option sets for options_fuzzer.
+# gltf_fuzzer (with truncated, garbage and external-URI files like the hostile-file
+# tests), small OBJ files for mesh_text_fuzzer, option sets for options_fuzzer.
 # Crashes land in
 # build-fuzz/crashes/; turn each into a regression test.
 # Usage: tests/fuzz/run.sh [SECONDS] [TARGET] [CORPUS_DIR]
@@ -24,6 +25,14 @@ if [ "$target" = options_fuzzer ]; then  # the options the tests and the README 
   printf '%s' 'outputs=remesh,uv&resolution=32&draco=true&attempts=3&alpha=0.5' > "$seeds/d.txt"
 else
   find "$corpus" -name "$pattern" -size -200k -exec cp {} "$seeds/" \; 2> /dev/null || true
+fi
+if [ "$target" = gltf_fuzzer ]; then  # the shapes of the hostile-file tests, as files
+  small=$(ls "$seeds"/*.glb 2> /dev/null | head -1)
+  if [ -n "$small" ]; then
+    for cut in 12 20 100 1000; do head -c $cut "$small" > "$seeds/truncated_$cut.glb"; done
+    { printf 'glTF'; head -c 200 /dev/urandom; } > "$seeds/garbage.glb"
+  fi
+  printf '%s' '{"asset":{"version":"2.0"},"buffers":[{"uri":"file:///etc/passwd","byteLength":10}],"bufferViews":[{"buffer":0,"byteLength":10}],"accessors":[{"bufferView":0,"componentType":5126,"count":1000000000,"type":"VEC3"}],"meshes":[{"primitives":[{"attributes":{"POSITION":0}}]}]}' > "$seeds/external_uri.gltf"
 fi
 "build-fuzz/tests/fuzz/$target" -max_total_time="$seconds" -max_len=4000000 -rss_limit_mb=2048 \
   -artifact_prefix=build-fuzz/crashes/ -print_final_stats=1 "$seeds"
