@@ -34,7 +34,7 @@ struct JobSpec {
   int remesh_resolution = 256;
   size_t input_bytes = 0;
   std::string input_format;                                // "glb", "gltf"
-  nlohmann::json options_echo = nlohmann::json::object();  // as the client sent them
+  nlohmann::json options_echo = nlohmann::json::object();  // as the client sent them (shown)
 };
 
 struct Artifact {
@@ -67,6 +67,8 @@ struct Job {
   JobStatus status = JobStatus::kQueued;
   std::unique_ptr<JobSpec> spec;  // released once the job ends
   size_t input_vertices = 0, input_faces = 0, input_bytes = 0;
+  std::string input_format;                           // "glb" or "gltf"
+  nlohmann::json options = nlohmann::json::object();  // as the client sent them
   JobProgress progress;
   std::optional<Clock::time_point> started, finished;
   std::vector<Artifact> artifacts;

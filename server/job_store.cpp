@@ -47,6 +47,8 @@ JobStore::Admission JobStore::submit(std::unique_ptr<JobSpec> spec, std::shared_
     job->input_vertices = spec->input.vertex_count();
     job->input_faces = spec->input.face_count();
     job->input_bytes = spec->input_bytes;
+    job->input_format = spec->input_format;
+    job->options = spec->options_echo;
     job->spec = std::move(spec);
     jobs_[job->id] = job;
     queue_.push_back(job);

@@ -194,6 +194,8 @@ TEST(Service, RemeshUvAndMorphArtifacts) {
     EXPECT_TRUE(done["artifacts"].contains(name)) << name;
   EXPECT_TRUE(done["metrics"]["remesh"]["closed_genus0"]);
   EXPECT_EQ(done["metrics"]["remesh"]["resolution"], 32);
+  EXPECT_EQ(done["options"]["resolution"], 32);  // the options the job ran with
+  EXPECT_EQ(done["input"]["format"], "glb");
   EXPECT_EQ(done["metrics"]["uv"]["flipped_triangles"], 0);
   auto remesh = client.Get(done["artifacts"]["remesh.glb"]["href"].get<std::string>().c_str());
   ASSERT_EQ(remesh->status, 200);
