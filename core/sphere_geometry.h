@@ -44,14 +44,17 @@ inline bool triple_product_exceeds(const Vec3& a, const Vec3& b, const Vec3& c, 
 
 // Valid = positively oriented by a margin relative to the longest edge, so triangles on
 // a great circle do not pass; NaN is invalid. For unit vectors a double triple product
-// is off by up to ~1e-15: below 1e-14 it is computed again in wide precision (measured:
-// a beast sliver at +9e-18 in double is -1.4e-17 exactly, a fold the map would hide).
+// is off by up to ~1e-15, so a small positive one is computed again in wide precision
+// (measured: a beast sliver at +9e-18 in double is -1.4e-17 exactly, a fold the map
+// would hide). Small negative ones stay invalid without the check: conservative (a
+// triangle counts as valid only when its orientation is certain), and re-deciding them
+// too cost scorpion's map 3-4x (thousands of slivers below 1e-18 each iteration).
 inline bool is_valid_triangle(const Vec3& a, const Vec3& b, const Vec3& c) {
   const double longest = std::max({squared_norm(b - a), squared_norm(c - a), squared_norm(c - b)});
   const double margin = 1e-10 * longest;
   const double t = triple_product(a, b, c);
-  if (!(t > margin)) return false;
-  if (t > 1e-14 + margin) return true;
+  if (!(t > margin)) return false;  // conservative: only what double calls valid is re-checked
+  if (t > margin + 1e-14) return true;
   return triple_product_exceeds(a, b, c, margin);
 }
 

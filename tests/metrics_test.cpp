@@ -52,6 +52,22 @@ TEST(Metrics, FoldedTrianglesAreSkippedNotNaN) {
 namespace spheremap {
 namespace {
 
+TEST(SphereGeometry, OrientationOfSliversIsDecidedBeyondDoubleRounding) {
+  // A sliver of beast's map: +9.2e-18 in double, -1.36e-17 exactly (a fold).
+  const Vec3 a{0.54907006529461355, 0.33840320950038827, -0.76420241506894315};
+  const Vec3 b{0.54907005443104517, 0.33840321876043317, -0.76420241877376149};
+  const Vec3 c{0.54907000758368107, 0.33840325773854812, -0.76420243517277187};
+  EXPECT_GT(triple_product(a, b, c), 0);  // what double says
+  EXPECT_FALSE(is_valid_triangle(a, b, c));
+  // The other way round double says -9.2e-18: invalid without a second look (the test
+  // is conservative: valid only when certain).
+  EXPECT_FALSE(is_valid_triangle(a, c, b));
+  // Ordinary triangles keep the fast path's answer.
+  const Vec3 x{1, 0, 0}, y{0, 1, 0}, z{0, 0, 1};
+  EXPECT_TRUE(is_valid_triangle(x, y, z));
+  EXPECT_FALSE(is_valid_triangle(x, z, y));
+}
+
 TEST(SphereGeometry, AreaWeightMatchesSphericalAreaAtEveryScale) {
   const Vec3 a = normalized_or({1, 0, 0}, {}), b0 = normalized_or({1, 1, 0}, {}),
              c0 = normalized_or({1, 0, 1}, {});
