@@ -40,7 +40,8 @@ void Histogram::observe(double value) {
   ++count_;
 }
 
-void Histogram::render(const std::string& name, std::string& out) const {
+void Histogram::render(const std::string& name, const std::string& help, std::string& out) const {
+  out += "# HELP " + name + " " + help + "\n# TYPE " + name + " histogram\n";
   unsigned long long cumulative = 0;
   for (size_t i = 0; i < bounds_.size(); ++i) {
     cumulative += counts_[i];
@@ -112,22 +113,10 @@ std::string ServiceMetrics::render(const StoreCounts& store, size_t queue_capaci
                  responses_, out);
   counter_family("spheremap_jobs_evicted_total", "Finished jobs dropped (TTL or memory cap).",
                  "cause", {{"ttl_or_cap", store.evicted}}, out);
-  out +=
-      "# HELP spheremap_job_run_seconds Time a job ran on a worker.\n"
-      "# TYPE spheremap_job_run_seconds histogram\n";
-  run_seconds_.render("spheremap_job_run_seconds", out);
-  out +=
-      "# HELP spheremap_job_wait_seconds Time a job waited in the queue.\n"
-      "# TYPE spheremap_job_wait_seconds histogram\n";
-  wait_seconds_.render("spheremap_job_wait_seconds", out);
-  out +=
-      "# HELP spheremap_input_bytes Size of accepted request bodies.\n"
-      "# TYPE spheremap_input_bytes histogram\n";
-  input_bytes_.render("spheremap_input_bytes", out);
-  out +=
-      "# HELP spheremap_input_faces Triangles of accepted meshes.\n"
-      "# TYPE spheremap_input_faces histogram\n";
-  input_faces_.render("spheremap_input_faces", out);
+  run_seconds_.render("spheremap_job_run_seconds", "Time a job ran on a worker.", out);
+  wait_seconds_.render("spheremap_job_wait_seconds", "Time a job waited in the queue.", out);
+  input_bytes_.render("spheremap_input_bytes", "Size of accepted request bodies.", out);
+  input_faces_.render("spheremap_input_faces", "Triangles of accepted meshes.", out);
   return out;
 }
 

@@ -15,8 +15,8 @@ class Histogram {
  public:
   explicit Histogram(std::vector<double> upper_bounds);
   void observe(double value);
-  // Appends the _bucket, _sum and _count lines of `name`.
-  void render(const std::string& name, std::string& out) const;
+  // Appends the HELP and TYPE lines and the _bucket, _sum and _count lines of `name`.
+  void render(const std::string& name, const std::string& help, std::string& out) const;
 
  private:
   std::vector<double> bounds_;
