@@ -4,8 +4,8 @@
 
 #include "api/job_options.h"
 #include "api/problem.h"
-#include "core/input_error.h"
-#include "core/report_json.h"
+#include "core/mesh/input_error.h"
+#include "core/outputs/report_json.h"
 
 namespace spheremap::api {
 namespace {

@@ -18,7 +18,7 @@
 #include <vector>
 
 #include "core/io/mesh_file.h"
-#include "core/pipeline.h"
+#include "core/map/pipeline.h"
 
 namespace {
 

@@ -4,7 +4,7 @@
 #include "cli/commands.h"
 #include "cli/map_options.h"
 #include "core/io/mesh_file.h"
-#include "core/report_json.h"
+#include "core/outputs/report_json.h"
 
 namespace spheremap::cli {
 

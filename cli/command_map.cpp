@@ -4,10 +4,10 @@
 #include "cli/arguments.h"
 #include "cli/commands.h"
 #include "cli/map_options.h"
-#include "core/input_error.h"
 #include "core/io/mesh_file.h"
-#include "core/report_json.h"
-#include "core/sphere_asset.h"
+#include "core/mesh/input_error.h"
+#include "core/outputs/report_json.h"
+#include "core/outputs/sphere_asset.h"
 
 namespace spheremap::cli {
 namespace {

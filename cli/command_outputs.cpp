@@ -6,8 +6,8 @@
 #include "cli/commands.h"
 #include "cli/map_options.h"
 #include "core/io/mesh_file.h"
-#include "core/map_outputs.h"
-#include "core/report_json.h"
+#include "core/outputs/map_outputs.h"
+#include "core/outputs/report_json.h"
 
 namespace spheremap::cli {
 namespace {

@@ -7,7 +7,7 @@
 
 #include "cli/arguments.h"
 #include "cli/commands.h"
-#include "core/input_error.h"
+#include "core/mesh/input_error.h"
 
 namespace {
 

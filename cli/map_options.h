@@ -6,7 +6,7 @@
 
 #include "cli/arguments.h"
 #include "core/io/gltf_reader.h"
-#include "core/pipeline.h"
+#include "core/map/pipeline.h"
 
 namespace spheremap::cli {
 

@@ -11,8 +11,8 @@
 #include <string>
 #include <vector>
 
-#include "core/pipeline.h"
-#include "core/sphere_asset.h"
+#include "core/map/pipeline.h"
+#include "core/outputs/sphere_asset.h"
 
 namespace spheremap::server {
 

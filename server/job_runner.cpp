@@ -4,8 +4,8 @@
 #include <cmath>
 #include <sstream>
 
-#include "core/input_error.h"
-#include "core/map_outputs.h"
+#include "core/mesh/input_error.h"
+#include "core/outputs/map_outputs.h"
 
 namespace spheremap::server {
 namespace {

@@ -3,13 +3,14 @@
 #include <cstring>
 #include <nlohmann/json.hpp>
 
-#include "core/input_error.h"
 #include "core/io/glb_writer.h"
 #include "core/io/gltf_reader.h"
 #include "core/io/mesh_file.h"
 #include "core/io/text_reader.h"
-#include "core/pipeline.h"
-#include "core/sphere_geometry.h"
+#include "core/map/pipeline.h"
+#include "core/mesh/input_error.h"
+#include "core/mesh/sphere_geometry.h"
+#include "core/outputs/sphere_glb.h"
 #include "tests/corpus.h"
 #include "tests/mesh_generators.h"
 

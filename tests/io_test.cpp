@@ -1,8 +1,8 @@
 #include <gtest/gtest.h>
 
-#include "core/input_error.h"
 #include "core/io/obj.h"
 #include "core/io/off.h"
+#include "core/mesh/input_error.h"
 
 namespace spheremap {
 namespace {

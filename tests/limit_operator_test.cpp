@@ -1,6 +1,6 @@
 #include <gtest/gtest.h>
 
-#include "core/limit_operator.h"
+#include "core/map/limit_operator.h"
 #include "tests/mesh_generators.h"
 
 namespace spheremap {

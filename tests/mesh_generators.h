@@ -3,7 +3,7 @@
 // polygon faces) and invalid ones (torus, holes, two components, a pinched vertex).
 #pragma once
 
-#include "core/mesh.h"
+#include "core/mesh/mesh.h"
 
 namespace spheremap::testing {
 

@@ -2,9 +2,9 @@
 
 #include <cmath>
 
-#include "core/metrics.h"
-#include "core/sphere_geometry.h"
-#include "core/spherical_map.h"
+#include "core/map/metrics.h"
+#include "core/map/spherical_map.h"
+#include "core/mesh/sphere_geometry.h"
 #include "tests/mesh_generators.h"
 
 namespace spheremap {

@@ -6,14 +6,14 @@
 #include <random>
 
 #include "core/io/gltf_reader.h"
-#include "core/map_outputs.h"
-#include "core/octahedral.h"
-#include "core/remesh.h"
-#include "core/sphere_locator.h"
-#include "core/surface_distance.h"
-#include "core/texcoords.h"
-#include "core/topology.h"
-#include "core/weld.h"
+#include "core/mesh/topology.h"
+#include "core/mesh/weld.h"
+#include "core/outputs/map_outputs.h"
+#include "core/outputs/octahedral.h"
+#include "core/outputs/remesh.h"
+#include "core/outputs/sphere_locator.h"
+#include "core/outputs/surface_distance.h"
+#include "core/outputs/texcoords.h"
 #include "tests/mesh_generators.h"
 
 namespace spheremap {

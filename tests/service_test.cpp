@@ -13,8 +13,8 @@
 
 #include "core/io/glb_writer.h"
 #include "core/io/gltf_reader.h"
-#include "core/map_check.h"
-#include "core/sphere_geometry.h"
+#include "core/map/map_check.h"
+#include "core/mesh/sphere_geometry.h"
 #include "tests/corpus.h"
 #include "tests/mesh_generators.h"
 #include "tests/test_server.h"

@@ -3,11 +3,11 @@
 #include <atomic>
 #include <cmath>
 
-#include "core/input_error.h"
 #include "core/io/mesh_file.h"
-#include "core/map_check.h"
-#include "core/pipeline.h"
-#include "core/sphere_geometry.h"
+#include "core/map/map_check.h"
+#include "core/map/pipeline.h"
+#include "core/mesh/input_error.h"
+#include "core/mesh/sphere_geometry.h"
 #include "tests/corpus.h"
 #include "tests/mesh_generators.h"
 

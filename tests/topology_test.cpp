@@ -2,10 +2,10 @@
 
 #include <cmath>
 
-#include "core/input_error.h"
 #include "core/io/mesh_file.h"
-#include "core/pipeline.h"
-#include "core/topology.h"
+#include "core/map/pipeline.h"
+#include "core/mesh/input_error.h"
+#include "core/mesh/topology.h"
 #include "tests/corpus.h"
 #include "tests/mesh_generators.h"
 

@@ -2,7 +2,7 @@
 
 #include <cmath>
 
-#include "core/weld.h"
+#include "core/mesh/weld.h"
 #include "tests/mesh_generators.h"
 
 namespace spheremap {

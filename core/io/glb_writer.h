@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "core/mesh.h"
+#include "core/mesh/mesh.h"
 
 namespace spheremap {
 

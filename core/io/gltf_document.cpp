@@ -3,7 +3,7 @@
 #include <cstring>
 #include <limits>
 
-#include "core/input_error.h"
+#include "core/mesh/input_error.h"
 
 namespace spheremap::gltf {
 namespace {

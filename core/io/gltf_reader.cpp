@@ -5,8 +5,8 @@
 #include <array>
 #include <cmath>
 
-#include "core/input_error.h"
 #include "core/io/gltf_document.h"
+#include "core/mesh/input_error.h"
 
 namespace spheremap {
 namespace {

@@ -9,7 +9,7 @@
 #include <span>
 #include <string>
 
-#include "core/mesh.h"
+#include "core/mesh/mesh.h"
 
 namespace spheremap {
 

@@ -3,10 +3,10 @@
 #include <algorithm>
 #include <fstream>
 
-#include "core/input_error.h"
 #include "core/io/obj.h"
 #include "core/io/off.h"
 #include "core/io/text_reader.h"
+#include "core/mesh/input_error.h"
 
 namespace spheremap {
 namespace {

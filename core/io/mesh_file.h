@@ -4,7 +4,7 @@
 #include <string>
 
 #include "core/io/gltf_reader.h"
-#include "core/mesh.h"
+#include "core/mesh/mesh.h"
 
 namespace spheremap {
 

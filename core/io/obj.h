@@ -6,7 +6,7 @@
 #include <string>
 #include <string_view>
 
-#include "core/mesh.h"
+#include "core/mesh/mesh.h"
 
 namespace spheremap {
 

@@ -4,7 +4,7 @@
 
 #include <string_view>
 
-#include "core/mesh.h"
+#include "core/mesh/mesh.h"
 
 namespace spheremap {
 

@@ -4,7 +4,7 @@
 #include <fstream>
 #include <sstream>
 
-#include "core/input_error.h"
+#include "core/mesh/input_error.h"
 
 namespace spheremap {
 

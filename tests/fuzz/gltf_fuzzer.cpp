@@ -3,8 +3,8 @@
 #include <cstddef>
 #include <cstdint>
 
-#include "core/input_error.h"
 #include "core/io/gltf_reader.h"
+#include "core/mesh/input_error.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   spheremap::GltfReadOptions options;

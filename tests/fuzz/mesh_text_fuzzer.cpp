@@ -4,10 +4,10 @@
 #include <cstdint>
 #include <string_view>
 
-#include "core/input_error.h"
 #include "core/io/obj.h"
 #include "core/io/off.h"
-#include "core/pipeline.h"
+#include "core/map/pipeline.h"
+#include "core/mesh/input_error.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const std::string_view text(reinterpret_cast<const char*>(data), size);

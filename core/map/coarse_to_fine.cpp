@@ -1,0 +1,324 @@
+// The default method (ALGORITHM §B4, PROTOTYPE-FINDINGS §6 "MRG40", with the departures
+// measured in BENCHMARKS.md): first the paper's map of the whole mesh with a small
+// budget; failing that, a collapse hierarchy, started from the paper's map of a coarse
+// level (or a tetrahedron), then per level, coarse to fine: kernel-safe insertion,
+// Lai-Cheng smoothing, local repair, and a fold-free fallback; and retries with other
+// smoothing settings while the map folds. Every level starts from a fold-free map when
+// all insertions succeed, and the fallback keeps it fold-free.
+#include <algorithm>
+#include <numeric>
+
+#include "core/map/hierarchy.h"
+#include "core/map/insertion.h"
+#include "core/map/limit_operator.h"
+#include "core/map/map_check.h"
+#include "core/map/map_session.h"
+#include "core/map/projected_map.h"
+#include "core/map/repair.h"
+#include "core/mesh/sphere_geometry.h"
+
+namespace spheremap {
+namespace {
+
+// The regular spherical tetrahedron on new ids 0..3, oriented like its triangles.
+void place_tetrahedron(std::span<Vec3> q, std::span<const Triangle> tetrahedron) {
+  const double s = 1.0 / std::sqrt(3.0);
+  q[0] = {s, s, s}, q[1] = {s, -s, -s}, q[2] = {-s, s, -s}, q[3] = {-s, -s, s};
+  const Triangle& t = tetrahedron[0];
+  if (!is_valid_triangle(q[t[0]], q[t[1]], q[t[2]])) std::swap(q[0], q[1]);
+}
+
+SparseMatrix level_operator(std::span<const Triangle> triangles, size_t n, double alpha) {
+  std::vector<uint32_t> offsets(triangles.size() + 1);
+  for (size_t t = 0; t <= triangles.size(); ++t) offsets[t] = static_cast<uint32_t>(3 * t);
+  return limit_operator(offsets, {triangles.data()->data(), 3 * triangles.size()}, n, alpha);
+}
+
+// The input polygons in hierarchy ids, for the finest level's operator.
+SparseMatrix fine_operator(const PolygonMesh& mesh, const std::vector<uint32_t>& old_to_new,
+                           double alpha) {
+  std::vector<uint32_t> indices(mesh.indices.size());
+  for (size_t k = 0; k < indices.size(); ++k) indices[k] = old_to_new[mesh.indices[k]];
+  return limit_operator(mesh.offsets, indices, mesh.vertex_count(), alpha);
+}
+
+class CoarseToFine {
+ public:
+  CoarseToFine(const PolygonMesh& mesh, std::span<const Triangle> triangles,
+               const MapSession& session, MapResult& result)
+      : mesh_(mesh), session_(session), options_(session.options()), result_(result) {
+    session_.report({.stage = "hierarchy"});
+    const double start = session_.elapsed();
+    h_ = build_hierarchy(mesh.positions, triangles);
+    result_.hierarchy_seconds = session_.elapsed() - start;
+    result_.hierarchy_rounds = h_.rounds;
+    fine_triangles_.assign(triangles.begin(), triangles.end());
+    for (Triangle& t : fine_triangles_)
+      for (uint32_t& v : t) v = h_.old_to_new[v];
+    q_.resize(mesh.vertex_count());
+  }
+
+  // One attempt with the given smoothing; fills result_.sphere unless cancelled.
+  // When give_up_on_folds, an attempt stops at the first level below the finest that
+  // ends folded: its insertions fail around the folds and the finer levels rarely
+  // recover, so another attempt is cheaper than finishing this one.
+  void run(const SmoothingOptions& smoothing, bool give_up_on_folds) {
+    smoothing_ = smoothing;
+    result_.levels.clear();
+    result_.sphere.clear();
+    const int levels = static_cast<int>(h_.level_sizes.size());
+    int first = projected_start(levels);
+    if (first == 0) {
+      place_tetrahedron(q_, h_.level_triangles[0]);
+      result_.levels.push_back({.vertices = 4});
+    }
+    for (int l = first + 1; l < levels; ++l) {
+      if (session_.should_stop()) {
+        result_.stop_reason = session_.stop_reason();
+        if (result_.stop_reason == StopReason::kCancelled) return;
+        // Out of time: finish the insertions unsmoothed so the map is still complete.
+        for (; l < levels; ++l) insert_level(l, result_.levels.emplace_back());
+        break;
+      }
+      // Tiny levels are only inserted: their rings span much of the sphere, where the
+      // smoothing throws vertices across it (measured: collapse in 2 iterations at 5
+      // vertices) and the fallback leaves the crowding that breaks finer levels.
+      if (h_.level_sizes[l] < options_.smooth_min_vertices && l + 1 < levels)
+        insert_level(l, result_.levels.emplace_back());
+      else
+        map_level(l, levels);
+      if (give_up_on_folds && l + 1 < levels && result_.levels.back().folds > 0) {
+        result_.stop_reason = StopReason::kFoldsRemain;
+        result_.sphere.clear();
+        return;
+      }
+    }
+    result_.mapping_seconds = session_.elapsed() - result_.hierarchy_seconds;
+    if (session_.cancelled()) {
+      result_.stop_reason = StopReason::kCancelled;
+      return;
+    }
+    result_.sphere.resize(q_.size());
+    for (uint32_t v = 0; v < q_.size(); ++v) result_.sphere[v] = q_[h_.old_to_new[v]];
+  }
+
+ private:
+  // The paper's start (projection + smoothing + local repair) on the largest level of at
+  // most projected_start_vertices vertices, then on smaller ones while it fails (a
+  // projection folds where the shape is not star-shaped about its centre). The chain
+  // starts at the first level that reaches 0 folds. Returns that level, or 0 (start from
+  // the tetrahedron). Measured: a long thin tube maps bijectively this way (min area
+  // 8.5e-7) where insertions from a tetrahedron squeeze it below 1e-16.
+  int projected_start(int levels) {
+    int l = levels - 1;
+    while (l > 0 && h_.level_sizes[l] > options_.projected_start_vertices) --l;
+    for (; l > 0 && (l + 1 == levels || h_.level_sizes[l] >= options_.smooth_min_vertices); --l) {
+      if (session_.should_stop()) return 0;
+      if (map_projected(l, levels)) return l;
+    }
+    return 0;
+  }
+
+  bool map_projected(int l, int levels) {
+    const size_t n = h_.level_sizes[l];
+    const bool finest = l + 1 == levels;
+    std::span<const Triangle> triangles =
+        finest ? std::span<const Triangle>(fine_triangles_) : h_.level_triangles[l];
+    std::vector<Vec3> x(n);
+    for (uint32_t v = 0; v < n; ++v) x[v] = mesh_.positions[h_.new_to_old[v]];
+    SparseMatrix A = finest ? fine_operator(mesh_, h_.old_to_new, options_.alpha)
+                            : level_operator(triangles, n, options_.alpha);
+    const ProjectedMap start = projected_map(
+        x, triangles, std::move(A), smoothing_, {.iterations = options_.projected_start_iterations},
+        session_, {.stage = "project", .level = l, .levels = levels - 1, .vertices = n});
+    count_work(start.iterations, n);
+    count_repair(start.repair);
+    if (start.folds > 0) return false;
+    std::copy(start.sphere.begin(), start.sphere.end(), q_.begin());
+    result_.levels.push_back({.vertices = n,
+                              .iterations = start.iterations,
+                              .repair_iterations = start.repair.iterations,
+                              .min_area = check_map(start.sphere, triangles).min_signed_area});
+    return true;
+  }
+
+  void insert_level(int l, LevelReport& report) {
+    report.vertices = h_.level_sizes[l];
+    for (uint32_t u = h_.level_sizes[l - 1]; u < h_.level_sizes[l]; ++u) {
+      switch (insert_vertex(q_, u, h_.collapse_target[u], h_.ring(u))) {
+        case InsertionOutcome::kRingAverage:
+          break;
+        case InsertionOutcome::kKernelSearch:
+          ++report.kernel_insertions;
+          break;
+        case InsertionOutcome::kFailed:
+          ++report.failed_insertions;
+          break;
+      }
+    }
+  }
+
+  void map_level(int l, int levels) {
+    LevelReport& report = result_.levels.emplace_back();
+    insert_level(l, report);
+    const size_t n = h_.level_sizes[l];
+    const bool finest = l + 1 == levels;
+    std::span<const Triangle> triangles =
+        finest ? std::span<const Triangle>(fine_triangles_) : h_.level_triangles[l];
+    SparseMatrix A = finest ? fine_operator(mesh_, h_.old_to_new, options_.alpha)
+                            : level_operator(triangles, n, options_.alpha);
+    LaiChengSmoother smoother(triangles, std::move(A), n, smoothing_);
+    std::span<Vec3> q(q_.data(), n);
+
+    size_t folds = smoother.count_folds(q);
+    std::vector<Vec3> fold_free;
+    if (folds == 0) fold_free.assign(q.begin(), q.end());
+    MapProgress progress{.stage = "smooth", .level = l, .levels = levels - 1, .vertices = n};
+    size_t it = 0;
+    while (it < options_.max_level_iterations &&
+           !(folds == 0 && it >= options_.min_level_iterations)) {
+      if (session_.should_stop()) break;
+      folds = smoother.step(q);
+      ++it;
+      if (folds == 0) fold_free.assign(q.begin(), q.end());
+      progress.iteration = it, progress.folds = folds;
+      session_.report(progress);
+    }
+    report.iterations = it;
+    count_work(it, n);
+
+    if (folds > 0) {
+      progress.stage = "repair";
+      session_.report(progress);
+      RepairStats repair = local_repair(smoother, q, folds, options_.max_repair_iterations,
+                                        [&] { return session_.should_stop(); });
+      folds = repair.folds;
+      report.repair_iterations = repair.iterations;
+      count_repair(repair);
+    }
+    if (folds > 0 && !fold_free.empty()) {
+      progress.stage = "fallback";
+      session_.report(progress);
+      folds = fall_back(smoother, q, fold_free, report);
+    }
+    report.folds = folds;
+    report.min_area = check_map(q, triangles).min_signed_area;
+  }
+
+  // From the last fold-free state: fold-safe steps spread the map as far as validity
+  // allows, then plain smoothing, kept while it stays fold-free. Returns the folds left
+  // (0: the fold-free state is restored otherwise).
+  size_t fall_back(LaiChengSmoother& smoother, std::span<Vec3> q, std::vector<Vec3>& fold_free,
+                   LevelReport& report) {
+    report.fallback = true;
+    std::copy(fold_free.begin(), fold_free.end(), q.begin());
+    fold_safe_steps(smoother, q, options_.safe_steps);
+    count_work(options_.safe_steps, q.size());
+    fold_free.assign(q.begin(), q.end());
+    for (size_t k = 0; k < options_.max_level_iterations && !session_.should_stop(); ++k) {
+      ++report.iterations;
+      count_work(1, q.size());
+      if (smoother.step(q) > 0) break;
+      fold_free.assign(q.begin(), q.end());
+    }
+    std::copy(fold_free.begin(), fold_free.end(), q.begin());
+    return smoother.count_folds(q);
+  }
+
+  // Iterations on a level of n vertices, in the totals and in fine-mesh equivalents.
+  void count_work(size_t iterations, size_t n) {
+    result_.iterations += iterations;
+    result_.fine_iteration_equivalents +=
+        static_cast<double>(iterations * n) / static_cast<double>(q_.size());
+  }
+
+  void count_repair(const RepairStats& repair) {
+    result_.iterations += repair.iterations;
+    result_.fine_iteration_equivalents += repair.vertex_updates / static_cast<double>(q_.size());
+  }
+
+  const PolygonMesh& mesh_;
+  const MapSession& session_;
+  const MapOptions& options_;
+  MapResult& result_;
+  CollapseHierarchy h_;
+  std::vector<Triangle> fine_triangles_;
+  std::vector<Vec3> q_;  // hierarchy ids
+  SmoothingOptions smoothing_;
+};
+
+// The smoothing of each attempt: the caller's first, then the other measured settings
+// of the A-step weight w and the offset u. Their order is the corpus's: (w, u) =
+// (0.5, 0.25) maps all but beast, (0.5, 0) maps beast (BENCHMARKS.md).
+std::vector<SmoothingOptions> attempt_plan(const SmoothingOptions& first, size_t attempts) {
+  std::vector<SmoothingOptions> plan{first};
+  const std::pair<double, double> alternatives[] = {
+      {0.5, 0.25}, {0.5, 0.0}, {1.0, 0.25}, {1.0, 0.0}};
+  for (auto [w, u] : alternatives) {
+    if (plan.size() >= attempts) break;
+    if (w == first.limit_weight && u == first.offset) continue;
+    SmoothingOptions next = first;
+    next.limit_weight = w, next.offset = u;
+    plan.push_back(next);
+  }
+  return plan;
+}
+
+}  // namespace
+
+// The paper's map of the whole mesh with a small budget, before any hierarchy: smooth,
+// star-shaped shapes (igea: 10 iterations) need nothing more. Gives up after 10
+// iterations when over 0.5% of the triangles are folded. True if it mapped the mesh.
+bool map_directly(const PolygonMesh& mesh, std::span<const Triangle> triangles,
+                  const MapSession& session, MapResult& result) {
+  const MapOptions& options = session.options();
+  if (options.direct_iterations == 0) return false;
+  const ProjectedMapBudget budget{.iterations = options.direct_iterations,
+                                  .repair = true,
+                                  .probe_iterations = options.min_level_iterations,
+                                  .max_fold_share = 0.005};
+  ProjectedMap direct = projected_map(
+      mesh.positions, triangles, limit_operator(mesh, options.alpha), options.smoothing, budget,
+      session, {.stage = "project", .level = 1, .levels = 1, .vertices = mesh.vertex_count()});
+  result.iterations += direct.iterations + direct.repair.iterations;
+  result.fine_iteration_equivalents +=
+      static_cast<double>(direct.iterations) +
+      direct.repair.vertex_updates / static_cast<double>(mesh.vertex_count());
+  if (direct.folds > 0 || !verify_map(direct.sphere, triangles, mesh, result.inward).bijective)
+    return false;
+  result.levels.push_back({.vertices = mesh.vertex_count(),
+                           .iterations = direct.iterations,
+                           .repair_iterations = direct.repair.iterations,
+                           .min_area = check_map(direct.sphere, triangles).min_signed_area});
+  result.sphere = std::move(direct.sphere);
+  result.mapping_seconds = session.elapsed();
+  result.attempts = 1;
+  return true;
+}
+
+void map_coarse_to_fine(const PolygonMesh& mesh, std::span<const Triangle> triangles,
+                        const MapSession& session, MapResult& result) {
+  const bool mapped = map_directly(mesh, triangles, session, result);
+  if (session.cancelled()) {
+    result.stop_reason = StopReason::kCancelled;
+    result.sphere.clear();
+    return;
+  }
+  if (mapped) return;
+  CoarseToFine mapper(mesh, triangles, session, result);
+  const MapOptions& options = session.options();
+  const size_t budget = std::max<size_t>(1, options.attempts);
+  for (const SmoothingOptions& smoothing : attempt_plan(options.smoothing, budget)) {
+    ++result.attempts;
+    // The last attempt the budget allows runs to the end, so the caller gets a full map.
+    mapper.run(smoothing, result.attempts < budget);
+    if (result.stop_reason == StopReason::kCancelled ||
+        result.stop_reason == StopReason::kTimeLimit)
+      return;
+    if (!result.sphere.empty() &&
+        verify_map(result.sphere, triangles, mesh, result.inward).bijective)
+      return;
+  }
+}
+
+}  // namespace spheremap

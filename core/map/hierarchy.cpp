@@ -1,0 +1,243 @@
+#include "core/map/hierarchy.h"
+
+#include <algorithm>
+#include <stdexcept>
+
+namespace spheremap {
+namespace {
+
+// A triangle mesh that supports half-edge collapses: triangles with alive flags and
+// per-vertex lists of incident alive triangles.
+class CollapsibleMesh {
+ public:
+  CollapsibleMesh(std::span<const Vec3> positions, std::span<const Triangle> triangles)
+      : x_(positions),
+        tris_(triangles.begin(), triangles.end()),
+        tri_alive_(triangles.size(), 1),
+        incident_(positions.size()),
+        alive_vertices_(positions.size()) {
+    for (uint32_t t = 0; t < tris_.size(); ++t)
+      for (uint32_t v : tris_[t]) incident_[v].push_back(t);
+  }
+
+  size_t alive_vertices() const { return alive_vertices_; }
+  bool alive(uint32_t v) const { return !incident_[v].empty(); }
+
+  // Whether u or any vertex of its ring is flagged (no ring ordering needed).
+  bool star_touched(uint32_t u, const std::vector<char>& flags) const {
+    for (uint32_t t : incident_[u])
+      for (uint32_t w : tris_[t])
+        if (flags[w]) return true;
+    return false;
+  }
+
+  // The ring of u as an oriented cycle: star triangles are (u, r_i, r_i+1).
+  void ordered_ring(uint32_t u, std::vector<uint32_t>& ring) const {
+    ring.clear();
+    pairs_.clear();
+    for (uint32_t t : incident_[u]) {
+      const Triangle& tri = tris_[t];
+      const int k = tri[0] == u ? 0 : (tri[1] == u ? 1 : 2);
+      pairs_.push_back({tri[(k + 1) % 3], tri[(k + 2) % 3]});
+    }
+    uint32_t current = pairs_[0][0];
+    for (size_t step = 0; step < pairs_.size(); ++step) {
+      ring.push_back(current);
+      auto next = std::find_if(pairs_.begin(), pairs_.end(),
+                               [&](const std::array<uint32_t, 2>& p) { return p[0] == current; });
+      if (next == pairs_.end()) throw std::runtime_error("hierarchy: vertex ring is not a cycle");
+      current = (*next)[1];
+    }
+  }
+
+  // Squared length of u's shortest edge (every edge of u is in two of its triangles).
+  double min_edge_length2(uint32_t u) const {
+    double best = INFINITY;
+    for (uint32_t t : incident_[u])
+      for (uint32_t w : tris_[t])
+        if (w != u) best = std::min(best, squared_norm(x_[w] - x_[u]));
+    return best;
+  }
+
+  // Link condition: ring(u) and ring(v) share exactly the two vertices opposite u->v.
+  bool link_condition(uint32_t v, const std::vector<uint32_t>& ring_u) const {
+    size_t shared = 0;
+    for (uint32_t w : ring_u) {
+      if (w == v) continue;
+      for (uint32_t t : incident_[v])
+        if (tris_[t][0] == w || tris_[t][1] == w || tris_[t][2] == w) {
+          ++shared;
+          break;
+        }
+    }
+    return shared == 2;
+  }
+
+  // Moving u onto v must not degenerate or turn any remaining triangle's normal by more
+  // than ~78 degrees (n0 . n1 > 0.2 |n0| |n1|).
+  bool keeps_geometry(uint32_t u, uint32_t v) const {
+    for (uint32_t t : incident_[u]) {
+      const Triangle& tri = tris_[t];
+      if (tri[0] == v || tri[1] == v || tri[2] == v) continue;
+      const int k = tri[0] == u ? 0 : (tri[1] == u ? 1 : 2);
+      const Vec3& p = x_[tri[(k + 1) % 3]];
+      const Vec3& q = x_[tri[(k + 2) % 3]];
+      const Vec3 n0 = cross(p - x_[u], q - x_[u]), n1 = cross(p - x_[v], q - x_[v]);
+      if (!(dot(n0, n1) > 0.2 * norm(n0) * norm(n1))) return false;
+    }
+    return true;
+  }
+
+  void collapse(uint32_t u, uint32_t v) {
+    for (uint32_t t : incident_[u]) {
+      Triangle& tri = tris_[t];
+      if (tri[0] == v || tri[1] == v || tri[2] == v) {
+        tri_alive_[t] = 0;
+        for (uint32_t w : tri)
+          if (w != u) std::erase(incident_[w], t);
+      } else {
+        for (uint32_t& w : tri)
+          if (w == u) w = v;
+        incident_[v].push_back(t);
+      }
+    }
+    incident_[u].clear();
+    --alive_vertices_;
+  }
+
+  std::vector<Triangle> alive_triangles() const {
+    std::vector<Triangle> out;
+    for (uint32_t t = 0; t < tris_.size(); ++t)
+      if (tri_alive_[t]) out.push_back(tris_[t]);
+    return out;
+  }
+
+ private:
+  std::span<const Vec3> x_;
+  std::vector<Triangle> tris_;
+  std::vector<char> tri_alive_;
+  std::vector<std::vector<uint32_t>> incident_;
+  size_t alive_vertices_;
+  mutable std::vector<std::array<uint32_t, 2>> pairs_;
+};
+
+struct Collapse {
+  uint32_t u, v;
+  std::vector<uint32_t> ring;  // input ids, oriented
+};
+
+// One round: an independent set of collapses (touched = u and its ring), vertices
+// taken in order of their shortest edge, each trying its ring shortest edge first.
+// `keys` caches each vertex's shortest squared edge; only vertices a collapse touched
+// need a new one, so the round refreshes those at its end.
+size_t collapse_round(CollapsibleMesh& mesh, std::span<const Vec3> x, bool geometric_test,
+                      std::vector<Collapse>& log, std::vector<char>& touched,
+                      std::vector<double>& keys) {
+  const uint32_t n = static_cast<uint32_t>(x.size());
+  std::vector<uint32_t> ring;
+  std::vector<std::pair<double, uint32_t>> order;
+  order.reserve(mesh.alive_vertices());
+  for (uint32_t u = 0; u < n; ++u)
+    if (mesh.alive(u)) order.push_back({keys[u], u});
+  std::sort(order.begin(), order.end());
+  std::vector<uint32_t> touched_list;
+  std::vector<std::pair<double, uint32_t>> candidates;
+  size_t collapsed = 0;
+  for (const auto& [key, u] : order) {
+    if (mesh.alive_vertices() <= 4) break;
+    if (mesh.star_touched(u, touched)) continue;
+    mesh.ordered_ring(u, ring);
+    candidates.clear();
+    for (uint32_t w : ring) candidates.push_back({squared_norm(x[w] - x[u]), w});
+    std::sort(candidates.begin(), candidates.end());
+    for (const auto& [length2, v] : candidates) {
+      if (!mesh.link_condition(v, ring)) continue;
+      if (geometric_test && !mesh.keeps_geometry(u, v)) continue;
+      log.push_back({u, v, ring});
+      mesh.collapse(u, v);
+      touched[u] = 1;
+      touched_list.push_back(u);
+      for (uint32_t w : ring) touched[w] = 1, touched_list.push_back(w);
+      ++collapsed;
+      break;
+    }
+  }
+  for (uint32_t w : touched_list) touched[w] = 0;
+  // Keys of the touched vertices, in parallel (each writes its own).
+  const long long count = static_cast<long long>(touched_list.size());
+#pragma omp parallel for schedule(static) if (count > 20000)
+  for (long long k = 0; k < count; ++k) {
+    const uint32_t w = touched_list[static_cast<size_t>(k)];
+    if (mesh.alive(w)) keys[w] = mesh.min_edge_length2(w);
+  }
+  return collapsed;
+}
+
+std::vector<Triangle> renumbered(std::vector<Triangle> triangles,
+                                 const std::vector<uint32_t>& old_to_new) {
+  for (Triangle& t : triangles)
+    for (uint32_t& v : t) v = old_to_new[v];
+  return triangles;
+}
+
+}  // namespace
+
+CollapseHierarchy build_hierarchy(std::span<const Vec3> positions,
+                                  std::span<const Triangle> triangles) {
+  const size_t n = positions.size();
+  CollapsibleMesh mesh(positions, triangles);
+  CollapseHierarchy h;
+  std::vector<Collapse> log;
+  std::vector<std::vector<Triangle>> snapshots;  // input ids, finest first
+  std::vector<uint32_t> sizes{static_cast<uint32_t>(n)};
+  bool geometric_test = true;
+  std::vector<char> touched(n, 0);
+  std::vector<double> keys(n);
+  for (uint32_t u = 0; u < n; ++u) keys[u] = mesh.min_edge_length2(u);
+  while (mesh.alive_vertices() > 4) {
+    const size_t collapsed = collapse_round(mesh, positions, geometric_test, log, touched, keys);
+    if (collapsed == 0) {
+      if (!geometric_test) throw std::runtime_error("hierarchy: no collapsible edge left");
+      geometric_test = false;
+      h.round_geometry_dropped = h.rounds + 1;
+      continue;
+    }
+    ++h.rounds;
+    const size_t alive = mesh.alive_vertices();
+    if (alive == 4 || alive * 4 <= sizes.back()) {
+      sizes.push_back(static_cast<uint32_t>(alive));
+      snapshots.push_back(mesh.alive_triangles());
+    }
+  }
+  if (snapshots.empty()) snapshots.push_back(mesh.alive_triangles());  // input is a tetrahedron
+  if (sizes.back() != 4) sizes.push_back(4);
+
+  // New ids: the tetrahedron (ascending input id), then reverse removal order.
+  h.old_to_new.assign(n, 0);
+  for (uint32_t v = 0; v < n; ++v)
+    if (mesh.alive(v)) h.new_to_old.push_back(v);
+  for (auto it = log.rbegin(); it != log.rend(); ++it) h.new_to_old.push_back(it->u);
+  for (uint32_t id = 0; id < n; ++id) h.old_to_new[h.new_to_old[id]] = id;
+
+  h.level_sizes.assign(sizes.rbegin(), sizes.rend());
+  for (auto it = snapshots.rbegin(); it != snapshots.rend(); ++it)
+    h.level_triangles.push_back(renumbered(std::move(*it), h.old_to_new));
+
+  h.collapse_target.assign(n, 0);
+  h.ring_offsets.assign(n + 1, 0);
+  for (uint32_t id = 4; id < n; ++id) {
+    const Collapse& c = log[n - 1 - id];
+    h.collapse_target[id] = h.old_to_new[c.v];
+    h.ring_offsets[id + 1] = static_cast<uint32_t>(c.ring.size());
+  }
+  for (size_t id = 0; id < n; ++id) h.ring_offsets[id + 1] += h.ring_offsets[id];
+  h.rings.resize(h.ring_offsets.back());
+  for (uint32_t id = 4; id < n; ++id) {
+    const Collapse& c = log[n - 1 - id];
+    for (size_t k = 0; k < c.ring.size(); ++k)
+      h.rings[h.ring_offsets[id] + k] = h.old_to_new[c.ring[k]];
+  }
+  return h;
+}
+
+}  // namespace spheremap

@@ -1,0 +1,113 @@
+#include "core/map/metrics.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <vector>
+
+#include "core/mesh/sphere_geometry.h"
+
+namespace spheremap {
+namespace {
+
+struct Weighted {
+  double value, weight;
+};
+
+DistortionSummary summarize(std::vector<Weighted>& samples) {
+  DistortionSummary s;
+  if (samples.empty()) return s;
+  double total = 0, sum = 0;
+  for (const Weighted& w : samples) total += w.weight, sum += w.weight * w.value;
+  std::sort(samples.begin(), samples.end(),
+            [](const Weighted& a, const Weighted& b) { return a.value < b.value; });
+  s.mean = total > 0 ? sum / total : 0;
+  s.max = samples.back().value;
+  double cumulative = 0;
+  s.p99 = s.max;
+  for (const Weighted& w : samples) {
+    cumulative += w.weight;
+    if (cumulative >= 0.99 * total) {
+      s.p99 = w.value;
+      break;
+    }
+  }
+  return s;
+}
+
+// Edge vectors of a triangle in an orthonormal frame of its own plane: columns (e1, e2).
+struct Frame2 {
+  double e1x, e2x, e2y;  // e1 = (e1x, 0), e2 = (e2x, e2y)
+};
+Frame2 planar(const Vec3& a, const Vec3& b, const Vec3& c) {
+  const Vec3 e1 = b - a, e2 = c - a;
+  const double l1 = norm(e1);
+  const double x2 = l1 > 0 ? dot(e2, e1) / l1 : 0;
+  const double y2 = l1 > 0 ? norm(cross(e1, e2)) / l1 : 0;
+  return {l1, x2, y2};
+}
+
+// Singular values s1 >= s2 of the 2x2 map taking triangle `from` to triangle `to`.
+std::array<double, 2> singular_values(const Frame2& from, const Frame2& to) {
+  // J = T F^-1 with F = [[f1, f2x], [0, f2y]], T likewise.
+  const double inv_det = 1.0 / (from.e1x * from.e2y);
+  const double a = to.e1x / from.e1x;
+  const double b = (to.e2x * from.e1x - to.e1x * from.e2x) * inv_det;
+  const double d = to.e2y / from.e2y;
+  const double frob = a * a + b * b + d * d, det = a * d;
+  const double root = std::sqrt(std::max(0.0, frob * frob - 4 * det * det));
+  return {std::sqrt((frob + root) / 2), std::sqrt(std::max(0.0, (frob - root) / 2))};
+}
+
+double corner_angle(const Vec3& at, const Vec3& p, const Vec3& q) {
+  return std::atan2(norm(cross(p - at, q - at)), dot(p - at, q - at));
+}
+
+}  // namespace
+
+QualityMetrics compute_metrics(std::span<const Vec3> surface, std::span<const Vec3> sphere,
+                               std::span<const Triangle> triangles) {
+  QualityMetrics m;
+  double surface_total = 0, chord_total = 0;
+  for (const Triangle& t : triangles) {
+    surface_total +=
+        0.5 * norm(cross(surface[t[1]] - surface[t[0]], surface[t[2]] - surface[t[0]]));
+    chord_total += 0.5 * norm(cross(sphere[t[1]] - sphere[t[0]], sphere[t[2]] - sphere[t[0]]));
+  }
+  const double chord_scale = chord_total > 0 ? std::sqrt(surface_total / chord_total) : 0;
+  std::vector<Weighted> area_samples, dilatation_samples;
+  double stretch_sum = 0, stretch_weight = 0, angle_error_sum = 0;
+  for (const Triangle& t : triangles) {
+    const Vec3 &a = surface[t[0]], &b = surface[t[1]], &c = surface[t[2]];
+    const Vec3 &p = sphere[t[0]], &q = sphere[t[1]], &r = sphere[t[2]];
+    const double surface_area = 0.5 * norm(cross(b - a, c - a));
+    const double sphere_area = spherical_area(p, q, r);
+    const Frame2 from = planar(a, b, c), to = planar(p, q, r);
+    if (!(surface_area > 0) || !(sphere_area > 0) || !(from.e1x > 0 && from.e2y > 0) ||
+        !(to.e1x > 0 && to.e2y > 0)) {
+      ++m.skipped_triangles;
+      continue;
+    }
+    ++m.measured_triangles;
+    const double ratio = (sphere_area / (4 * M_PI)) / (surface_area / surface_total);
+    area_samples.push_back({std::abs(std::log(ratio)), surface_area});
+    const auto [s1, s2] = singular_values(from, to);
+    dilatation_samples.push_back({s1 / s2, surface_area});
+    // Stretch of the inverse map (chord triangle scaled to surface area -> surface).
+    const double g1 = 1.0 / (chord_scale * s2), g2 = 1.0 / (chord_scale * s1);
+    stretch_sum += surface_area * (g1 * g1 + g2 * g2) / 2;
+    stretch_weight += surface_area;
+    m.stretch_linf = std::max(m.stretch_linf, g1);
+    angle_error_sum += std::abs(corner_angle(a, b, c) - corner_angle(p, q, r)) +
+                       std::abs(corner_angle(b, c, a) - corner_angle(q, r, p)) +
+                       std::abs(corner_angle(c, a, b) - corner_angle(r, p, q));
+  }
+  m.area_log_ratio = summarize(area_samples);
+  m.dilatation = summarize(dilatation_samples);
+  m.stretch_l2 = stretch_weight > 0 ? std::sqrt(stretch_sum / stretch_weight) : 0;
+  m.angle_error_degrees =
+      m.measured_triangles ? angle_error_sum * 180 / M_PI / (3.0 * m.measured_triangles) : 0;
+  return m;
+}
+
+}  // namespace spheremap

@@ -1,0 +1,103 @@
+#include "core/map/spherical_map.h"
+
+#include <algorithm>
+#include <array>
+#include <numeric>
+#include <stdexcept>
+
+#include "core/map/map_session.h"
+#include "core/mesh/spatial_order.h"
+
+namespace spheremap {
+
+std::string_view to_string(StopReason reason) {
+  switch (reason) {
+    case StopReason::kBijective:
+      return "bijective";
+    case StopReason::kFoldsRemain:
+      return "folds_remain";
+    case StopReason::kIterationLimit:
+      return "iteration_limit";
+    case StopReason::kTimeLimit:
+      return "time_limit";
+    case StopReason::kCancelled:
+      return "cancelled";
+  }
+  return "unknown";
+}
+
+OrientedTriangles oriented_triangles(const PolygonMesh& mesh) {
+  FanTriangulation fan = fan_triangulate(mesh);
+  OrientedTriangles out{std::move(fan.triangles), false, fan.conflicting_faces};
+  out.inward = signed_volume(mesh.positions, out.triangles) < 0;
+  if (out.inward)
+    for (Triangle& t : out.triangles) std::swap(t[1], t[2]);
+  return out;
+}
+
+namespace {
+
+MapResult map_in_order(const PolygonMesh& mesh, const MapOptions& options,
+                       const MapControl& control) {
+  MapSession session(options, control);
+  MapResult result;
+  const OrientedTriangles oriented = oriented_triangles(mesh);
+  if (oriented.conflicting_faces)
+    throw std::invalid_argument("cannot triangulate " + std::to_string(oriented.conflicting_faces) +
+                                " polygons without duplicating an edge");
+  result.inward = oriented.inward;
+  if (options.method == Method::kPaper)
+    map_paper(mesh, oriented.triangles, session, result);
+  else
+    map_coarse_to_fine(mesh, oriented.triangles, session, result);
+  if (result.stop_reason == StopReason::kCancelled) return result;
+
+  session.report({.stage = "verify"});
+  const double verify_start = session.elapsed();
+  result.check = verify_map(result.sphere, oriented.triangles, mesh, oriented.inward);
+  result.verify_seconds = session.elapsed() - verify_start;
+  if (result.check.bijective)
+    result.stop_reason = StopReason::kBijective;
+  else if (result.stop_reason == StopReason::kBijective)
+    result.stop_reason = StopReason::kFoldsRemain;
+  return result;
+}
+
+}  // namespace
+
+MapResult map_to_sphere(const PolygonMesh& input, const MapOptions& options,
+                        const MapControl& control) {
+  // Map a copy in a cache-friendly vertex order, positions back in the input's order. On
+  // the hardest shapes the outcome hinges on tiny perturbations (which vertex labels
+  // which tetrahedron corner, summation orders), so a map that folds in every setting
+  // of the first order is tried again in the input's own order.
+  const std::vector<uint32_t> morton = morton_order(input.positions);
+  std::vector<uint32_t> identity(input.vertex_count());
+  std::iota(identity.begin(), identity.end(), 0u);
+  MapResult result;
+  size_t attempts = 0, iterations = 0;
+  double work = 0;
+  const std::vector<uint32_t>* orders[] = {&morton, &identity};
+  for (const std::vector<uint32_t>* order : orders) {
+    MapOptions attempt_options = options;
+    attempt_options.attempts = options.attempts - attempts;       // >= 1: see the loop exit
+    if (order != &morton) attempt_options.direct_iterations = 0;  // tried already
+    result = map_in_order(reordered(input, *order), attempt_options, control);
+    attempts += result.attempts, iterations += result.iterations;
+    work += result.fine_iteration_equivalents;
+    result.attempts = attempts, result.iterations = iterations;
+    result.fine_iteration_equivalents = work;
+    if (!result.sphere.empty()) {
+      std::vector<Vec3> sphere(result.sphere.size());
+      for (size_t k = 0; k < order->size(); ++k) sphere[(*order)[k]] = result.sphere[k];
+      result.sphere.swap(sphere);
+    }
+    if (result.check.bijective || options.method == Method::kPaper ||
+        attempts >= options.attempts || result.stop_reason == StopReason::kCancelled ||
+        result.stop_reason == StopReason::kTimeLimit)
+      break;
+  }
+  return result;
+}
+
+}  // namespace spheremap

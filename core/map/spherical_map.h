@@ -1,0 +1,102 @@
+// The engine's entry point: a validated genus-0 mesh in, a map onto the unit sphere out.
+//
+//   kCoarseToFine (default): collapse hierarchy to a tetrahedron, then per level
+//     kernel-safe insertion, Lai-Cheng smoothing (10..40 iterations), local repair and a
+//     fold-free fallback; bijective on every corpus mesh (ALGORITHM §B4).
+//   kPaper: Lai & Cheng's own loop: pre-smoothing, projection about a weighted centroid,
+//     smoothing until no fold or the iteration cap (§A2, §A3). Slow and not guaranteed;
+//     kept for comparison.
+//
+// Never reports a folded map as a success: result.check.bijective is the verdict of the
+// §B1 test on the finished map.
+#pragma once
+
+#include <atomic>
+#include <functional>
+#include <string_view>
+#include <vector>
+
+#include "core/map/lai_cheng.h"
+#include "core/map/map_check.h"
+#include "core/mesh/mesh.h"
+
+namespace spheremap {
+
+enum class Method { kCoarseToFine, kPaper };
+
+struct MapOptions {
+  Method method = Method::kCoarseToFine;
+  double alpha = 0.0;                      // limit operator parameter, 0 = Catmull-Clark
+  SmoothingOptions smoothing;              // offset u, its placement, centroid relaxation, threads
+  int presmooth_steps = 10;                // paper: A applied to the 3D mesh before projecting
+  size_t max_iterations = 20000;           // paper: iteration cap
+  size_t min_level_iterations = 10;        // both: iterations before a 0-fold stop
+  size_t max_level_iterations = 40;        // coarse-to-fine: per level before local repair
+  size_t max_repair_iterations = 5000;     // coarse-to-fine: local repair budget per level
+  size_t safe_steps = 40;                  // coarse-to-fine: fold-safe steps of the fallback
+  size_t smooth_min_vertices = 50;         // coarse-to-fine: smaller levels are only inserted
+  size_t projected_start_vertices = 1000;  // coarse-to-fine: start level size (0 = tetrahedron)
+  size_t direct_iterations =
+      40;  // coarse-to-fine: budget of the paper's map of the whole mesh (0: skip)
+  size_t projected_start_iterations = 1000;  // coarse-to-fine: smoothing budget of that start
+  // Coarse-to-fine: maps tried when one folds, at most: the 4 measured (A-step weight,
+  // offset) settings in a cache-friendly vertex order, then the same in the input order.
+  size_t attempts = 8;
+  double time_limit_seconds = 0;  // 0 = none
+};
+
+struct MapProgress {
+  std::string_view stage;  // "hierarchy", "smooth", "repair", "fallback", "verify"
+  int level = 0, levels = 0;
+  size_t vertices = 0;  // of the current level
+  size_t iteration = 0;
+  size_t folds = 0;
+  double elapsed_seconds = 0;
+};
+
+struct MapControl {
+  std::function<void(const MapProgress&)> on_progress;  // called often: keep it cheap
+  const std::atomic<bool>* cancel = nullptr;            // set to stop a running map
+};
+
+enum class StopReason { kBijective, kFoldsRemain, kIterationLimit, kTimeLimit, kCancelled };
+std::string_view to_string(StopReason reason);
+
+struct LevelReport {
+  size_t vertices = 0;
+  size_t kernel_insertions = 0;  // ring average invalid: placed by the kernel search
+  size_t failed_insertions = 0;  // no valid position found
+  size_t iterations = 0;
+  size_t repair_iterations = 0;
+  bool fallback = false;  // reverted to the last fold-free state + fold-safe sweeps
+  size_t folds = 0;       // at the end of the level
+  double min_area = 0;    // smallest signed spherical triangle area at the end of the level
+};
+
+struct MapResult {
+  std::vector<Vec3> sphere;  // per mesh vertex; empty when cancelled
+  MapCheck check;
+  StopReason stop_reason = StopReason::kFoldsRemain;
+  size_t attempts = 0;                    // coarse-to-fine: maps tried (1 = the first succeeded)
+  size_t iterations = 0;                  // smoothing iterations, all levels and attempts
+  double fine_iteration_equivalents = 0;  // sum of iterations x level size / vertex count
+  std::vector<LevelReport> levels;        // coarse to fine
+  size_t hierarchy_rounds = 0;
+  double hierarchy_seconds = 0, mapping_seconds = 0, verify_seconds = 0;
+  bool inward = false;  // the input faces point inward; the map keeps that orientation
+};
+
+// Precondition: mesh passed require_mappable(analyze_topology(mesh)).
+MapResult map_to_sphere(const PolygonMesh& mesh, const MapOptions& options,
+                        const MapControl& control = {});
+
+// The fan triangles of the mesh, reversed when the mesh is oriented inward, so that a
+// valid map has positive determinants (ALGORITHM §0.3).
+struct OrientedTriangles {
+  std::vector<Triangle> triangles;
+  bool inward = false;
+  size_t conflicting_faces = 0;
+};
+OrientedTriangles oriented_triangles(const PolygonMesh& mesh);
+
+}  // namespace spheremap

@@ -1,0 +1,85 @@
+#include "core/mesh/mesh.h"
+
+#include <algorithm>
+#include <unordered_set>
+
+namespace spheremap {
+
+void PolygonMesh::add_face(std::span<const uint32_t> corners) {
+  indices.insert(indices.end(), corners.begin(), corners.end());
+  offsets.push_back(static_cast<uint32_t>(indices.size()));
+}
+
+namespace {
+
+uint64_t edge_key(uint32_t a, uint32_t b) {
+  return (static_cast<uint64_t>(std::min(a, b)) << 32) | std::max(a, b);
+}
+
+// Picks, per polygon, the first apex whose diagonals are all new edges.
+std::vector<uint32_t> choose_apexes(const PolygonMesh& mesh, size_t& conflicts) {
+  std::vector<uint32_t> apex(mesh.face_count(), 0);
+  if (mesh.is_triangle_mesh()) return apex;
+  std::unordered_set<uint64_t> edges;
+  for (size_t f = 0; f < mesh.face_count(); ++f) {
+    auto face = mesh.face(f);
+    for (size_t k = 0; k < face.size(); ++k)
+      edges.insert(edge_key(face[k], face[(k + 1) % face.size()]));
+  }
+  for (size_t f = 0; f < mesh.face_count(); ++f) {
+    auto face = mesh.face(f);
+    const size_t d = face.size();
+    if (d == 3) continue;
+    bool found = false;
+    for (size_t a = 0; a < d && !found; ++a) {
+      found = true;
+      for (size_t k = 2; k + 1 < d && found; ++k)
+        found = !edges.count(edge_key(face[a], face[(a + k) % d]));
+      if (found) apex[f] = static_cast<uint32_t>(a);
+    }
+    if (!found) ++conflicts;
+    for (size_t k = 2; k + 1 < d; ++k)
+      edges.insert(edge_key(face[apex[f]], face[(apex[f] + k) % d]));
+  }
+  return apex;
+}
+
+}  // namespace
+
+FanTriangulation fan_triangulate(const PolygonMesh& mesh) {
+  FanTriangulation fan;
+  const std::vector<uint32_t> apex = choose_apexes(mesh, fan.conflicting_faces);
+  fan.triangles.reserve(mesh.indices.size() - 2 * mesh.face_count());
+  fan.triangle_face.reserve(fan.triangles.capacity());
+  for (size_t f = 0; f < mesh.face_count(); ++f) {
+    auto face = mesh.face(f);
+    const size_t d = face.size(), a = apex[f];
+    for (size_t k = 1; k + 1 < d; ++k) {
+      fan.triangles.push_back({face[a], face[(a + k) % d], face[(a + k + 1) % d]});
+      fan.triangle_face.push_back(static_cast<uint32_t>(f));
+    }
+  }
+  return fan;
+}
+
+VertexTriangles vertex_triangles(std::span<const Triangle> triangles, size_t vertex_count) {
+  VertexTriangles vt;
+  vt.offsets.assign(vertex_count + 1, 0);
+  for (const Triangle& t : triangles)
+    for (uint32_t v : t) ++vt.offsets[v + 1];
+  for (size_t v = 0; v < vertex_count; ++v) vt.offsets[v + 1] += vt.offsets[v];
+  vt.triangles.resize(vt.offsets.back());
+  std::vector<uint32_t> cursor(vt.offsets.begin(), vt.offsets.end() - 1);
+  for (uint32_t t = 0; t < triangles.size(); ++t)
+    for (uint32_t v : triangles[t]) vt.triangles[cursor[v]++] = t;
+  return vt;
+}
+
+double signed_volume(std::span<const Vec3> positions, std::span<const Triangle> triangles) {
+  double six_volume = 0;
+  for (const Triangle& t : triangles)
+    six_volume += dot(positions[t[0]], cross(positions[t[1]], positions[t[2]]));
+  return six_volume / 6.0;
+}
+
+}  // namespace spheremap

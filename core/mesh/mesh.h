@@ -1,0 +1,59 @@
+// Polygon mesh (faces of any size >= 3) and its fan triangulation.
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "core/mesh/vec3.h"
+
+namespace spheremap {
+
+using Triangle = std::array<uint32_t, 3>;
+
+// Faces are stored as one index array with offsets (CSR): face f is
+// indices[offsets[f] .. offsets[f+1]). offsets always starts with 0.
+struct PolygonMesh {
+  std::vector<Vec3> positions;
+  std::vector<uint32_t> offsets{0};
+  std::vector<uint32_t> indices;
+
+  size_t vertex_count() const { return positions.size(); }
+  size_t face_count() const { return offsets.size() - 1; }
+  size_t face_size(size_t f) const { return offsets[f + 1] - offsets[f]; }
+  std::span<const uint32_t> face(size_t f) const {
+    return {indices.data() + offsets[f], face_size(f)};
+  }
+  void add_face(std::span<const uint32_t> corners);
+  bool is_triangle_mesh() const { return indices.size() == 3 * face_count(); }
+};
+
+// Fan triangulation (a, a+k, a+k+1) of every face, in face order; triangle_face[t] is
+// the face triangle t came from. Used by folds, areas, the hierarchy and insertion.
+// The apex a of a polygon is its first corner whose diagonals are neither a mesh edge
+// nor another polygon's diagonal (a fan from corner 0 makes non-manifold edges on
+// real quad meshes); conflicting_faces counts polygons where no corner qualified.
+struct FanTriangulation {
+  std::vector<Triangle> triangles;
+  std::vector<uint32_t> triangle_face;
+  size_t conflicting_faces = 0;
+};
+FanTriangulation fan_triangulate(const PolygonMesh& mesh);
+
+// Vertex -> incident triangles, as CSR, triangle ids ascending (a fixed order keeps
+// every gather over it deterministic).
+struct VertexTriangles {
+  std::vector<uint32_t> offsets;
+  std::vector<uint32_t> triangles;
+  std::span<const uint32_t> of(size_t v) const {
+    return {triangles.data() + offsets[v], offsets[v + 1] - offsets[v]};
+  }
+};
+VertexTriangles vertex_triangles(std::span<const Triangle> triangles, size_t vertex_count);
+
+// Signed volume enclosed by the triangles (divergence theorem); < 0 means inward-facing.
+double signed_volume(std::span<const Vec3> positions, std::span<const Triangle> triangles);
+
+}  // namespace spheremap

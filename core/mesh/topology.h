@@ -1,0 +1,52 @@
+// The topology report of a polygon mesh (ALGORITHM §0.2) and the checks a mesh must
+// pass before it can be mapped: closed, manifold (edges and vertex fans), consistently
+// oriented, one component, genus 0.
+#pragma once
+
+#include <cstddef>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "core/mesh/mesh.h"
+
+namespace spheremap {
+
+struct TopologyReport {
+  size_t vertices = 0, edges = 0, faces = 0;
+  std::map<size_t, size_t> face_sizes;  // corners -> number of faces
+  size_t non_finite_vertices = 0;
+  size_t faces_with_repeated_vertices = 0;
+  size_t zero_area_faces = 0;
+  size_t boundary_edges = 0, boundary_loops = 0;
+  size_t non_manifold_edges = 0;           // edges with more than 2 faces
+  size_t non_manifold_vertices = 0;        // vertices whose faces form more than one fan
+  size_t inconsistent_edges = 0;           // two faces traversing the edge the same way
+  std::vector<size_t> component_vertices;  // per component, largest first
+  std::vector<size_t> component_faces;     // in the same order
+  long long euler_characteristic = 0;
+  double signed_volume = 0;  // < 0: consistently oriented inward
+
+  bool closed() const { return boundary_edges == 0; }
+  bool manifold() const {
+    return non_manifold_edges == 0 && non_manifold_vertices == 0 &&
+           faces_with_repeated_vertices == 0;
+  }
+  // Genus of a closed, orientable, connected surface; -1 when that does not apply.
+  long long genus() const;
+};
+
+TopologyReport analyze_topology(const PolygonMesh& mesh);
+
+struct ValidationFailure {
+  std::string check;    // stable name: "non_finite", "boundary", "genus", ...
+  std::string message;  // one sentence with the counts
+};
+
+// Every failed check, most fundamental first; empty when the mesh can be mapped.
+std::vector<ValidationFailure> mapping_failures(const TopologyReport& report);
+
+// Throws InputError naming the first failed check, with all failures in its message.
+void require_mappable(const TopologyReport& report);
+
+}  // namespace spheremap

@@ -1,0 +1,106 @@
+#include "core/mesh/weld.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <numeric>
+#include <tuple>
+#include <unordered_map>
+
+#include "core/mesh/union_find.h"
+
+namespace spheremap {
+namespace {
+
+// Union of exactly equal finite positions: sort indices by position.
+void unite_equal(const std::vector<Vec3>& p, UnionFind& sets) {
+  std::vector<uint32_t> order;
+  order.reserve(p.size());
+  for (uint32_t i = 0; i < p.size(); ++i)
+    if (is_finite(p[i])) order.push_back(i);
+  auto key = [&](uint32_t i) { return std::tie(p[i].x, p[i].y, p[i].z); };
+  std::sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) { return key(a) < key(b); });
+  for (size_t k = 1; k < order.size(); ++k)
+    if (p[order[k]] == p[order[k - 1]]) sets.unite(order[k], order[k - 1]);
+}
+
+// Union of finite positions within `radius`: a uniform grid of cell size `radius`,
+// each point compared against the 27 cells around it.
+void unite_within(const std::vector<Vec3>& p, double radius, UnionFind& sets) {
+  auto cell_of = [&](const Vec3& q) {
+    return std::array<int64_t, 3>{static_cast<int64_t>(std::floor(q.x / radius)),
+                                  static_cast<int64_t>(std::floor(q.y / radius)),
+                                  static_cast<int64_t>(std::floor(q.z / radius))};
+  };
+  auto hash = [](const std::array<int64_t, 3>& c) {
+    return static_cast<uint64_t>(c[0]) * 73856093u ^ static_cast<uint64_t>(c[1]) * 19349663u ^
+           static_cast<uint64_t>(c[2]) * 83492791u;
+  };
+  std::unordered_map<uint64_t, std::vector<uint32_t>> grid;
+  for (uint32_t i = 0; i < p.size(); ++i)
+    if (is_finite(p[i])) grid[hash(cell_of(p[i]))].push_back(i);
+  const double r2 = radius * radius;
+  for (uint32_t i = 0; i < p.size(); ++i) {
+    if (!is_finite(p[i])) continue;
+    auto c = cell_of(p[i]);
+    for (int64_t dx = -1; dx <= 1; ++dx)
+      for (int64_t dy = -1; dy <= 1; ++dy)
+        for (int64_t dz = -1; dz <= 1; ++dz) {
+          auto it = grid.find(hash({c[0] + dx, c[1] + dy, c[2] + dz}));
+          if (it == grid.end()) continue;
+          for (uint32_t j : it->second)
+            if (j < i && squared_norm(p[i] - p[j]) <= r2) sets.unite(i, j);
+        }
+  }
+}
+
+double bounding_box_diagonal(const std::vector<Vec3>& p) {
+  Vec3 lo{INFINITY, INFINITY, INFINITY}, hi{-INFINITY, -INFINITY, -INFINITY};
+  for (const Vec3& q : p) {
+    if (!is_finite(q)) continue;
+    lo = {std::min(lo.x, q.x), std::min(lo.y, q.y), std::min(lo.z, q.z)};
+    hi = {std::max(hi.x, q.x), std::max(hi.y, q.y), std::max(hi.z, q.z)};
+  }
+  return lo.x <= hi.x ? norm(hi - lo) : 0.0;
+}
+
+}  // namespace
+
+WeldResult weld(const PolygonMesh& input, double relative_tolerance) {
+  const size_t n = input.vertex_count();
+  UnionFind sets(n);
+  unite_equal(input.positions, sets);
+  const double radius = relative_tolerance * bounding_box_diagonal(input.positions);
+  if (radius > 0) unite_within(input.positions, radius, sets);
+
+  std::vector<char> referenced(n, 0);
+  for (uint32_t v : input.indices) referenced[v] = 1;
+
+  // Each group is named by its first referenced member; new ids follow that order.
+  WeldResult result;
+  result.input_to_welded.assign(n, kUnreferenced);
+  std::vector<uint32_t> group_id(n, kUnreferenced);
+  for (uint32_t i = 0; i < n; ++i) {
+    if (!referenced[i]) {
+      ++result.unreferenced_vertices;
+      continue;
+    }
+    uint32_t root = sets.find(i);
+    if (group_id[root] == kUnreferenced) {
+      group_id[root] = static_cast<uint32_t>(result.mesh.positions.size());
+      result.mesh.positions.push_back(input.positions[i]);
+    }
+    result.input_to_welded[i] = group_id[root];
+  }
+  // An unreferenced vertex at the position of a referenced one still has a sphere point.
+  for (uint32_t i = 0; i < n; ++i)
+    if (!referenced[i]) result.input_to_welded[i] = group_id[sets.find(i)];
+
+  result.mesh.offsets = input.offsets;
+  result.mesh.indices.resize(input.indices.size());
+  for (size_t k = 0; k < input.indices.size(); ++k)
+    result.mesh.indices[k] = result.input_to_welded[input.indices[k]];
+  return result;
+}
+
+}  // namespace spheremap

@@ -1,0 +1,26 @@
+// Welding vertices by position (ALGORITHM §0.1). glTF splits vertices along UV seams
+// and hard normals, so a closed surface arrives with boundaries until welded.
+#pragma once
+
+#include <cstdint>
+#include <limits>
+#include <vector>
+
+#include "core/mesh/mesh.h"
+
+namespace spheremap {
+
+inline constexpr uint32_t kUnreferenced = std::numeric_limits<uint32_t>::max();
+
+struct WeldResult {
+  PolygonMesh mesh;                       // referenced vertices only, first-occurrence order
+  std::vector<uint32_t> input_to_welded;  // per input vertex; kUnreferenced if no face uses it
+  size_t unreferenced_vertices = 0;
+};
+
+// tolerance = 0 welds exactly equal positions; > 0 welds positions closer than
+// tolerance * (bounding-box diagonal). Non-finite positions are never welded.
+// For an input without duplicates or unreferenced vertices the order is unchanged.
+WeldResult weld(const PolygonMesh& input, double relative_tolerance = 0.0);
+
+}  // namespace spheremap

@@ -1,0 +1,214 @@
+#include "core/outputs/map_outputs.h"
+
+#include <chrono>
+#include <cmath>
+
+#include "core/io/glb_writer.h"
+#include "core/io/png_writer.h"
+#include "core/mesh/topology.h"
+#include "core/outputs/remesh.h"
+#include "core/outputs/surface_distance.h"
+#include "core/outputs/texcoords.h"
+
+namespace spheremap {
+namespace {
+
+double seconds_since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+// Area-weighted vertex normals of a triangle mesh (unit length; +z where every face around
+// a vertex has zero area, since glTF normals must be unit vectors).
+std::vector<Vec3> vertex_normals(std::span<const Vec3> positions,
+                                 std::span<const Triangle> triangles) {
+  std::vector<Vec3> normals(positions.size());
+  for (const Triangle& t : triangles) {
+    const Vec3 n = cross(positions[t[1]] - positions[t[0]], positions[t[2]] - positions[t[0]]);
+    for (uint32_t v : t) normals[v] += n;
+  }
+  for (Vec3& n : normals) {
+    const double length = norm(n);
+    n = length > 0 ? n * (1 / length) : Vec3{0, 0, 1};
+  }
+  return normals;
+}
+
+std::string geometry_image(const OctahedralRemesh& remesh, nlohmann::json& description) {
+  Vec3 lo = remesh.positions[0], hi = lo;
+  for (const Vec3& p : remesh.positions)
+    for (int k = 0; k < 3; ++k) {
+      (k == 0 ? lo.x : k == 1 ? lo.y : lo.z) = std::min(lo[k], p[k]);
+      (k == 0 ? hi.x : k == 1 ? hi.y : hi.z) = std::max(hi[k], p[k]);
+    }
+  const double extent = std::max({hi.x - lo.x, hi.y - lo.y, hi.z - lo.z, 1e-300});
+  const int side = remesh.resolution + 1;
+  std::vector<uint16_t> rgb(static_cast<size_t>(side) * side * 3);
+  for (int row = 0; row < side; ++row)
+    for (int i = 0; i < side; ++i) {
+      const Vec3& p =
+          remesh.positions[static_cast<size_t>(side - 1 - row) * side + i];  // top: v = 1
+      for (int k = 0; k < 3; ++k)
+        rgb[(static_cast<size_t>(row) * side + i) * 3 + k] =
+            static_cast<uint16_t>(std::lround((p[k] - lo[k]) / extent * 65535));
+    }
+  description = {{"width", side},
+                 {"height", side},
+                 {"bits", 16},
+                 {"decode", "position = origin + (rgb / 65535) * scale; row 0 is v = +1"},
+                 {"origin", {lo.x, lo.y, lo.z}},
+                 {"scale", extent}};
+  return encode_png(side, side, 16, rgb);
+}
+
+}  // namespace
+
+RemeshAsset remesh_asset(const MappedMesh& mapped, int resolution, int threads) {
+  const auto start = std::chrono::steady_clock::now();
+  const PolygonMesh& mesh = mapped.prepared.welded.mesh;
+  const OrientedTriangles oriented = oriented_triangles(mesh);
+  const OctahedralRemesh remesh =
+      octahedral_remesh(mesh.positions, mapped.map.sphere, oriented.triangles, resolution, threads);
+  const double sample_seconds = seconds_since(start);
+
+  // Our own validator on the stitched surface: closed, manifold, genus 0.
+  const PolygonMesh stitched = stitched_mesh(remesh);
+  const TopologyReport topology = analyze_topology(stitched);
+  const auto failures = mapping_failures(topology);
+  const auto distance_start = std::chrono::steady_clock::now();
+  const SurfaceDistance distance = surface_distance(mesh.positions, oriented.triangles,
+                                                    remesh.positions, remesh.triangles, threads);
+  RemeshAsset asset;
+  nlohmann::json image;
+  asset.geometry_image_png = geometry_image(remesh, image);
+  std::vector<std::array<float, 2>> texcoords;
+  for (const Vec2& s : remesh.square) texcoords.push_back(texcoord_of(s));
+  nlohmann::json failure_list = nlohmann::json::array();
+  for (const auto& f : failures) failure_list.push_back(f.check + ": " + f.message);
+  asset.metrics = {
+      {"resolution", resolution},
+      {"samples", remesh.positions.size()},
+      {"vertices", remesh.vertex_count},
+      {"triangles", remesh.triangles.size()},
+      {"unlocated_samples", remesh.unlocated},
+      {"closed", topology.closed()},
+      {"manifold", topology.manifold()},
+      {"genus", topology.genus()},
+      {"closed_genus0", failures.empty()},
+      {"topology_failures", failure_list},
+      {"distance",
+       {{"relative_to", "bounding-box diagonal of the original"},
+        {"diagonal", distance.diagonal},
+        {"rms", distance.rms},
+        {"hausdorff", distance.hausdorff},
+        {"original_to_remesh", {{"rms", distance.rms_a_to_b}, {"max", distance.max_a_to_b}}},
+        {"remesh_to_original", {{"rms", distance.rms_b_to_a}, {"max", distance.max_b_to_a}}},
+        {"samples", distance.samples}}},
+      {"geometry_image", image},
+      {"seconds",
+       {{"sample", sample_seconds},
+        {"distance", seconds_since(distance_start)},
+        {"total", seconds_since(start)}}},
+  };
+  // One vertex per sample (the border's identified samples have equal positions but their
+  // own grid coordinates): TEXCOORD_0 is the grid, the geometry image's pixel centres.
+  // Normals of the stitched surface, so the border's copies shade alike.
+  const std::vector<Vec3> stitched_normals =
+      vertex_normals(stitched.positions, fan_triangulate(stitched).triangles);
+  GlbMesh glb;
+  glb.positions = remesh.positions;
+  for (uint32_t vertex : remesh.vertex) glb.normals.push_back(stitched_normals[vertex]);
+  glb.triangles = remesh.triangles;
+  glb.extras = {{"spheremap_remesh", asset.metrics}};
+  glb.texcoords = std::move(texcoords);
+  asset.glb = format_glb(glb);
+  return asset;
+}
+
+UvAsset uv_asset(const MappedMesh& mapped) {
+  const auto start = std::chrono::steady_clock::now();
+  const PolygonMesh& mesh = mapped.prepared.welded.mesh;
+  const OrientedTriangles oriented = oriented_triangles(mesh);
+  const UvMesh uv = octahedral_texcoords(mesh.positions, mapped.map.sphere, oriented.triangles);
+  const UvStretch stretch = uv_stretch(uv.positions, uv.square, uv.triangles);
+  UvAsset asset;
+  asset.metrics = {
+      {"vertices", uv.positions.size()},
+      {"triangles", uv.triangles.size()},
+      {"input_vertices", mesh.vertex_count()},
+      {"split_triangles", uv.split_triangles},
+      {"seam_vertices", uv.seam_vertices},
+      {"flipped_triangles", uv.flipped},
+      {"degenerate_triangles", uv.degenerate},
+      {"stretch", {{"l2", stretch.l2}, {"linf", stretch.linf}}},
+  };
+  std::vector<std::array<float, 2>> texcoords;
+  for (const Vec2& s : uv.square) texcoords.push_back(texcoord_of(s));
+  GlbMesh glb;
+  glb.positions = uv.positions;
+  glb.normals = vertex_normals(uv.positions, uv.triangles);
+  glb.triangles = uv.triangles;
+  glb.extras = {{"spheremap_uv", asset.metrics}};
+  glb.texcoords = std::move(texcoords);
+  glb.base_color_png = checker_png();
+  asset.glb = format_glb(glb);
+  asset.metrics["seconds"] = seconds_since(start);  // with the GLB (the texture included)
+  return asset;
+}
+
+MorphAsset morph_asset(const MappedMesh& mapped, double seconds) {
+  const auto start = std::chrono::steady_clock::now();
+  const PolygonMesh& mesh = mapped.prepared.welded.mesh;
+  const OrientedTriangles oriented = oriented_triangles(mesh);
+  // A sphere of the surface's area about its area-weighted centroid, so the morph keeps
+  // the model's place and size.
+  double area = 0;
+  Vec3 centroid;
+  for (const Triangle& t : oriented.triangles) {
+    const Vec3 &a = mesh.positions[t[0]], &b = mesh.positions[t[1]], &c = mesh.positions[t[2]];
+    const double w = 0.5 * norm(cross(b - a, c - a));
+    area += w;
+    centroid += (a + b + c) * (w / 3);
+  }
+  if (area > 0) centroid *= 1 / area;
+  const double radius = std::sqrt(area / (4 * M_PI));
+  const std::vector<Vec3> normals = vertex_normals(mesh.positions, oriented.triangles);
+  GlbMesh glb;
+  glb.positions = mesh.positions;
+  glb.normals = normals;
+  glb.triangles = oriented.triangles;
+  for (size_t v = 0; v < mesh.vertex_count(); ++v) {
+    const Vec3& s = mapped.map.sphere[v];
+    glb.morph_positions.push_back(centroid + s * radius - mesh.positions[v]);
+    glb.morph_normals.push_back(s - normals[v]);
+  }
+  glb.morph_seconds = seconds;
+  MorphAsset asset;
+  asset.metrics = {{"vertices", mesh.vertex_count()},
+                   {"triangles", oriented.triangles.size()},
+                   {"sphere_center", {centroid.x, centroid.y, centroid.z}},
+                   {"sphere_radius", radius},
+                   {"animation_seconds", seconds}};
+  glb.extras = {{"spheremap_morph", asset.metrics}};
+  asset.glb = format_glb(glb);
+  asset.metrics["seconds"] = seconds_since(start);
+  return asset;
+}
+
+std::string checker_png(int size) {
+  std::vector<uint16_t> rgb(static_cast<size_t>(size) * size * 3);
+  const int squares = 8;
+  for (int y = 0; y < size; ++y)
+    for (int x = 0; x < size; ++x) {
+      const int sx = x * squares / size, sy = y * squares / size;
+      const bool dark = (sx + sy) % 2;
+      const double u = (sx + 0.5) / squares, v = 1 - (sy + 0.5) / squares;
+      const double scale = dark ? 0.35 : 1.0;
+      uint16_t* px = &rgb[(static_cast<size_t>(y) * size + x) * 3];
+      px[0] = static_cast<uint16_t>(std::lround(255 * scale * (0.25 + 0.75 * u)));
+      px[1] = static_cast<uint16_t>(std::lround(255 * scale * (0.25 + 0.75 * v)));
+      px[2] = static_cast<uint16_t>(std::lround(255 * scale * 0.6));
+    }
+  return encode_png(size, size, 8, rgb);
+}
+
+}  // namespace spheremap

@@ -1,0 +1,44 @@
+// What users build on a map (ALGORITHM §E), each as a finished GLB with its metrics in
+// the mesh's extras: the octahedral remesh (and its geometry image), the original
+// surface with texture coordinates and a checker texture, and the mesh-to-sphere morph.
+// Shared by `spheremap remesh|uv|morph` and the service's artifacts.
+#pragma once
+
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "core/map/pipeline.h"
+
+namespace spheremap {
+
+struct RemeshAsset {
+  std::string glb;
+  std::string geometry_image_png;  // (N+1)^2 16-bit RGB; decode with metrics.geometry_image
+  nlohmann::json metrics;          // sizes, closed/genus check, distance to the original
+};
+
+// Precondition: mapped.map.check.bijective. resolution: quads per side, even, >= 2.
+RemeshAsset remesh_asset(const MappedMesh& mapped, int resolution, int threads = 0);
+
+struct UvAsset {
+  std::string glb;
+  nlohmann::json metrics;  // seams, flipped and degenerate UV triangles, stretch
+};
+
+// Precondition: mapped.map.check.bijective.
+UvAsset uv_asset(const MappedMesh& mapped);
+
+struct MorphAsset {
+  std::string glb;
+  nlohmann::json metrics;
+};
+
+// The welded surface with one morph target onto a sphere of the same area about its
+// centroid, and an animation of `seconds` playing mesh -> sphere -> mesh.
+MorphAsset morph_asset(const MappedMesh& mapped, double seconds = 4);
+
+// A checker of 8 x 8 squares coloured by position (red grows with u, green with v),
+// `size` pixels square, as an 8-bit PNG.
+std::string checker_png(int size = 512);
+
+}  // namespace spheremap

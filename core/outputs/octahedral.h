@@ -1,0 +1,22 @@
+// The octahedral unfolding of the unit sphere onto the square [-1,1]^2 (Praun & Hoppe
+// 2003; ALGORITHM §E): the upper half (z >= 0) is (x, y) / (|x|+|y|+|z|), the lower half is
+// folded into the corners. Continuous inside each quadrant (signs of x and y); the cuts
+// are the lower half of the planes x = 0 and y = 0, which become the square's border,
+// where (1, v) ~ (1, -v), (-1, v) ~ (-1, -v), (u, 1) ~ (-u, 1), (u, -1) ~ (-u, -1).
+#pragma once
+
+#include <array>
+
+#include "core/mesh/vec3.h"
+
+namespace spheremap {
+
+using Vec2 = std::array<double, 2>;
+
+// A unit (or any non-zero) vector to the square.
+Vec2 octahedral_encode(const Vec3& direction);
+
+// A point of the square to the unit sphere.
+Vec3 octahedral_decode(const Vec2& square);
+
+}  // namespace spheremap

@@ -1,0 +1,102 @@
+#include "core/outputs/remesh.h"
+
+#include <atomic>
+#include <stdexcept>
+
+#include "core/mesh/parallel.h"
+#include "core/mesh/union_find.h"
+#include "core/outputs/sphere_locator.h"
+
+namespace spheremap {
+namespace {
+
+// Unites the border samples the unfolding identifies: (N, j) ~ (N, N-j), (0, j) ~ (0, N-j),
+// (i, 0) ~ (N-i, 0), (i, N) ~ (N-i, N) (all four corners are the south pole).
+std::vector<uint32_t> stitch(int n, size_t& distinct) {
+  const int side = n + 1;
+  auto id = [side](int i, int j) { return static_cast<uint32_t>(j * side + i); };
+  UnionFind sets(static_cast<size_t>(side) * side);
+  for (int k = 0; k <= n; ++k) {
+    sets.unite(id(n, k), id(n, n - k));
+    sets.unite(id(0, k), id(0, n - k));
+    sets.unite(id(k, 0), id(n - k, 0));
+    sets.unite(id(k, n), id(n - k, n));
+  }
+  std::vector<uint32_t> vertex(static_cast<size_t>(side) * side);
+  std::vector<uint32_t> number(vertex.size(), UINT32_MAX);
+  distinct = 0;
+  for (uint32_t s = 0; s < vertex.size(); ++s) {
+    const uint32_t root = sets.find(s);
+    if (number[root] == UINT32_MAX) number[root] = static_cast<uint32_t>(distinct++);
+    vertex[s] = number[root];
+  }
+  return vertex;
+}
+
+}  // namespace
+
+OctahedralRemesh octahedral_remesh(std::span<const Vec3> surface, std::span<const Vec3> sphere,
+                                   std::span<const Triangle> triangles, int resolution,
+                                   int threads) {
+  if (resolution < 2 || resolution % 2)
+    throw std::invalid_argument("octahedral remesh: the resolution must be even and >= 2");
+  OctahedralRemesh out;
+  const int n = out.resolution = resolution;
+  const int side = n + 1;
+  const size_t samples = static_cast<size_t>(side) * side;
+  out.vertex = stitch(n, out.vertex_count);
+  out.square.resize(samples);
+  out.positions.resize(samples);
+
+  // Locate one sample per stitched vertex, so identified samples get the same position.
+  std::vector<uint32_t> representative(out.vertex_count, UINT32_MAX);
+  for (uint32_t s = 0; s < samples; ++s) {
+    out.square[s] = {-1 + 2.0 * (s % side) / n, -1 + 2.0 * (s / side) / n};
+    if (representative[out.vertex[s]] == UINT32_MAX) representative[out.vertex[s]] = s;
+  }
+  const SphereLocator locator(sphere, triangles);
+  std::vector<Vec3> at_vertex(out.vertex_count);
+  std::atomic<size_t> unlocated{0};
+  parallel_for(out.vertex_count, resolve_threads(threads), [&](size_t v) {
+    const SphereHit hit = locator.locate(octahedral_decode(out.square[representative[v]]));
+    if (hit.triangle == UINT32_MAX) {
+      unlocated.fetch_add(1, std::memory_order_relaxed);
+      return;
+    }
+    const Triangle& t = triangles[hit.triangle];
+    at_vertex[v] = surface[t[0]] * hit.barycentric[0] + surface[t[1]] * hit.barycentric[1] +
+                   surface[t[2]] * hit.barycentric[2];
+  });
+  out.unlocated = unlocated;
+  for (size_t s = 0; s < samples; ++s) out.positions[s] = at_vertex[out.vertex[s]];
+
+  // Two triangles per quad, split along the octahedron's edge direction in its quadrant.
+  out.triangles.reserve(2 * static_cast<size_t>(n) * n);
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      const uint32_t a = j * side + i, b = a + 1, c = a + side + 1, d = a + side;
+      const bool same_signs = (2 * i + 1 - n) * (2 * j + 1 - n) > 0;
+      if (same_signs) {
+        out.triangles.push_back({a, b, d});
+        out.triangles.push_back({b, c, d});
+      } else {
+        out.triangles.push_back({a, b, c});
+        out.triangles.push_back({a, c, d});
+      }
+    }
+  return out;
+}
+
+PolygonMesh stitched_mesh(const OctahedralRemesh& remesh) {
+  PolygonMesh mesh;
+  mesh.positions.resize(remesh.vertex_count);
+  for (size_t s = 0; s < remesh.positions.size(); ++s)
+    mesh.positions[remesh.vertex[s]] = remesh.positions[s];
+  for (const Triangle& t : remesh.triangles) {
+    const uint32_t corners[3] = {remesh.vertex[t[0]], remesh.vertex[t[1]], remesh.vertex[t[2]]};
+    mesh.add_face(corners);
+  }
+  return mesh;
+}
+
+}  // namespace spheremap

@@ -1,0 +1,38 @@
+// Octahedral remeshing (Praun & Hoppe 2003; ALGORITHM §E): a regular grid on the
+// octahedral square, each sample located in the spherical map and the ORIGINAL surface
+// interpolated there. The grid's border is stitched as the unfolding identifies it, so
+// the remesh is a closed genus-0 surface; the grid coordinates are its texture
+// coordinates and the sampled positions its geometry image.
+#pragma once
+
+#include <span>
+#include <vector>
+
+#include "core/mesh/mesh.h"
+#include "core/outputs/octahedral.h"
+
+namespace spheremap {
+
+struct OctahedralRemesh {
+  int resolution = 0;  // N: quads per side, (N + 1)^2 samples
+  // Per sample, row-major (index j * (N + 1) + i for u = -1 + 2i/N, v = -1 + 2j/N):
+  std::vector<Vec3> positions;      // the original surface at the sample
+  std::vector<Vec2> square;         // (u, v) in [-1, 1]^2
+  std::vector<uint32_t> vertex;     // the stitched vertex: samples the border identifies share one
+  size_t vertex_count = 0;          // distinct stitched vertices
+  std::vector<Triangle> triangles;  // over samples, outward (counter-clockwise in (u, v))
+  size_t unlocated = 0;             // samples no map triangle held (0 for a bijective map)
+};
+
+// `surface` and `sphere`: positions of the same vertices on the original surface and on
+// the unit sphere; `triangles`: positively oriented on the sphere (a bijective map's
+// oriented triangles). `resolution`: N >= 2, even (so the octahedron's edges are grid
+// lines and diagonals). `threads`: 0 = all cores.
+OctahedralRemesh octahedral_remesh(std::span<const Vec3> surface, std::span<const Vec3> sphere,
+                                   std::span<const Triangle> triangles, int resolution,
+                                   int threads = 0);
+
+// The remesh as a polygon mesh over its stitched vertices (for the topology checks).
+PolygonMesh stitched_mesh(const OctahedralRemesh& remesh);
+
+}  // namespace spheremap

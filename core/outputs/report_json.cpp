@@ -1,0 +1,99 @@
+#include "core/outputs/report_json.h"
+
+namespace spheremap {
+namespace {
+
+nlohmann::json summary_json(const DistortionSummary& s) {
+  return {{"mean", s.mean}, {"p99", s.p99}, {"max", s.max}};
+}
+
+}  // namespace
+
+nlohmann::json topology_json(const PreparedMesh& prepared) {
+  const TopologyReport& r = prepared.topology;
+  nlohmann::json sizes = nlohmann::json::object();
+  for (auto [corners, count] : r.face_sizes) sizes[std::to_string(corners)] = count;
+  nlohmann::json failures = nlohmann::json::array();
+  for (const ValidationFailure& f : mapping_failures(r))
+    failures.push_back({{"check", f.check}, {"message", f.message}});
+  const long long genus = r.genus();
+  return {
+      {"input_vertices", prepared.welded.input_to_welded.size()},
+      {"unreferenced_vertices", prepared.welded.unreferenced_vertices},
+      {"vertices", r.vertices},
+      {"edges", r.edges},
+      {"faces", r.faces},
+      {"face_sizes", sizes},
+      {"euler_characteristic", r.euler_characteristic},
+      {"genus", genus >= 0 ? nlohmann::json(genus) : nlohmann::json(nullptr)},
+      {"closed", r.closed()},
+      {"boundary_edges", r.boundary_edges},
+      {"boundary_loops", r.boundary_loops},
+      {"manifold", r.manifold()},
+      {"non_manifold_edges", r.non_manifold_edges},
+      {"non_manifold_vertices", r.non_manifold_vertices},
+      {"faces_with_repeated_vertices", r.faces_with_repeated_vertices},
+      {"inconsistently_oriented_edges", r.inconsistent_edges},
+      {"orientation", r.signed_volume < 0 ? "inward" : "outward"},
+      {"components", r.component_vertices.size()},
+      {"component_vertices", r.component_vertices},
+      {"component_faces", r.component_faces},
+      {"non_finite_vertices", r.non_finite_vertices},
+      {"zero_area_faces", r.zero_area_faces},
+      {"mappable", failures.empty()},
+      {"failures", failures},
+  };
+}
+
+nlohmann::json metrics_json(const MappedMesh& mapped, const MapOptions& options) {
+  const MapResult& m = mapped.map;
+  const QualityMetrics& q = mapped.quality;
+  nlohmann::json levels = nlohmann::json::array();
+  for (const LevelReport& l : m.levels)
+    levels.push_back({{"vertices", l.vertices},
+                      {"kernel_insertions", l.kernel_insertions},
+                      {"failed_insertions", l.failed_insertions},
+                      {"iterations", l.iterations},
+                      {"repair_iterations", l.repair_iterations},
+                      {"fallback", l.fallback},
+                      {"folds", l.folds},
+                      {"min_area", l.min_area}});
+  return {
+      {"method", options.method == Method::kPaper ? "paper" : "coarse-to-fine"},
+      {"bijective", m.check.bijective},
+      {"stop_reason", std::string(to_string(m.stop_reason))},
+      {"vertices", mapped.prepared.topology.vertices},
+      {"faces", mapped.prepared.topology.faces},
+      {"triangles", m.check.triangles},
+      {"folds", m.check.folds},
+      {"nonconvex_polygons", m.check.nonconvex_polygons},
+      {"degenerate_triangles", m.check.degenerate},
+      {"min_spherical_area", m.check.min_signed_area},
+      {"signed_area_sum", m.check.signed_area_sum},
+      {"orientation", m.inward ? "inward" : "outward"},
+      {"float32",
+       {{"bijective", mapped.float32_check.bijective},
+        {"folds", mapped.float32_check.folds},
+        {"signed_area_sum", mapped.float32_check.signed_area_sum}}},
+      {"attempts", m.attempts},
+      {"iterations", m.iterations},
+      {"fine_iteration_equivalents", m.fine_iteration_equivalents},
+      {"hierarchy_rounds", m.hierarchy_rounds},
+      {"levels", levels},
+      {"area_distortion", summary_json(q.area_log_ratio)},
+      {"angle_distortion",
+       {{"dilatation", summary_json(q.dilatation)},
+        {"corner_error_degrees", q.angle_error_degrees}}},
+      {"stretch", {{"l2", q.stretch_l2}, {"linf", q.stretch_linf}}},
+      {"measured_triangles", q.measured_triangles},
+      {"skipped_triangles", q.skipped_triangles},
+      {"seconds",
+       {{"prepare", mapped.prepare_seconds},
+        {"hierarchy", m.hierarchy_seconds},
+        {"mapping", m.mapping_seconds},
+        {"verify", m.verify_seconds},
+        {"metrics", mapped.metrics_seconds}}},
+  };
+}
+
+}  // namespace spheremap

@@ -1,0 +1,26 @@
+#include "core/outputs/sphere_asset.h"
+
+#include "core/outputs/report_json.h"
+#include "core/outputs/sphere_glb.h"
+
+namespace spheremap {
+
+PolygonMesh sphere_mesh(const PolygonMesh& input, const MappedMesh& mapped, SphereLayout layout) {
+  return layout == SphereLayout::kWelded ? sphere_welded(mapped) : sphere_on_input(input, mapped);
+}
+
+SphereAsset sphere_asset(const PolygonMesh& input, const MappedMesh& mapped,
+                         const MapOptions& options, SphereLayout layout, int draco_position_bits) {
+  WrittenGlb file =
+      sphere_glb(sphere_mesh(input, mapped, layout), mapped.map.inward, draco_position_bits);
+  SphereAsset asset;
+  asset.written = file.check;
+  asset.metrics = metrics_json(mapped, options);
+  asset.metrics["bijective_as_written"] = file.check.bijective;
+  asset.metrics["folds_as_written"] = file.check.folds;
+  file.glb.json["meshes"][0]["extras"] = asset.metrics;
+  asset.glb = serialize_glb(file.glb);
+  return asset;
+}
+
+}  // namespace spheremap

@@ -1,0 +1,31 @@
+// The spherical mesh as a finished GLB asset: the layout the user asked for, the metrics
+// in the mesh's extras, and the verdict on the map as a reader of the file will see it.
+// Shared by `spheremap map` and the service's sphere.glb.
+#pragma once
+
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "core/map/pipeline.h"
+
+namespace spheremap {
+
+enum class SphereLayout {
+  kOriginal,  // the input's own vertices and faces (attributes of the input stay aligned)
+  kWelded,    // one vertex per surface point
+};
+
+struct SphereAsset {
+  std::string glb;
+  nlohmann::json metrics;  // metrics_json + bijective_as_written, folds_as_written
+  MapCheck written;        // the file decoded again (float32, Draco-quantized) and checked
+};
+
+// The spherical mesh of `mapped` in `layout`; Draco when draco_position_bits > 0.
+SphereAsset sphere_asset(const PolygonMesh& input, const MappedMesh& mapped,
+                         const MapOptions& options, SphereLayout layout, int draco_position_bits);
+
+// The spherical mesh of `mapped` in `layout`, in double precision.
+PolygonMesh sphere_mesh(const PolygonMesh& input, const MappedMesh& mapped, SphereLayout layout);
+
+}  // namespace spheremap

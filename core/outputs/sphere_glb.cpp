@@ -1,0 +1,32 @@
+#include "core/outputs/sphere_glb.h"
+
+#include "core/io/gltf_reader.h"
+#include "core/mesh/sphere_geometry.h"
+
+namespace spheremap {
+
+WrittenGlb sphere_glb(const PolygonMesh& sphere, bool inward, int draco_position_bits) {
+  WrittenGlb out;
+  const std::vector<Triangle> triangles = fan_triangulate(sphere).triangles;
+  GlbMesh mesh;
+  mesh.positions = mesh.normals = sphere.positions;
+  mesh.triangles = triangles;
+  mesh.draco_position_bits = draco_position_bits;
+  out.glb = build_glb(mesh);
+  const std::string bytes = serialize_glb(out.glb);
+  const PolygonMesh decoded =
+      read_gltf({reinterpret_cast<const uint8_t*>(bytes.data()), bytes.size()});
+  std::vector<Triangle> oriented = fan_triangulate(decoded).triangles;
+  if (inward)
+    for (Triangle& t : oriented) std::swap(t[1], t[2]);
+  // Quantized points sit slightly off the sphere; a reader takes their directions (the
+  // signs of the determinants do not change). Unused vertices belong to no face.
+  std::vector<Vec3> directions(decoded.positions.size());
+  for (size_t v = 0; v < directions.size(); ++v)
+    directions[v] = normalized_or(decoded.positions[v], Vec3{});
+  out.check = check_map(directions, oriented);
+  if (decoded.vertex_count() != sphere.vertex_count()) out.check.bijective = false;
+  return out;
+}
+
+}  // namespace spheremap

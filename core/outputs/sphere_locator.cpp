@@ -1,0 +1,87 @@
+#include "core/outputs/sphere_locator.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/mesh/sphere_geometry.h"
+
+namespace spheremap {
+
+SphereLocator::SphereLocator(std::span<const Vec3> sphere, std::span<const Triangle> triangles)
+    : sphere_(sphere), triangles_(triangles) {
+  // About two triangles per occupied cell: the sphere meets ~6 r^2 of the r^3 cells.
+  resolution_ = std::clamp(static_cast<int>(std::sqrt(triangles.size() / 12.0)), 1, 256);
+  const size_t cells = static_cast<size_t>(resolution_) * resolution_ * resolution_;
+  auto cell_range = [&](const Triangle& t, std::array<int, 3>& lo, std::array<int, 3>& hi) {
+    const Vec3 &a = sphere_[t[0]], &b = sphere_[t[1]], &c = sphere_[t[2]];
+    // The patch lies between the chord triangle and the sphere: within the corners' box
+    // widened by 1 - (distance from the origin to the chord plane).
+    const Vec3 n = cross(b - a, c - a);
+    const double n_len = norm(n);
+    const double plane = n_len > 0 ? std::abs(dot(n, a)) / n_len : 0;
+    const double bulge = 1 - std::min(plane, 1.0) + 1e-9;
+    for (int k = 0; k < 3; ++k) {
+      const double mn = std::min({a[k], b[k], c[k]}) - bulge;
+      const double mx = std::max({a[k], b[k], c[k]}) + bulge;
+      lo[k] = std::clamp(static_cast<int>((mn + 1) * 0.5 * resolution_), 0, resolution_ - 1);
+      hi[k] = std::clamp(static_cast<int>((mx + 1) * 0.5 * resolution_), 0, resolution_ - 1);
+    }
+  };
+  std::vector<uint32_t> count(cells + 1, 0);
+  auto for_cells = [&](const Triangle& t, auto&& visit) {
+    std::array<int, 3> lo, hi;
+    cell_range(t, lo, hi);
+    for (int i = lo[0]; i <= hi[0]; ++i)
+      for (int j = lo[1]; j <= hi[1]; ++j)
+        for (int k = lo[2]; k <= hi[2]; ++k)
+          visit((static_cast<size_t>(i) * resolution_ + j) * resolution_ + k);
+  };
+  for (const Triangle& t : triangles_) for_cells(t, [&](size_t c) { ++count[c + 1]; });
+  for (size_t c = 0; c < cells; ++c) count[c + 1] += count[c];
+  cell_start_ = count;
+  cell_triangles_.resize(count[cells]);
+  for (uint32_t t = 0; t < triangles_.size(); ++t)
+    for_cells(triangles_[t], [&](size_t c) { cell_triangles_[count[c]++] = t; });
+}
+
+size_t SphereLocator::cell_of(const Vec3& p) const {
+  auto index = [&](double v) {
+    return static_cast<size_t>(
+        std::clamp(static_cast<int>((v + 1) * 0.5 * resolution_), 0, resolution_ - 1));
+  };
+  return (index(p.x) * resolution_ + index(p.y)) * resolution_ + index(p.z);
+}
+
+bool SphereLocator::contains(uint32_t t, const Vec3& p, double tolerance) const {
+  const Vec3 &a = sphere_[triangles_[t][0]], &b = sphere_[triangles_[t][1]],
+             &c = sphere_[triangles_[t][2]];
+  if (dot(a + b + c, p) <= 0) return false;  // the antipodal patch
+  return triple_product(a, b, p) >= -tolerance && triple_product(b, c, p) >= -tolerance &&
+         triple_product(c, a, p) >= -tolerance;
+}
+
+SphereHit SphereLocator::hit(uint32_t t, const Vec3& p) const {
+  const Vec3 &a = sphere_[triangles_[t][0]], &b = sphere_[triangles_[t][1]],
+             &c = sphere_[triangles_[t][2]];
+  std::array<double, 3> w = {std::max(0.0, triple_product(p, b, c)),
+                             std::max(0.0, triple_product(a, p, c)),
+                             std::max(0.0, triple_product(a, b, p))};
+  const double sum = w[0] + w[1] + w[2];
+  if (sum > 0)
+    for (double& x : w) x /= sum;
+  else
+    w = {1.0 / 3, 1.0 / 3, 1.0 / 3};
+  return {t, w};
+}
+
+SphereHit SphereLocator::locate(const Vec3& p) const {
+  const size_t cell = cell_of(p);
+  // Exact first; then a tolerance for points on an edge that rounding puts just outside
+  // both neighbours.
+  for (double tolerance : {0.0, 1e-12, 1e-9})
+    for (uint32_t i = cell_start_[cell]; i < cell_start_[cell + 1]; ++i)
+      if (contains(cell_triangles_[i], p, tolerance)) return hit(cell_triangles_[i], p);
+  return {};
+}
+
+}  // namespace spheremap

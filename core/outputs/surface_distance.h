@@ -1,0 +1,27 @@
+// Distance between two triangle surfaces: RMS and maximum (Hausdorff) in both directions,
+// each sampled at one surface's vertices and triangle centroids and measured to the
+// closest point of the other (an AABB tree over its triangles), relative to the first
+// surface's bounding-box diagonal.
+#pragma once
+
+#include <span>
+
+#include "core/mesh/mesh.h"
+
+namespace spheremap {
+
+struct SurfaceDistance {
+  double rms_a_to_b = 0, max_a_to_b = 0;
+  double rms_b_to_a = 0, max_b_to_a = 0;
+  double hausdorff = 0;  // max of both directions
+  double rms = 0;        // over the samples of both directions
+  double diagonal = 0;   // of a's bounding box: every figure above is divided by it
+  size_t samples = 0;
+};
+
+SurfaceDistance surface_distance(std::span<const Vec3> a_positions,
+                                 std::span<const Triangle> a_triangles,
+                                 std::span<const Vec3> b_positions,
+                                 std::span<const Triangle> b_triangles, int threads = 0);
+
+}  // namespace spheremap
