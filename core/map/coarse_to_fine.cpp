@@ -15,6 +15,7 @@
 #include "core/map/map_session.h"
 #include "core/map/projected_map.h"
 #include "core/map/repair.h"
+#include "core/map/stretch_optimizer.h"
 #include "core/mesh/sphere_geometry.h"
 
 namespace spheremap {
@@ -45,11 +46,11 @@ SparseMatrix fine_operator(const PolygonMesh& mesh, const std::vector<uint32_t>&
 class CoarseToFine {
  public:
   CoarseToFine(const PolygonMesh& mesh, std::span<const Triangle> triangles,
-               const MapSession& session, MapResult& result)
+               const MapSession& session, MapResult& result, double level_growth)
       : mesh_(mesh), session_(session), options_(session.options()), result_(result) {
     session_.report({.stage = "hierarchy"});
     const double start = session_.elapsed();
-    h_ = build_hierarchy(mesh.positions, triangles);
+    h_ = build_hierarchy(mesh.positions, triangles, level_growth);
     result_.hierarchy_seconds = session_.elapsed() - start;
     result_.hierarchy_rounds = h_.rounds;
     fine_triangles_.assign(triangles.begin(), triangles.end());
@@ -102,7 +103,100 @@ class CoarseToFine {
     for (uint32_t v = 0; v < q_.size(); ++v) result_.sphere[v] = q_[h_.old_to_new[v]];
   }
 
+  // The stretch-optimized map (ALGORITHM §F): from the tetrahedron, every level is
+  // inserted kernel-safe into the optimized map of the level below, then optimized
+  // itself, so thin parts are opened while they are a few triangles wide instead of being
+  // squeezed and opened by local moves at full resolution. Leaves result_.sphere empty
+  // (the caller falls back to the fast map) when a level cannot be made fold-free.
+  void run_optimized() {
+    smoothing_ = options_.smoothing;
+    result_.levels.clear();
+    result_.sphere.clear();
+    const int levels = static_cast<int>(h_.level_sizes.size());
+    place_tetrahedron(q_, h_.level_triangles[0]);
+    result_.levels.push_back({.vertices = 4});
+    optimize_level(0, levels);
+    for (int l = 1; l < levels; ++l) {
+      if (session_.should_stop()) {
+        result_.stop_reason = session_.stop_reason();
+        if (result_.stop_reason == StopReason::kCancelled) return;
+        for (; l < levels; ++l) insert_level(l, result_.levels.emplace_back());
+        break;
+      }
+      LevelReport& report = result_.levels.emplace_back();
+      insert_level(l, report);
+      if (report.failed_insertions > 0 && !repair_level(l, levels, report)) {
+        result_.stop_reason = StopReason::kFoldsRemain;
+        return;
+      }
+      optimize_level(l, levels);
+    }
+    if (session_.cancelled()) {
+      result_.stop_reason = StopReason::kCancelled;
+      return;
+    }
+    result_.sphere.resize(q_.size());
+    for (uint32_t v = 0; v < q_.size(); ++v) result_.sphere[v] = q_[h_.old_to_new[v]];
+  }
+
  private:
+  std::span<const Triangle> triangles_of(int l, int levels) const {
+    return l + 1 == levels ? std::span<const Triangle>(fine_triangles_) : h_.level_triangles[l];
+  }
+
+  // Folds left by failed insertions, removed by the local Lai-Cheng repair. True when
+  // the level is fold-free.
+  bool repair_level(int l, int levels, LevelReport& report) {
+    const size_t n = h_.level_sizes[l];
+    std::span<const Triangle> triangles = triangles_of(l, levels);
+    SparseMatrix A = l + 1 == levels ? fine_operator(mesh_, h_.old_to_new, options_.alpha)
+                                     : level_operator(triangles, n, options_.alpha);
+    LaiChengSmoother smoother(triangles, std::move(A), n, smoothing_);
+    std::span<Vec3> q(q_.data(), n);
+    size_t folds = smoother.count_folds(q);
+    if (folds > 0) {
+      session_.report({.stage = "repair", .level = l, .levels = levels - 1, .vertices = n});
+      const RepairStats repair = local_repair(smoother, q, folds, options_.max_repair_iterations,
+                                              [&] { return session_.should_stop(); });
+      count_repair(repair);
+      report.repair_iterations = repair.iterations;
+      folds = repair.folds;
+    }
+    report.folds = folds;
+    return folds == 0;
+  }
+
+  // Stretch optimization of level l (fold-free on entry; stays so). The finest level gets
+  // the quality's sweep budget; coarser ones run to the relative-decrease stop.
+  void optimize_level(int l, int levels) {
+    const size_t n = h_.level_sizes[l];
+    std::span<const Triangle> triangles = triangles_of(l, levels);
+    std::vector<Vec3> x(n);
+    for (uint32_t v = 0; v < n; ++v) x[v] = mesh_.positions[h_.new_to_old[v]];
+    StretchOptions stretch = options_.stretch;
+    stretch.threads = smoothing_.threads;
+    if (options_.quality == Quality::kHigh) {
+      stretch.max_sweeps *= 10;
+      stretch.relative_decrease *= 0.1;
+    }
+    const double start = session_.elapsed();
+    session_.report({.stage = "optimize", .level = l, .levels = levels - 1, .vertices = n});
+    const StretchStats stats = optimize_stretch(x, triangles, std::span<Vec3>(q_.data(), n),
+                                                stretch, [&] { return session_.should_stop(); });
+    result_.optimize_seconds += session_.elapsed() - start;
+    result_.stretch_vertex_updates += stats.vertex_updates;
+    LevelReport& report = result_.levels.back();
+    report.optimize_sweeps = stats.sweeps;
+    report.energy = stats.final_energy;
+    report.min_area = check_map(std::span<const Vec3>(q_.data(), n), triangles).min_signed_area;
+    session_.report({.stage = "optimize",
+                     .level = l,
+                     .levels = levels - 1,
+                     .vertices = n,
+                     .iteration = stats.sweeps,
+                     .energy = stats.final_energy});
+  }
+
   // The paper's start (projection + smoothing + local repair) on the largest level of at
   // most projected_start_vertices vertices, then on smaller ones while it fails (a
   // projection folds where the shape is not star-shaped about its centre). The chain
@@ -292,12 +386,25 @@ bool map_directly(const PolygonMesh& mesh, std::span<const Triangle> triangles,
                            .min_area = check_map(direct.sphere, triangles).min_signed_area});
   result.sphere = std::move(direct.sphere);
   result.mapping_seconds = session.elapsed();
-  result.attempts = 1;
+  ++result.attempts;
   return true;
 }
 
 void map_coarse_to_fine(const PolygonMesh& mesh, std::span<const Triangle> triangles,
                         const MapSession& session, MapResult& result) {
+  const MapOptions& options = session.options();
+  if (options.quality != Quality::kFast) {
+    CoarseToFine optimized(mesh, triangles, session, result, options.level_growth);
+    ++result.attempts;
+    optimized.run_optimized();
+    if (result.stop_reason == StopReason::kCancelled) return;
+    result.quality = options.quality;
+    if (!result.sphere.empty() &&
+        (result.stop_reason == StopReason::kTimeLimit ||
+         verify_map(result.sphere, triangles, mesh, result.inward).bijective))
+      return;
+    result.quality = Quality::kFast;  // what follows is the fast map
+  }
   const bool mapped = map_directly(mesh, triangles, session, result);
   if (session.cancelled()) {
     result.stop_reason = StopReason::kCancelled;
@@ -305,19 +412,22 @@ void map_coarse_to_fine(const PolygonMesh& mesh, std::span<const Triangle> trian
     return;
   }
   if (mapped) return;
-  CoarseToFine mapper(mesh, triangles, session, result);
-  const MapOptions& options = session.options();
+  CoarseToFine mapper(mesh, triangles, session, result, 4.0);
   const size_t budget = std::max<size_t>(1, options.attempts);
-  for (const SmoothingOptions& smoothing : attempt_plan(options.smoothing, budget)) {
+  const std::vector<SmoothingOptions> plan = attempt_plan(options.smoothing, budget);
+  for (size_t k = 0; k < plan.size(); ++k) {
     ++result.attempts;
-    // The last attempt the budget allows runs to the end, so the caller gets a full map.
-    mapper.run(smoothing, result.attempts < budget);
+    // The last attempt this call makes runs to the end, so the caller always gets a full
+    // map (the plan can be shorter than the budget: then its last entry is the last).
+    const bool last = k + 1 == plan.size() || result.attempts >= budget;
+    mapper.run(plan[k], !last);
     if (result.stop_reason == StopReason::kCancelled ||
         result.stop_reason == StopReason::kTimeLimit)
       return;
     if (!result.sphere.empty() &&
         verify_map(result.sphere, triangles, mesh, result.inward).bijective)
       return;
+    if (last) return;
   }
 }
 

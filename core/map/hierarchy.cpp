@@ -183,7 +183,7 @@ std::vector<Triangle> renumbered(std::vector<Triangle> triangles,
 }  // namespace
 
 CollapseHierarchy build_hierarchy(std::span<const Vec3> positions,
-                                  std::span<const Triangle> triangles) {
+                                  std::span<const Triangle> triangles, double level_growth) {
   const size_t n = positions.size();
   CollapsibleMesh mesh(positions, triangles);
   CollapseHierarchy h;
@@ -204,7 +204,7 @@ CollapseHierarchy build_hierarchy(std::span<const Vec3> positions,
     }
     ++h.rounds;
     const size_t alive = mesh.alive_vertices();
-    if (alive == 4 || alive * 4 <= sizes.back()) {
+    if (alive == 4 || static_cast<double>(alive) * level_growth <= sizes.back()) {
       sizes.push_back(static_cast<uint32_t>(alive));
       snapshots.push_back(mesh.alive_triangles());
     }

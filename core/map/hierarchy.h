@@ -4,7 +4,7 @@
 // collapses an independent set (no two collapses touch the same 1-ring), shortest
 // edges first; a collapse must pass the link condition |ring(u) ∩ ring(v)| = 2 and, until
 // a round accepts nothing, must not flip or degenerate the 3D triangles around u.
-// Rounds are grouped into levels of about 4x vertices.
+// Rounds are grouped into levels of about level_growth x vertices (4 by default).
 //
 // Vertices are renumbered so that every level is a prefix: new ids 0..3 are the
 // tetrahedron, then vertices in reverse removal order. Level l holds new ids
@@ -40,7 +40,8 @@ struct CollapseHierarchy {
 // Precondition: triangles form a closed, connected, oriented genus-0 manifold with at
 // least 4 vertices. Throws std::runtime_error if no collapse is possible (cannot happen
 // on such input: every triangulated sphere but the tetrahedron has a contractible edge).
+// level_growth: vertices of a level over those of the next coarser one (about).
 CollapseHierarchy build_hierarchy(std::span<const Vec3> positions,
-                                  std::span<const Triangle> triangles);
+                                  std::span<const Triangle> triangles, double level_growth = 4.0);
 
 }  // namespace spheremap

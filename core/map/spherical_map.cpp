@@ -26,6 +26,18 @@ std::string_view to_string(StopReason reason) {
   return "unknown";
 }
 
+std::string_view to_string(Quality quality) {
+  switch (quality) {
+    case Quality::kFast:
+      return "fast";
+    case Quality::kStandard:
+      return "standard";
+    case Quality::kHigh:
+      return "high";
+  }
+  return "unknown";
+}
+
 OrientedTriangles oriented_triangles(const PolygonMesh& mesh) {
   FanTriangulation fan = fan_triangulate(mesh);
   OrientedTriangles out{std::move(fan.triangles), false, fan.conflicting_faces};
@@ -70,19 +82,23 @@ MapResult map_to_sphere(const PolygonMesh& input, const MapOptions& options,
   // Map a copy in a cache-friendly vertex order, positions back in the input's order. On
   // the hardest shapes the outcome hinges on tiny perturbations (which vertex labels
   // which tetrahedron corner, summation orders), so a map that folds in every setting
-  // of the first order is tried again in the input's own order.
+  // of the first order is tried again (fast quality) in the input's own order; the
+  // better of the two maps is returned.
   const std::vector<uint32_t> morton = morton_order(input.positions);
   std::vector<uint32_t> identity(input.vertex_count());
   std::iota(identity.begin(), identity.end(), 0u);
-  MapResult result;
+  MapResult best;
   size_t attempts = 0, iterations = 0;
   double work = 0;
   const std::vector<uint32_t>* orders[] = {&morton, &identity};
   for (const std::vector<uint32_t>* order : orders) {
     MapOptions attempt_options = options;
-    attempt_options.attempts = options.attempts - attempts;       // >= 1: see the loop exit
-    if (order != &morton) attempt_options.direct_iterations = 0;  // tried already
-    result = map_in_order(reordered(input, *order), attempt_options, control);
+    attempt_options.attempts = std::max<size_t>(1, options.attempts - attempts);
+    if (order != &morton) {
+      attempt_options.direct_iterations = 0;  // tried already
+      attempt_options.quality = Quality::kFast;
+    }
+    MapResult result = map_in_order(reordered(input, *order), attempt_options, control);
     attempts += result.attempts, iterations += result.iterations;
     work += result.fine_iteration_equivalents;
     result.attempts = attempts, result.iterations = iterations;
@@ -92,12 +108,19 @@ MapResult map_to_sphere(const PolygonMesh& input, const MapOptions& options,
       for (size_t k = 0; k < order->size(); ++k) sphere[(*order)[k]] = result.sphere[k];
       result.sphere.swap(sphere);
     }
-    if (result.check.bijective || options.method == Method::kPaper ||
-        attempts >= options.attempts || result.stop_reason == StopReason::kCancelled ||
-        result.stop_reason == StopReason::kTimeLimit)
+    const bool better = best.sphere.empty() || result.check.bijective ||
+                        (!result.sphere.empty() && result.check.folds < best.check.folds);
+    if (better || result.stop_reason == StopReason::kCancelled) {
+      best = std::move(result);
+    } else {
+      best.attempts = attempts, best.iterations = iterations;
+      best.fine_iteration_equivalents = work;
+    }
+    if (best.check.bijective || options.method == Method::kPaper || attempts >= options.attempts ||
+        best.stop_reason == StopReason::kCancelled || best.stop_reason == StopReason::kTimeLimit)
       break;
   }
-  return result;
+  return best;
 }
 
 }  // namespace spheremap

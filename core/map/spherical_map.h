@@ -18,23 +18,34 @@
 
 #include "core/map/lai_cheng.h"
 #include "core/map/map_check.h"
+#include "core/map/stretch_optimizer.h"
 #include "core/mesh/mesh.h"
 
 namespace spheremap {
 
 enum class Method { kCoarseToFine, kPaper };
 
+// Coarse-to-fine only. kFast: the Lai-Cheng map of each level (fold-free, but thin parts
+// squeezed). kStandard: every level's map stretch-optimized as the hierarchy grows
+// (ALGORITHM §F). kHigh: the same, optimized to convergence. A map that fails to
+// certify in an optimized quality falls back to the fast map.
+enum class Quality { kFast, kStandard, kHigh };
+std::string_view to_string(Quality quality);
+
 struct MapOptions {
   Method method = Method::kCoarseToFine;
-  double alpha = 0.0;                      // limit operator parameter, 0 = Catmull-Clark
-  SmoothingOptions smoothing;              // offset u, its placement, centroid relaxation, threads
-  int presmooth_steps = 10;                // paper: A applied to the 3D mesh before projecting
-  size_t max_iterations = 20000;           // paper: iteration cap
-  size_t min_level_iterations = 10;        // both: iterations before a 0-fold stop
-  size_t max_level_iterations = 40;        // coarse-to-fine: per level before local repair
-  size_t max_repair_iterations = 5000;     // coarse-to-fine: local repair budget per level
-  size_t safe_steps = 40;                  // coarse-to-fine: fold-safe steps of the fallback
-  size_t smooth_min_vertices = 50;         // coarse-to-fine: smaller levels are only inserted
+  Quality quality = Quality::kStandard;
+  StretchOptions stretch;               // standard/high: energy and per-level stop rule
+  double level_growth = 2.0;            // standard/high: hierarchy levels grow by about this factor
+  double alpha = 0.0;                   // limit operator parameter, 0 = Catmull-Clark
+  SmoothingOptions smoothing;           // offset u, its placement, centroid relaxation, threads
+  int presmooth_steps = 10;             // paper: A applied to the 3D mesh before projecting
+  size_t max_iterations = 20000;        // paper: iteration cap
+  size_t min_level_iterations = 10;     // both: iterations before a 0-fold stop
+  size_t max_level_iterations = 40;     // coarse-to-fine: per level before local repair
+  size_t max_repair_iterations = 5000;  // coarse-to-fine: local repair budget per level
+  size_t safe_steps = 40;               // coarse-to-fine: fold-safe steps of the fallback
+  size_t smooth_min_vertices = 50;      // coarse-to-fine: smaller levels are only inserted
   size_t projected_start_vertices = 1000;  // coarse-to-fine: start level size (0 = tetrahedron)
   size_t direct_iterations =
       40;  // coarse-to-fine: budget of the paper's map of the whole mesh (0: skip)
@@ -46,11 +57,12 @@ struct MapOptions {
 };
 
 struct MapProgress {
-  std::string_view stage;  // "hierarchy", "smooth", "repair", "fallback", "verify"
+  std::string_view stage;  // "hierarchy", "smooth", "repair", "fallback", "optimize", "verify"
   int level = 0, levels = 0;
   size_t vertices = 0;  // of the current level
   size_t iteration = 0;
   size_t folds = 0;
+  double energy = 0;  // "optimize": stretch energy per unit area (1 + lambda: isometric)
   double elapsed_seconds = 0;
 };
 
@@ -68,13 +80,15 @@ struct LevelReport {
   size_t failed_insertions = 0;  // no valid position found
   size_t iterations = 0;
   size_t repair_iterations = 0;
-  bool fallback = false;  // reverted to the last fold-free state + fold-safe sweeps
-  size_t folds = 0;       // at the end of the level
-  double min_area = 0;    // smallest signed spherical triangle area at the end of the level
+  bool fallback = false;       // reverted to the last fold-free state + fold-safe sweeps
+  size_t folds = 0;            // at the end of the level
+  double min_area = 0;         // smallest signed spherical triangle area at the end of the level
+  size_t optimize_sweeps = 0;  // standard/high: stretch optimization sweeps
+  double energy = 0;           // standard/high: stretch energy per unit area at the end
 };
 
 struct MapResult {
-  std::vector<Vec3> sphere;  // per mesh vertex; empty when cancelled
+  std::vector<Vec3> sphere;  // per mesh vertex; empty only when cancelled
   MapCheck check;
   StopReason stop_reason = StopReason::kFoldsRemain;
   size_t attempts = 0;                    // coarse-to-fine: maps tried (1 = the first succeeded)
@@ -82,7 +96,9 @@ struct MapResult {
   double fine_iteration_equivalents = 0;  // sum of iterations x level size / vertex count
   std::vector<LevelReport> levels;        // coarse to fine
   size_t hierarchy_rounds = 0;
-  double hierarchy_seconds = 0, mapping_seconds = 0, verify_seconds = 0;
+  Quality quality = Quality::kFast;   // what the returned map is (kFast after a fallback)
+  double stretch_vertex_updates = 0;  // Newton steps of the stretch optimization
+  double hierarchy_seconds = 0, mapping_seconds = 0, optimize_seconds = 0, verify_seconds = 0;
   bool inward = false;  // the input faces point inward; the map keeps that orientation
 };
 

@@ -57,9 +57,12 @@ nlohmann::json metrics_json(const MappedMesh& mapped, const MapOptions& options)
                       {"repair_iterations", l.repair_iterations},
                       {"fallback", l.fallback},
                       {"folds", l.folds},
-                      {"min_area", l.min_area}});
+                      {"min_area", l.min_area},
+                      {"optimize_sweeps", l.optimize_sweeps},
+                      {"energy", l.energy}});
   return {
       {"method", options.method == Method::kPaper ? "paper" : "coarse-to-fine"},
+      {"quality", std::string(to_string(m.quality))},
       {"bijective", m.check.bijective},
       {"stop_reason", std::string(to_string(m.stop_reason))},
       {"vertices", mapped.prepared.topology.vertices},
@@ -80,7 +83,14 @@ nlohmann::json metrics_json(const MappedMesh& mapped, const MapOptions& options)
       {"fine_iteration_equivalents", m.fine_iteration_equivalents},
       {"hierarchy_rounds", m.hierarchy_rounds},
       {"levels", levels},
-      {"area_distortion", summary_json(q.area_log_ratio)},
+      // mean_abs_log: area-weighted mean of |log(sphere area share / surface area share)|,
+      // the same number as "mean" (kept for readers of the first format).
+      {"area_distortion",
+       [&] {
+         nlohmann::json a = summary_json(q.area_log_ratio);
+         a["mean_abs_log"] = q.area_log_ratio.mean;
+         return a;
+       }()},
       {"angle_distortion",
        {{"dilatation", summary_json(q.dilatation)},
         {"corner_error_degrees", q.angle_error_degrees}}},
@@ -91,6 +101,7 @@ nlohmann::json metrics_json(const MappedMesh& mapped, const MapOptions& options)
        {{"prepare", mapped.prepare_seconds},
         {"hierarchy", m.hierarchy_seconds},
         {"mapping", m.mapping_seconds},
+        {"optimize", m.optimize_seconds},
         {"verify", m.verify_seconds},
         {"metrics", mapped.metrics_seconds}}},
   };

@@ -1,0 +1,55 @@
+// Stretch optimization of a fold-free spherical map (ALGORITHM §F, after Praun & Hoppe).
+//
+// Energy, per triangle T weighted by its surface area A_T:
+//   E_T = A_T [ 1/2 (g1^2 + g2^2) + lambda 1/2 (g1^-2 + g2^-2) ]
+// with g1 >= g2 the singular values of the affine map from the chord triangle on the
+// sphere (the sphere scaled to the surface's total area) to the surface triangle. The
+// first term is Sander's L2 stretch; it grows like 1 / (chord area)^2, so it is itself a
+// barrier against squeezed triangles, which is what keeps float32 output fold-free.
+// Both terms reduce to one quadratic form in the chord corners with constant weights
+// c_i = (x_j - x_i) . (x_k - x_i) of the surface triangle:
+//   N_T = sum_i c_i |q_j - q_k|^2,  E_T = A_T N_T s^2 / 8 (1 / A_P^2 + lambda / A_T^2)
+// where A_P = s^2 det[q_0, q_1, q_2] / 2 and s^2 = surface area / sum of those. For small
+// triangles det / 2 is the chord triangle's area (its plane is ~1 from the centre); unlike
+// the chord area it also vanishes when a large triangle's corners approach a great
+// circle, so the barrier guards the orientation test itself (coarse levels have such
+// triangles: measured, a 5-vertex level with chord areas ~1 and det 5e-5).
+//
+// Each sweep moves every active vertex by one Newton step in its tangent plane (2x2
+// Hessian from differences of the analytic gradient, eigenvalues clamped positive),
+// limited to 0.8 of the exact largest flip-free step (each star determinant is linear in
+// the step), then Armijo backtracking, then renormalized. Vertices move one colour class
+// at a time (no two adjacent), so the result is bit-identical for any thread count, and
+// every triangle stays valid (§B1) after every move: a fold-free map stays fold-free.
+#pragma once
+
+#include <functional>
+#include <span>
+
+#include "core/mesh/mesh.h"
+
+namespace spheremap {
+
+struct StretchOptions {
+  double lambda = 0.1;              // weight of the inverse-stretch (symmetric Dirichlet) term
+  size_t max_sweeps = 60;           // per call
+  double relative_decrease = 1e-3;  // stop when a sweep lowers the energy by less than this
+  double active_tolerance = 1e-3;   // a vertex stays active while it moves > this x its edges
+  int threads = 0;                  // 0 = all cores
+};
+
+struct StretchStats {
+  size_t sweeps = 0;
+  double vertex_updates = 0;                    // Newton steps taken, all sweeps
+  double initial_energy = 0, final_energy = 0;  // per unit surface area (1 + lambda: isometry)
+};
+
+// Lowers the energy of the fold-free map q of `triangles` (surface positions x, both per
+// vertex; triangles oriented so a valid map has positive determinants). Keeps q
+// fold-free and on the unit sphere. should_stop() is polled between colour classes.
+// Precondition: every triangle valid in q (is_valid_triangle).
+StretchStats optimize_stretch(std::span<const Vec3> x, std::span<const Triangle> triangles,
+                              std::span<Vec3> q, const StretchOptions& options,
+                              const std::function<bool()>& should_stop);
+
+}  // namespace spheremap
