@@ -6,6 +6,7 @@
 #include "cli/commands.h"
 #include "cli/map_options.h"
 #include "core/io/mesh_file.h"
+#include "core/map/certification.h"
 #include "core/outputs/map_outputs.h"
 #include "core/outputs/report_json.h"
 
@@ -91,9 +92,8 @@ int run_output(int argc, char** argv, Output kind) {
   double last_print = 0;
   const MappedMesh mapped =
       map_mesh(input, prepare, options, progress_printer(args.flag("quiet"), last_print));
-  if (!mapped.map.check.bijective) {
-    std::fprintf(stderr, "spheremap: no bijective map reached (%s): %zu folded triangles left\n",
-                 std::string(to_string(mapped.map.stop_reason)).c_str(), mapped.map.check.folds);
+  if (const Certification verdict = certify(mapped, mapped.float32_check); !verdict.certified) {
+    std::fprintf(stderr, "spheremap: %s: %s\n", verdict.problem.c_str(), verdict.detail.c_str());
     return kExitNotBijective;
   }
   nlohmann::json metrics = {{"map", metrics_json(mapped, options)}};

@@ -8,10 +8,19 @@ const std::set<std::string> kMapValueOptions = {
     "method",         "alpha",          "offset",           "offset-placement",  "presmooth",
     "max-iterations", "min-iterations", "level-iterations", "repair-iterations", "safe-steps",
     "limit-weight",   "attempts",       "time-limit",       "threads",           "weld-tolerance",
-    "sweep",          "start-vertices", "smooth-vertices"};
+    "sweep",          "start-vertices", "smooth-vertices",  "direct-iterations", "quality",
+    "stretch-lambda", "stretch-sweeps"};
 const std::set<std::string> kMapFlags = {"no-centroid", "largest-component"};
 
 const char* const kMapOptionsHelp = R"(Mapping options:
+  --quality Q               standard (default): every level of the hierarchy stretch-optimized
+                            as it grows (Praun-Hoppe quality at a fraction of its time); high:
+                            the same optimized further (about 3x the time, lower stretch);
+                            fast: the Lai-Cheng map of each level (thin parts squeezed)
+  --stretch-lambda L        standard/high: weight of the inverse-stretch term, in [0, 10]
+                            (default 0.1; 1 = symmetric Dirichlet)
+  --stretch-sweeps N        standard/high: optimization sweeps per level at most (default 60;
+                            x10 for high)
   --method NAME             coarse-to-fine (default): hierarchy + Lai-Cheng per level, bijective
                             on every valid mesh we know; paper: Lai & Cheng's own loop (slow,
                             may not reach 0 folds; for comparison)
@@ -68,6 +77,14 @@ void read_map_options(const Arguments& args, PrepareOptions& prepare, MapOptions
   else if (!placement.empty())
     throw UsageError("--offset-placement must be after or paper, got '" + placement + "'");
 
+  const std::string quality = args.text("quality", "standard");
+  if (auto q = parse_quality(quality))
+    options.quality = *q;
+  else
+    throw UsageError("--quality must be fast, standard or high, got '" + quality + "'");
+  options.stretch.lambda = args.number("stretch-lambda", options.stretch.lambda, 0, 10);
+  options.stretch.max_sweeps = static_cast<size_t>(args.integer(
+      "stretch-sweeps", static_cast<long long>(options.stretch.max_sweeps), 1, 100000));
   const std::string sweep = args.text("sweep", "jacobi");
   if (sweep != "jacobi" && sweep != "gauss-seidel")
     throw UsageError("--sweep must be jacobi or gauss-seidel, got '" + sweep + "'");

@@ -4,24 +4,12 @@
 #include <cmath>
 #include <sstream>
 
+#include "core/map/certification.h"
 #include "core/mesh/input_error.h"
 #include "core/outputs/map_outputs.h"
 
 namespace spheremap::server {
 namespace {
-
-JobError map_failure(const MappedMesh& mapped, double time_limit) {
-  const MapResult& map = mapped.map;
-  std::ostringstream detail;
-  if (map.stop_reason == StopReason::kTimeLimit) {
-    detail << "the map stopped at the time limit of " << time_limit << " s with " << map.check.folds
-           << " folded triangles left";
-    return {422, "time_limit", "Time limit reached", detail.str()};
-  }
-  detail << "no bijective map reached (" << to_string(map.stop_reason) << "): " << map.check.folds
-         << " folded triangles left after " << map.attempts << " attempts";
-  return {422, "not_bijective", "No bijective map", detail.str()};
-}
 
 void add_artifact(Job& job, std::string name, std::string type, std::string bytes) {
   std::lock_guard lock(job.mutex);
@@ -33,15 +21,19 @@ void set_stage(Job& job, const char* stage) {
   job.progress.stage = stage;
 }
 
-// The sphere, then each asset asked for (checking for cancellation between them), then
-// metrics.json with everything measured.
-void make_artifacts(Job& job, const JobSpec& spec, const MappedMesh& mapped, int threads) {
+// The sphere, then (for a certified map) each asset asked for, checking for cancellation
+// between them, then metrics.json with everything measured. Returns the verdict on the
+// sphere as written: a map that is not certified keeps only sphere.glb and metrics.json,
+// marked "bijective": false, so the best map reached can still be downloaded.
+Certification make_artifacts(Job& job, const JobSpec& spec, const MappedMesh& mapped, int threads) {
   SphereAsset sphere =
       sphere_asset(spec.input, mapped, spec.map, spec.layout, spec.draco_position_bits);
+  const Certification verdict = certify(mapped, sphere.written);
   nlohmann::json metrics = std::move(sphere.metrics);
   add_artifact(job, "sphere.glb", "model/gltf-binary", std::move(sphere.glb));
   auto wanted = [&](const char* name) {
-    return std::find(spec.outputs.begin(), spec.outputs.end(), name) != spec.outputs.end();
+    return verdict.certified &&
+           std::find(spec.outputs.begin(), spec.outputs.end(), name) != spec.outputs.end();
   };
   if (wanted("remesh") && !job.cancel) {
     set_stage(job, "remesh");
@@ -65,6 +57,7 @@ void make_artifacts(Job& job, const JobSpec& spec, const MappedMesh& mapped, int
   add_artifact(job, "metrics.json", "application/json", metrics.dump(2) + "\n");
   std::lock_guard lock(job.mutex);
   job.metrics = std::move(metrics);
+  return verdict;
 }
 
 }  // namespace
@@ -90,17 +83,23 @@ JobStatus run_job(Job& job, const RunLimits& limits) {
     const MappedMesh mapped = map_prepared(std::move(spec->prepared), options, control);
     if (job.cancel || mapped.map.stop_reason == StopReason::kCancelled)
       return JobStatus::kCancelled;
-    if (!mapped.map.check.bijective) {
-      std::lock_guard lock(job.mutex);
-      job.error = map_failure(mapped, options.time_limit_seconds);
-      return JobStatus::kFailed;
-    }
     {
       std::lock_guard lock(job.mutex);
       job.progress.stage = "writing";
     }
-    make_artifacts(job, *spec, mapped, limits.threads);
-    return job.cancel ? JobStatus::kCancelled : JobStatus::kSucceeded;
+    const Certification verdict = make_artifacts(job, *spec, mapped, limits.threads);
+    if (job.cancel) return JobStatus::kCancelled;
+    if (!verdict.certified) {
+      std::lock_guard lock(job.mutex);
+      std::ostringstream limit;
+      limit << " (limit " << options.time_limit_seconds << " s)";
+      job.error =
+          verdict.problem == "time_limit"
+              ? JobError{422, "time_limit", "Time limit reached", verdict.detail + limit.str()}
+              : JobError{422, "not_bijective", "No bijective map", verdict.detail};
+      return JobStatus::kFailed;
+    }
+    return JobStatus::kSucceeded;
   } catch (const InputError& e) {
     std::lock_guard lock(job.mutex);
     job.error = JobError{422, e.check(), "Mesh cannot be mapped", e.what()};

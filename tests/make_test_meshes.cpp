@@ -1,6 +1,6 @@
 // Writes the generated test meshes as GLB files for the shell tests and the load bench
 // (no corpus needed): make_test_meshes OUTDIR -> OUTDIR/{icosphere2,icosphere4,horseshoe,
-// torus}.glb
+// torus}.glb; with --stress [--million], the stress set as OBJ (bench/quality).
 #include <cstdio>
 #include <string>
 
@@ -9,12 +9,19 @@
 #include "tests/mesh_generators.h"
 
 int main(int argc, char** argv) {
-  if (argc != 2) {
-    std::fprintf(stderr, "usage: make_test_meshes OUTDIR\n");
+  using namespace spheremap;
+  const std::string flag = argc >= 3 ? argv[2] : "";
+  if (argc < 2 || argc > 4 || (argc >= 3 && flag != "--stress")) {
+    std::fprintf(stderr, "usage: make_test_meshes OUTDIR [--stress [--million]]\n");
     return 1;
   }
-  using namespace spheremap;
   const std::string dir = argv[1];
+  if (flag == "--stress") {
+    const bool million = argc == 4 && std::string(argv[3]) == "--million";
+    for (const testing::NamedMesh& m : testing::stress_meshes(million))
+      write_mesh_file(dir + "/" + m.name + ".obj", m.mesh);
+    return 0;
+  }
   auto write = [&](const std::string& name, const PolygonMesh& mesh) {
     GlbMesh glb;
     glb.positions = mesh.positions;

@@ -161,4 +161,72 @@ PolygonMesh without_face(const PolygonMesh& mesh, size_t skip) {
   return out;
 }
 
+PolygonMesh with_limbs(PolygonMesh base, std::span<const Vec3> directions, double length,
+                       double thickness) {
+  for (Vec3& p : base.positions) {
+    double nearest = M_PI;
+    for (const Vec3& d : directions)
+      nearest = std::min(nearest, std::acos(std::clamp(dot(p, d) / norm(d), -1.0, 1.0)));
+    const double radius =
+        nearest > 0 ? std::clamp(thickness / nearest, 1.0, 1.0 + length) : 1.0 + length;
+    p *= radius;
+  }
+  return base;
+}
+
+PolygonMesh swirled(PolygonMesh mesh, double radians_per_unit) {
+  for (Vec3& p : mesh.positions) {
+    const double angle = radians_per_unit * std::hypot(p.x, p.y);
+    const double c = std::cos(angle), s = std::sin(angle);
+    p = {c * p.x - s * p.y, s * p.x + c * p.y, p.z};
+  }
+  return mesh;
+}
+
+PolygonMesh twisted(PolygonMesh mesh, double radians_per_unit) {
+  for (Vec3& p : mesh.positions) {
+    const double c = std::cos(radians_per_unit * p.z), s = std::sin(radians_per_unit * p.z);
+    p = {c * p.x - s * p.y, s * p.x + c * p.y, p.z};
+  }
+  return mesh;
+}
+
+PolygonMesh scaled(PolygonMesh mesh, const Vec3& factors) {
+  for (Vec3& p : mesh.positions) p = {p.x * factors.x, p.y * factors.y, p.z * factors.z};
+  return mesh;
+}
+
+PolygonMesh quad_sphere(int n) {
+  PolygonMesh mesh = quad_cube(n);
+  for (Vec3& p : mesh.positions) p *= 1.0 / norm(p);
+  return mesh;
+}
+
+std::vector<NamedMesh> stress_meshes(bool with_million) {
+  // A hand: five fingers in the xy plane 25 degrees apart, curled by the swirl.
+  std::vector<Vec3> fingers;
+  for (int k = -2; k <= 2; ++k) {
+    const double a = k * 25.0 * M_PI / 180;
+    fingers.push_back({std::cos(a), std::sin(a), 0});
+  }
+  // Spikes: 24 directions on a Fibonacci spiral.
+  std::vector<Vec3> spikes;
+  for (int k = 0; k < 24; ++k) {
+    const double z = 1 - (2 * k + 1) / 24.0, r = std::sqrt(1 - z * z);
+    const double a = k * M_PI * (3 - std::sqrt(5.0));
+    spikes.push_back({r * std::cos(a), r * std::sin(a), z});
+  }
+  const std::vector<Vec3> axes = {{1, 0, 0},  {-1, 0, 0}, {0, 1, 0},
+                                  {0, -1, 0}, {0, 0, 1},  {0, 0, -1}};
+  std::vector<NamedMesh> out;
+  out.push_back({"stress_fingers", swirled(with_limbs(icosphere(6), fingers, 5, 0.1), 0.35)});
+  out.push_back({"stress_spikes", with_limbs(icosphere(5), spikes, 3, 0.08)});
+  out.push_back({"stress_blade", twisted(scaled(icosphere(5), {0.02, 0.6, 6}), 0.25)});
+  out.push_back({"stress_quad_limbs", with_limbs(quad_sphere(48), axes, 4, 0.15)});
+  out.push_back({"stress_long_tube", capped_tube(16, 600, 300)});
+  if (with_million)
+    out.push_back({"stress_fingers_1m", swirled(with_limbs(icosphere(8), fingers, 5, 0.1), 0.35)});
+  return out;
+}
+
 }  // namespace spheremap::testing

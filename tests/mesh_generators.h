@@ -3,6 +3,10 @@
 // polygon faces) and invalid ones (torus, holes, two components, a pinched vertex).
 #pragma once
 
+#include <span>
+#include <string>
+#include <vector>
+
 #include "core/mesh/mesh.h"
 
 namespace spheremap::testing {
@@ -17,6 +21,32 @@ PolygonMesh capped_tube(int around, int along, double length);
 // capped_tube(12, 30, 12) bent around 306 degrees: genus 0 but far from star-shaped; the
 // paper's loop never unfolds it (469 folds after 20000 iterations), the default method does.
 PolygonMesh horseshoe();
+// The stress set (hard shapes beyond the corpus, ALGORITHM §F): each an embedding of the
+// sphere, so genus 0 and closed by construction.
+//
+// `base` on the unit sphere with a limb along each direction: a vertex at angle a from
+// the nearest direction moves to radius clamp(thickness / a, 1, 1 + length), a tube of
+// radius ~thickness with a flat cap; its triangles get long and thin along the limb.
+PolygonMesh with_limbs(PolygonMesh base, std::span<const Vec3> directions, double length,
+                       double thickness);
+// Each point turned about the z axis by radians_per_unit x its distance from the axis:
+// every cylinder about z turns rigidly, so an embedding stays one; limbs in the xy
+// plane curl into spirals (not star-shaped).
+PolygonMesh swirled(PolygonMesh mesh, double radians_per_unit);
+// Each point turned about the z axis by radians_per_unit x z (a twist).
+PolygonMesh twisted(PolygonMesh mesh, double radians_per_unit);
+// Positions scaled per axis.
+PolygonMesh scaled(PolygonMesh mesh, const Vec3& factors);
+// quad_cube(n) projected onto the unit sphere (quad-dominant sphere).
+PolygonMesh quad_sphere(int n);
+struct NamedMesh {
+  std::string name;
+  PolygonMesh mesh;
+};
+// The stress set: fingers (curled), spikes, a twisted blade, quad limbs, a very long
+// tube, and `with_million`: fingers on 1.3M triangles.
+std::vector<NamedMesh> stress_meshes(bool with_million);
+
 // Torus (genus 1) of `around` x `along` quads.
 PolygonMesh torus(int around, int along);
 // Two disjoint tetrahedra.

@@ -38,6 +38,12 @@ std::string_view to_string(Quality quality) {
   return "unknown";
 }
 
+std::optional<Quality> parse_quality(std::string_view name) {
+  for (Quality q : {Quality::kFast, Quality::kStandard, Quality::kHigh})
+    if (name == to_string(q)) return q;
+  return std::nullopt;
+}
+
 OrientedTriangles oriented_triangles(const PolygonMesh& mesh) {
   FanTriangulation fan = fan_triangulate(mesh);
   OrientedTriangles out{std::move(fan.triangles), false, fan.conflicting_faces};
@@ -68,7 +74,9 @@ MapResult map_in_order(const PolygonMesh& mesh, const MapOptions& options,
   const double verify_start = session.elapsed();
   result.check = verify_map(result.sphere, oriented.triangles, mesh, oriented.inward);
   result.verify_seconds = session.elapsed() - verify_start;
-  if (result.check.bijective)
+  // A map stopped by the time limit keeps that reason even when it happens to be
+  // bijective: it is not the map the options asked for.
+  if (result.check.bijective && result.stop_reason != StopReason::kTimeLimit)
     result.stop_reason = StopReason::kBijective;
   else if (result.stop_reason == StopReason::kBijective)
     result.stop_reason = StopReason::kFoldsRemain;

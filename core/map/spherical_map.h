@@ -13,6 +13,7 @@
 
 #include <atomic>
 #include <functional>
+#include <optional>
 #include <string_view>
 #include <vector>
 
@@ -31,6 +32,7 @@ enum class Method { kCoarseToFine, kPaper };
 // certify in an optimized quality falls back to the fast map.
 enum class Quality { kFast, kStandard, kHigh };
 std::string_view to_string(Quality quality);
+std::optional<Quality> parse_quality(std::string_view name);  // "fast", "standard", "high"
 
 struct MapOptions {
   Method method = Method::kCoarseToFine;

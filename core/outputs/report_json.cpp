@@ -1,5 +1,7 @@
 #include "core/outputs/report_json.h"
 
+#include "core/map/certification.h"
+
 namespace spheremap {
 namespace {
 
@@ -63,7 +65,11 @@ nlohmann::json metrics_json(const MappedMesh& mapped, const MapOptions& options)
   return {
       {"method", options.method == Method::kPaper ? "paper" : "coarse-to-fine"},
       {"quality", std::string(to_string(m.quality))},
-      {"bijective", m.check.bijective},
+      // The certified verdict (double, float32; callers that write a file replace it with
+      // the verdict on the file as written). The double-precision check alone is
+      // bijective_double.
+      {"bijective", certify(mapped, mapped.float32_check).certified},
+      {"bijective_double", m.check.bijective},
       {"stop_reason", std::string(to_string(m.stop_reason))},
       {"vertices", mapped.prepared.topology.vertices},
       {"faces", mapped.prepared.topology.faces},

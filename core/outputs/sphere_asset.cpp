@@ -1,5 +1,6 @@
 #include "core/outputs/sphere_asset.h"
 
+#include "core/map/certification.h"
 #include "core/outputs/report_json.h"
 #include "core/outputs/sphere_glb.h"
 
@@ -16,7 +17,11 @@ SphereAsset sphere_asset(const PolygonMesh& input, const MappedMesh& mapped,
   SphereAsset asset;
   asset.written = file.check;
   asset.metrics = metrics_json(mapped, options);
-  asset.metrics["bijective_as_written"] = file.check.bijective;
+  const Certification verdict = certify(mapped, file.check);
+  asset.metrics["bijective"] = verdict.certified;
+  if (!verdict.certified)
+    asset.metrics["problem"] = {{"type", verdict.problem}, {"detail", verdict.detail}};
+  asset.metrics["bijective_as_written"] = clean(file.check);
   asset.metrics["folds_as_written"] = file.check.folds;
   file.glb.json["meshes"][0]["extras"] = asset.metrics;
   asset.glb = serialize_glb(file.glb);
