@@ -178,6 +178,8 @@ class CoarseToFine {
     if (options_.quality == Quality::kHigh) {
       stretch.max_sweeps *= 10;
       stretch.relative_decrease *= 0.1;
+    } else if (options_.quality == Quality::kFast) {
+      stretch.relative_decrease *= 10;
     }
     const double start = session_.elapsed();
     session_.report({.stage = "optimize", .level = l, .levels = levels - 1, .vertices = n});
@@ -390,20 +392,40 @@ bool map_directly(const PolygonMesh& mesh, std::span<const Triangle> triangles,
   return true;
 }
 
+void polish_map(const PolygonMesh& mesh, std::span<const Triangle> triangles,
+                const MapSession& session, MapResult& result) {
+  StretchOptions stretch = session.options().stretch;
+  stretch.threads = session.options().smoothing.threads;
+  stretch.max_sweeps = 100;
+  stretch.relative_decrease = 0;  // the active set decides: the region is small
+  for (int round = 0; round < 4 && !session.should_stop(); ++round) {
+    const std::vector<uint32_t> start = uncertain_vertices(result.sphere, triangles);
+    if (start.empty() || check_map(result.sphere, triangles).folds > 0) return;
+    session.report({.stage = "polish", .level = round, .vertices = start.size()});
+    const double begin = session.elapsed();
+    const StretchStats stats = optimize_stretch(
+        mesh.positions, triangles, result.sphere, stretch, [&] { return session.should_stop(); },
+        start);
+    result.optimize_seconds += session.elapsed() - begin;
+    result.stretch_vertex_updates += stats.vertex_updates;
+    ++result.polish_rounds;
+  }
+}
+
 void map_coarse_to_fine(const PolygonMesh& mesh, std::span<const Triangle> triangles,
                         const MapSession& session, MapResult& result) {
   const MapOptions& options = session.options();
-  if (options.quality != Quality::kFast) {
+  if (options.optimize) {
     CoarseToFine optimized(mesh, triangles, session, result, options.level_growth);
     ++result.attempts;
     optimized.run_optimized();
     if (result.stop_reason == StopReason::kCancelled) return;
-    result.quality = options.quality;
+    result.optimized = true;
     if (!result.sphere.empty() &&
         (result.stop_reason == StopReason::kTimeLimit ||
          verify_map(result.sphere, triangles, mesh, result.inward).bijective))
       return;
-    result.quality = Quality::kFast;  // what follows is the fast map
+    result.optimized = false;  // what follows is the Lai-Cheng map of each level
   }
   const bool mapped = map_directly(mesh, triangles, session, result);
   if (session.cancelled()) {

@@ -43,4 +43,10 @@ void map_paper(const PolygonMesh& mesh, std::span<const Triangle> triangles,
 void map_coarse_to_fine(const PolygonMesh& mesh, std::span<const Triangle> triangles,
                         const MapSession& session, MapResult& result);
 
+// The safety net before the verdict: triangles of a fold-free map that a reader could not
+// tell from a fold (uncertain_vertices) are opened by stretch optimization around them,
+// a few rounds. Leaves a folded map as it is.
+void polish_map(const PolygonMesh& mesh, std::span<const Triangle> triangles,
+                const MapSession& session, MapResult& result);
+
 }  // namespace spheremap

@@ -69,6 +69,8 @@ MapResult map_in_order(const PolygonMesh& mesh, const MapOptions& options,
   else
     map_coarse_to_fine(mesh, oriented.triangles, session, result);
   if (result.stop_reason == StopReason::kCancelled) return result;
+  if (options.method == Method::kCoarseToFine)
+    polish_map(mesh, oriented.triangles, session, result);
 
   session.report({.stage = "verify"});
   const double verify_start = session.elapsed();
@@ -90,7 +92,7 @@ MapResult map_to_sphere(const PolygonMesh& input, const MapOptions& options,
   // Map a copy in a cache-friendly vertex order, positions back in the input's order. On
   // the hardest shapes the outcome hinges on tiny perturbations (which vertex labels
   // which tetrahedron corner, summation orders), so a map that folds in every setting
-  // of the first order is tried again (fast quality) in the input's own order; the
+  // of the first order is tried again (Lai-Cheng levels) in the input's own order; the
   // better of the two maps is returned.
   const std::vector<uint32_t> morton = morton_order(input.positions);
   std::vector<uint32_t> identity(input.vertex_count());
@@ -104,7 +106,7 @@ MapResult map_to_sphere(const PolygonMesh& input, const MapOptions& options,
     attempt_options.attempts = std::max<size_t>(1, options.attempts - attempts);
     if (order != &morton) {
       attempt_options.direct_iterations = 0;  // tried already
-      attempt_options.quality = Quality::kFast;
+      attempt_options.optimize = false;
     }
     MapResult result = map_in_order(reordered(input, *order), attempt_options, control);
     attempts += result.attempts, iterations += result.iterations;

@@ -25,6 +25,7 @@
 
 #include <functional>
 #include <span>
+#include <vector>
 
 #include "core/mesh/mesh.h"
 
@@ -47,9 +48,18 @@ struct StretchStats {
 // Lowers the energy of the fold-free map q of `triangles` (surface positions x, both per
 // vertex; triangles oriented so a valid map has positive determinants). Keeps q
 // fold-free and on the unit sphere. should_stop() is polled between colour classes.
+// `start`: the vertices active in the first sweep (empty: all); the active set then
+// grows to the neighbours of whatever moves.
 // Precondition: every triangle valid in q (is_valid_triangle).
 StretchStats optimize_stretch(std::span<const Vec3> x, std::span<const Triangle> triangles,
                               std::span<Vec3> q, const StretchOptions& options,
-                              const std::function<bool()>& should_stop);
+                              const std::function<bool()>& should_stop,
+                              std::span<const uint32_t> start = {});
+
+// The safety net before certification: vertices of the triangles a reader could not
+// tell from a fold, that is spherical area below 100 x kDegenerateArea in double, or not
+// valid once the positions are rounded to float32 (what a GLB stores).
+std::vector<uint32_t> uncertain_vertices(std::span<const Vec3> q,
+                                         std::span<const Triangle> triangles);
 
 }  // namespace spheremap

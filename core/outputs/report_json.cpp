@@ -64,7 +64,8 @@ nlohmann::json metrics_json(const MappedMesh& mapped, const MapOptions& options)
                       {"energy", l.energy}});
   return {
       {"method", options.method == Method::kPaper ? "paper" : "coarse-to-fine"},
-      {"quality", std::string(to_string(m.quality))},
+      {"quality", std::string(to_string(options.quality))},
+      {"optimized", m.optimized},
       // The certified verdict (double, float32; callers that write a file replace it with
       // the verdict on the file as written). The double-precision check alone is
       // bijective_double.
@@ -88,6 +89,7 @@ nlohmann::json metrics_json(const MappedMesh& mapped, const MapOptions& options)
       {"iterations", m.iterations},
       {"fine_iteration_equivalents", m.fine_iteration_equivalents},
       {"hierarchy_rounds", m.hierarchy_rounds},
+      {"polish_rounds", m.polish_rounds},
       {"levels", levels},
       // mean_abs_log: area-weighted mean of |log(sphere area share / surface area share)|,
       // the same number as "mean" (kept for readers of the first format).
