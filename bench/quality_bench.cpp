@@ -73,9 +73,15 @@ double csr_sweep_seconds(const PolygonMesh& mesh) {
   return times[15];
 }
 
-nlohmann::json judge(const PolygonMesh& mesh, const std::vector<Vec3>& sphere, int resolution) {
+nlohmann::json judge(const PolygonMesh& mesh, std::vector<Vec3> sphere, int resolution) {
   const OrientedTriangles oriented = oriented_triangles(mesh);
-  const MapCheck check = verify_map(sphere, oriented.triangles, mesh, oriented.inward);
+  MapCheck check = verify_map(sphere, oriented.triangles, mesh, oriented.inward);
+  // Another tool may return the mirror image (SphereParam does on horse, which is
+  // oriented inward): a reflection is as bijective, so judge it mirrored back.
+  if (check.folds > check.triangles / 2) {
+    for (Vec3& p : sphere) p.x = -p.x;
+    check = verify_map(sphere, oriented.triangles, mesh, oriented.inward);
+  }
   std::vector<Vec3> rounded(sphere.size());
   for (size_t v = 0; v < sphere.size(); ++v)
     rounded[v] = {static_cast<float>(sphere[v].x), static_cast<float>(sphere[v].y),

@@ -38,18 +38,19 @@ std::optional<Quality> parse_quality(std::string_view name);  // "fast", "standa
 struct MapOptions {
   Method method = Method::kCoarseToFine;
   Quality quality = Quality::kStandard;
-  bool optimize = true;                 // false: the Lai-Cheng map of each level only (engine v1)
-  StretchOptions stretch;               // energy and per-level stop rule (scaled by the quality)
-  double level_growth = 2.0;            // optimized hierarchy: levels grow by about this factor
-  double alpha = 0.0;                   // limit operator parameter, 0 = Catmull-Clark
-  SmoothingOptions smoothing;           // offset u, its placement, centroid relaxation, threads
-  int presmooth_steps = 10;             // paper: A applied to the 3D mesh before projecting
-  size_t max_iterations = 20000;        // paper: iteration cap
-  size_t min_level_iterations = 10;     // both: iterations before a 0-fold stop
-  size_t max_level_iterations = 40;     // coarse-to-fine: per level before local repair
-  size_t max_repair_iterations = 5000;  // coarse-to-fine: local repair budget per level
-  size_t safe_steps = 40;               // coarse-to-fine: fold-safe steps of the fallback
-  size_t smooth_min_vertices = 50;      // coarse-to-fine: smaller levels are only inserted
+  bool optimize = true;           // false: the Lai-Cheng map of each level only (engine v1)
+  StretchOptions stretch;         // energy and per-level stop rule (scaled by the quality)
+  double level_growth = 2.0;      // optimized hierarchy: levels grow by about this factor
+  bool represented_area = true;   // coarse levels weigh triangles by the fine area they stand for
+  double alpha = 0.0;             // limit operator parameter, 0 = Catmull-Clark
+  SmoothingOptions smoothing;     // offset u, its placement, centroid relaxation, threads
+  int presmooth_steps = 10;       // paper: A applied to the 3D mesh before projecting
+  size_t max_iterations = 20000;  // paper: iteration cap
+  size_t min_level_iterations = 10;        // both: iterations before a 0-fold stop
+  size_t max_level_iterations = 40;        // coarse-to-fine: per level before local repair
+  size_t max_repair_iterations = 5000;     // coarse-to-fine: local repair budget per level
+  size_t safe_steps = 40;                  // coarse-to-fine: fold-safe steps of the fallback
+  size_t smooth_min_vertices = 50;         // coarse-to-fine: smaller levels are only inserted
   size_t projected_start_vertices = 1000;  // coarse-to-fine: start level size (0 = tetrahedron)
   size_t direct_iterations =
       40;  // coarse-to-fine: budget of the paper's map of the whole mesh (0: skip)

@@ -35,7 +35,7 @@ struct Incidence {
 class StretchProblem {
  public:
   StretchProblem(std::span<const Vec3> x, std::span<const Triangle> triangles, size_t n,
-                 const StretchOptions& options)
+                 const StretchOptions& options, std::span<const double> area_scale)
       : triangles_(triangles),
         options_(options),
         weights_(triangles.size()),
@@ -44,8 +44,10 @@ class StretchProblem {
     for (size_t t = 0; t < triangles.size(); ++t) {
       const Triangle& tri = triangles[t];
       const Vec3 &a = x[tri[0]], &b = x[tri[1]], &c = x[tri[2]];
-      weights_[t] = {dot(b - a, c - a), dot(c - b, a - b), dot(a - c, b - c)};
-      surface_area_[t] = 0.5 * norm(cross(b - a, c - a));
+      // Scaling a triangle's area by r keeps its shape and scales every weight by r.
+      const double r = area_scale.empty() ? 1.0 : area_scale[t];
+      weights_[t] = {r * dot(b - a, c - a), r * dot(c - b, a - b), r * dot(a - c, b - c)};
+      surface_area_[t] = r * 0.5 * norm(cross(b - a, c - a));
       total += surface_area_[t];
     }
     inverse_area_ = surface_area_;
@@ -53,8 +55,18 @@ class StretchProblem {
     // levels of the hierarchy have some) would dominate the whole energy and pull its
     // sphere triangle to nothing against the barrier. Its area is floored at a hundredth
     // of the mean for that term.
-    const double floor = 1e-2 * total / static_cast<double>(std::max<size_t>(1, triangles.size()));
-    for (double& area : inverse_area_) area = std::max(area, floor);
+    const double mean = total / static_cast<double>(std::max<size_t>(1, triangles.size()));
+    for (double& area : inverse_area_) area = std::max(area, 1e-2 * mean);
+    // A (nearly) zero-area surface triangle (CAD slivers, collinear corners) would have no
+    // stretch term at all, so nothing would keep its sphere triangle from collapsing to a
+    // degenerate one. It counts as a small equilateral triangle instead: area 1e-4 of the
+    // mean, corner weights c_i = 2 area / sqrt(3).
+    for (size_t t = 0; t < triangles.size(); ++t)
+      if (!(surface_area_[t] >= 1e-4 * mean)) {
+        surface_area_[t] = 1e-4 * mean;
+        const double c = 2 * surface_area_[t] / std::sqrt(3.0);
+        weights_[t] = {c, c, c};
+      }
     surface_total_ = total;
 
     offsets_.assign(n + 1, 0);
@@ -263,10 +275,10 @@ class StretchProblem {
 StretchStats optimize_stretch(std::span<const Vec3> x, std::span<const Triangle> triangles,
                               std::span<Vec3> q, const StretchOptions& options,
                               const std::function<bool()>& should_stop,
-                              std::span<const uint32_t> start) {
+                              std::span<const uint32_t> start, std::span<const double> area_scale) {
   StretchStats stats;
   const size_t n = q.size();
-  StretchProblem problem(x, triangles, n, options);
+  StretchProblem problem(x, triangles, n, options, area_scale);
   const int threads = resolve_threads(options.threads);
   std::vector<double> moved(n, 0);
   std::vector<char> active(n, start.empty() ? 1 : 0);

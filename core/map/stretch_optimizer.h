@@ -49,12 +49,15 @@ struct StretchStats {
 // vertex; triangles oriented so a valid map has positive determinants). Keeps q
 // fold-free and on the unit sphere. should_stop() is polled between colour classes.
 // `start`: the vertices active in the first sweep (empty: all); the active set then
-// grows to the neighbours of whatever moves.
+// grows to the neighbours of whatever moves. `area_scale`: per triangle, a factor on its
+// surface area (its shape kept; empty: 1), so a coarse level can weigh each triangle by
+// the fine surface it stands for.
 // Precondition: every triangle valid in q (is_valid_triangle).
 StretchStats optimize_stretch(std::span<const Vec3> x, std::span<const Triangle> triangles,
                               std::span<Vec3> q, const StretchOptions& options,
                               const std::function<bool()>& should_stop,
-                              std::span<const uint32_t> start = {});
+                              std::span<const uint32_t> start = {},
+                              std::span<const double> area_scale = {});
 
 // The safety net before certification: vertices of the triangles a reader could not
 // tell from a fold, that is spherical area below 100 x kDegenerateArea in double, or not
