@@ -47,6 +47,7 @@ nlohmann::json job_json(const server::Job& job, size_t queue_position) {
         {"vertices", job.progress.vertices},
         {"iteration", job.progress.iteration},
         {"folds", job.progress.folds},
+        {"energy", job.progress.energy},
         {"elapsed_seconds", job.started ? seconds(*job.started, end) : 0.0}}},
       {"links", {{"self", job_path(job.id)}}},
   };

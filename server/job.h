@@ -52,6 +52,7 @@ struct JobProgress {
   std::string stage = "queued";
   int level = 0, levels = 0;
   size_t vertices = 0, iteration = 0, folds = 0;
+  double energy = 0;  // stage "optimize": stretch energy per unit area (1.1 = isometric)
 };
 
 using Clock = std::chrono::steady_clock;
