@@ -6,16 +6,17 @@
 #include <sstream>
 
 #include "api/problem.h"
+#include "core/io/bounded_json.h"
+#include "core/mesh/input_error.h"
 
 namespace spheremap::api {
 namespace {
 
 // A value as JSON text for a message; invalid UTF-8 (a client's bytes) is replaced, not
 // thrown (found by tests/fuzz/options_fuzzer), and long values are cut.
+// Never the whole value: a client's option can be megabytes or nested 60,000 deep.
 std::string shown(const nlohmann::json& value) {
-  std::string text = value.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
-  if (text.size() > 200) text = text.substr(0, 200) + "...";
-  return text;
+  return describe_json(value);
 }
 
 [[noreturn]] void invalid(const std::string& detail) {
@@ -178,7 +179,12 @@ JobOptions parse_job_options(const nlohmann::json& options) {
 nlohmann::json options_from_query(const std::multimap<std::string, std::string>& params) {
   nlohmann::json options = nlohmann::json::object();
   for (const auto& [key, value] : params) {
-    const nlohmann::json parsed = nlohmann::json::parse(value, nullptr, false);
+    nlohmann::json parsed;
+    try {
+      parsed = parse_bounded_json(value);
+    } catch (const InputError&) {
+      parsed = nlohmann::json::value_t::discarded;  // too deep: kept as the text it is
+    }
     options[key] = parsed.is_discarded() || parsed.is_object() || parsed.is_array()
                        ? nlohmann::json(value)
                        : parsed;

@@ -4,6 +4,7 @@
 
 #include "api/job_options.h"
 #include "api/problem.h"
+#include "core/io/bounded_json.h"
 #include "core/mesh/input_error.h"
 #include "core/outputs/report_json.h"
 
@@ -55,7 +56,12 @@ Body split_body(const httplib::Request& request) {
     body.mesh = part.content;
     if (request.has_file("options")) {
       const std::string& text = request.files.find("options")->second.content;
-      body.options = nlohmann::json::parse(text, nullptr, false);
+      try {
+        body.options = parse_bounded_json(text);
+      } catch (const InputError& e) {
+        throw Problem(400, "invalid_options", "Invalid job options",
+                      std::string("the 'options' part is ") + e.what());
+      }
       if (body.options.is_discarded())
         throw Problem(400, "invalid_options", "Invalid job options",
                       "the 'options' part is not valid JSON");

@@ -1,5 +1,6 @@
 #include "api/routes.h"
 
+#include <algorithm>
 #include <atomic>
 #include <charconv>
 
@@ -213,8 +214,42 @@ void install_api(httplib::Server& http, Service& service) {
   // Without it a small response waits for the client's delayed ACK: 40 ms per request.
   http.set_tcp_nodelay(true);
 
-  http.set_pre_routing_handler([](const httplib::Request&, httplib::Response&) {
+  http.set_pre_routing_handler([](const httplib::Request& request, httplib::Response& response) {
     request_start = Clock::now();
+    // cpp-httplib builds a multipart body in memory for every range asked for: thousands
+    // of overlapping ranges turned an 8 KB GET into hundreds of MB. One range (resuming
+    // a download) is served; more are refused before any handler runs.
+    // The pre-routing handler runs before cpp-httplib reads the body, so bodies that
+    // could exceed max_body_bytes unseen are refused here: chunked bodies (0.11.4 does
+    // not apply the payload limit to them), compressed ones (it inflates gzip without
+    // limit: 8 MB became 8 GiB), and POSTs without a length (it waited 30 s for them).
+    if (request.method == "POST" || request.method == "PUT") {
+      if (request.has_header("Transfer-Encoding") || !request.has_header("Content-Length")) {
+        send_problem(response, Problem(411, "length_required", "Length required",
+                                       "send the body with a Content-Length header (chunked "
+                                       "transfer encoding is not accepted)"));
+        return httplib::Server::HandlerResponse::Handled;
+      }
+      if (request.has_header("Content-Encoding") &&
+          request.get_header_value("Content-Encoding") != "identity") {
+        send_problem(response,
+                     Problem(415, "unsupported_content_encoding", "Unsupported content encoding",
+                             "send the body uncompressed (Draco-compressed glTF is "
+                             "the compact form this service reads)"));
+        return httplib::Server::HandlerResponse::Handled;
+      }
+    }
+    // cpp-httplib applies the parsed ranges to whatever the response is, this 416
+    // included, so they are dropped here (the request is httplib's own non-const object,
+    // handed over as const).
+    if (request.ranges.size() > 1) {
+      const size_t count = request.ranges.size();
+      const_cast<httplib::Request&>(request).ranges.clear();
+      send_problem(response,
+                   Problem(416, "too_many_ranges", "Range not satisfiable",
+                           "at most one byte range per request, got " + std::to_string(count)));
+      return httplib::Server::HandlerResponse::Handled;
+    }
     return httplib::Server::HandlerResponse::Unhandled;
   });
   http.set_logger([&service](const httplib::Request& request, const httplib::Response& response) {

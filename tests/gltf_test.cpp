@@ -182,10 +182,24 @@ TEST(Gltf, ConvertsStripsAndFans) {
   EXPECT_GT(read_gltf(as_bytes(strip.bytes())).face_count(), 0u);
 }
 
-TEST(Gltf, RejectsNodeCycles) {
-  Glb glb(sphere_glb());
-  glb.json["nodes"][0]["children"] = {0};
-  EXPECT_NE(read_error(glb.bytes()).find("deeper than"), std::string::npos);
+// Nodes form a forest: a cycle, or a node listed by two parents, is refused when the walk
+// reaches a node the second time (so the walk is bounded by the node count).
+TEST(Gltf, RejectsNodeCyclesAndSharedChildren) {
+  Glb cycle(sphere_glb());
+  cycle.json["nodes"][0]["children"] = {0};
+  EXPECT_NE(read_error(cycle.bytes()).find("reached twice"), std::string::npos);
+  Glb shared(sphere_glb());
+  shared.json["nodes"] = {{{"children", {1, 1}}}, {{"mesh", 0}}};
+  shared.json["scenes"] = {{{"nodes", {0}}}};
+  shared.json["scene"] = 0;
+  EXPECT_NE(read_error(shared.bytes()).find("node 1 is reached twice"), std::string::npos);
+}
+
+// JSON nested deeper than 64 levels is refused while parsing, with the reason.
+TEST(Gltf, RejectsDeeplyNestedJson) {
+  const std::string deep = std::string(100000, '[') + std::string(100000, ']');
+  const std::string text = R"({"asset":{"version":"2.0"},"scene":)" + deep + "}";
+  EXPECT_NE(read_error(text).find("nested deeper than 64"), std::string::npos);
 }
 
 // The three crash cases of Debian's tinygltf + Draco, and two more, on a real Draco file.

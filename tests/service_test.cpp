@@ -7,7 +7,9 @@
 #include <sys/socket.h>
 #include <unistd.h>
 
+#include <bit>
 #include <fstream>
+#include <set>
 #include <sstream>
 #include <thread>
 
@@ -15,6 +17,7 @@
 #include "core/io/gltf_reader.h"
 #include "core/map/map_check.h"
 #include "core/mesh/sphere_geometry.h"
+#include "server/job_store.h"
 #include "tests/corpus.h"
 #include "tests/mesh_generators.h"
 #include "tests/test_server.h"
@@ -300,6 +303,86 @@ TEST(Service, HostileFilesGet400AndTheServerKeepsServing) {
   auto good = post_glb(client, glb);
   ASSERT_EQ(good->status, 202);
   EXPECT_EQ(wait_for(client, body_json(good)["id"])["status"], "succeeded");
+}
+
+// Requests built to crash, hang or exhaust the server (issue 14): each gets a specific
+// 4xx before any heavy work, and the server keeps serving.
+TEST(Service, HostileRequestsGetSpecific4xxAndTheServerKeepsServing) {
+  TestServer server(small_config());
+  auto client = server.client();
+  // Options nested 60,000 deep: refused while parsing (an error message once serialized
+  // such a value recursively and overflowed the stack).
+  const std::string deep = std::string(60000, '[') + std::string(60000, ']');
+  httplib::MultipartFormDataItems form = {
+      {"mesh", glb_of(testing::icosphere(1)), "m.glb", "model/gltf-binary"},
+      {"options", deep, "", "application/json"}};
+  auto deep_options = client.Post("/v1/jobs", form);
+  expect_problem(deep_options, 400, "invalid_options");
+  EXPECT_NE(deep_options->body.find("nested deeper"), std::string::npos);
+  // A glTF whose index field is nested as deep.
+  const std::string deep_gltf = R"({"asset":{"version":"2.0"},"scene":)" + deep + "}";
+  EXPECT_EQ(client.Post("/v1/jobs", deep_gltf, "model/gltf+json")->status, 400);
+  // 40 nodes, each listing the next one twice: 2^40 paths if walked naively.
+  json nodes = json::array();
+  for (int k = 0; k < 40; ++k)
+    nodes.push_back(k + 1 < 40 ? json{{"children", {k + 1, k + 1}}} : json::object());
+  const json graph = {{"asset", {{"version", "2.0"}}},
+                      {"scenes", {{{"nodes", {0}}}}},
+                      {"nodes", nodes},
+                      {"meshes", {{{"primitives", json::array()}}}}};
+  auto doubled = client.Post("/v1/jobs", graph.dump(), "model/gltf+json");
+  expect_problem(doubled, 400, "malformed_gltf");
+  EXPECT_NE(doubled->body.find("reached twice"), std::string::npos);
+  // Thousands of overlapping ranges on a static document: 416, not a multipart body.
+  std::string ranges = "bytes=0-1";
+  for (int k = 0; k < 1500; ++k) ranges += ",0-1";  // under the 8 KB header line limit
+  auto ranged = client.Get("/v1/openapi.yaml", {{"Range", ranges}});
+  expect_problem(ranged, 416, "too_many_ranges");
+  EXPECT_EQ(client.Get("/v1/openapi.yaml", {{"Range", "bytes=0-99"}})->status, 206);
+  // Chunked and compressed bodies could pass max_body_bytes unseen: refused up front.
+  const std::string glb = glb_of(testing::icosphere(2));
+  auto chunked = client.Post(
+      "/v1/jobs",
+      [&](size_t offset, httplib::DataSink& sink) {
+        if (offset < glb.size())
+          sink.write(glb.data() + offset, std::min<size_t>(4096, glb.size() - offset));
+        if (offset + 4096 >= glb.size()) sink.done();
+        return true;
+      },
+      "model/gltf-binary");
+  expect_problem(chunked, 411, "length_required");
+  auto gzipped = client.Post("/v1/jobs", {{"Content-Encoding", "gzip"}}, glb, "model/gltf-binary");
+  expect_problem(gzipped, 415, "unsupported_content_encoding");
+  // Draco quantization is capped at 20 bits (30 cost 4 GB for a 12-triangle box).
+  expect_problem(post_glb(client, glb, "/v1/jobs?draco=true&draco_position_bits=30"), 400,
+                 "invalid_options");
+  // A weld tolerance of the whole bounding box: every vertex in one cell, united in one
+  // pass (it compared every pair); the welded mesh is no surface: 422.
+  auto welded = post_glb(client, glb_of(testing::icosphere(5)), "/v1/jobs?weld_tolerance=1");
+  EXPECT_EQ(welded->status, 422);
+  EXPECT_EQ(client.Get("/healthz")->status, 200);
+  auto good = post_glb(client, glb);
+  ASSERT_EQ(good->status, 202);
+  EXPECT_EQ(wait_for(client, body_json(good)["id"])["status"], "succeeded");
+}
+
+// Job ids are the only handle on a job: 128 bits from getrandom, so 1,000 of them are
+// distinct, 32 hex digits, with about half their bits set (a counter or a clock would
+// not be).
+TEST(JobIds, AreRandom128BitHex) {
+  std::set<std::string> seen;
+  size_t ones = 0;
+  for (int k = 0; k < 1000; ++k) {
+    const std::string id = server::new_job_id();
+    ASSERT_EQ(id.size(), 32u);
+    ASSERT_EQ(id.find_first_not_of("0123456789abcdef"), std::string::npos);
+    seen.insert(id);
+    for (char c : id)
+      ones += static_cast<size_t>(
+          std::popcount(static_cast<unsigned>(c <= '9' ? c - '0' : c - 'a' + 10)));
+  }
+  EXPECT_EQ(seen.size(), 1000u);
+  EXPECT_NEAR(static_cast<double>(ones) / (1000 * 128), 0.5, 0.01);
 }
 
 TEST(Service, InvalidMeshesGet422WithTheirCheck) {

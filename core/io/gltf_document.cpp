@@ -1,5 +1,7 @@
 #include "core/io/gltf_document.h"
 
+#include "core/io/bounded_json.h"
+
 #include <cstring>
 #include <limits>
 
@@ -83,8 +85,8 @@ size_t index_field(const nlohmann::json& object, const char* key, size_t limit, 
   auto it = object.find(key);
   if (it == object.end()) return fallback;
   if (!it->is_number_unsigned() || it->get<uint64_t>() >= limit)
-    fail(std::string(what) + " " + it->dump() + " is out of range (" + std::to_string(limit) +
-         " available)");
+    fail(std::string(what) + " " + describe_json(*it) + " is out of range (" +
+         std::to_string(limit) + " available)");
   return static_cast<size_t>(it->get<uint64_t>());
 }
 
@@ -115,7 +117,12 @@ Document::Document(std::span<const uint8_t> bytes) {
     }
     if (first) fail("GLB has no JSON chunk");
   }
-  json_ = nlohmann::json::parse(json_text.begin(), json_text.end(), nullptr, false);
+  try {
+    json_ = parse_bounded_json(
+        std::string_view(reinterpret_cast<const char*>(json_text.data()), json_text.size()));
+  } catch (const InputError& e) {
+    fail(std::string("the glTF JSON is ") + e.what());
+  }
   if (json_.is_discarded() || !json_.is_object()) fail("the glTF JSON does not parse as an object");
   const auto asset = json_.find("asset");
   if (asset == json_.end() || !asset->is_object() || !asset->contains("version") ||

@@ -7,6 +7,7 @@
 #include <tuple>
 #include <unordered_map>
 
+#include "core/mesh/input_error.h"
 #include "core/mesh/union_find.h"
 
 namespace spheremap {
@@ -24,34 +25,59 @@ void unite_equal(const std::vector<Vec3>& p, UnionFind& sets) {
     if (p[order[k]] == p[order[k - 1]]) sets.unite(order[k], order[k - 1]);
 }
 
-// Union of finite positions within `radius`: a uniform grid of cell size `radius`,
-// each point compared against the 27 cells around it.
+// Union of finite positions within `radius`. A uniform grid of cell size radius / sqrt(3),
+// so every two points of one cell are within radius and a cell is united in one pass;
+// then each cell is compared with the cells up to two steps away, stopping at the first
+// pair within radius and skipping cells already in one set. A large tolerance no longer
+// compares every pair (measured: weld_tolerance = 1 was O(n^2) on the HTTP thread); the
+// comparisons are still capped, with an error that names the option.
 void unite_within(const std::vector<Vec3>& p, double radius, UnionFind& sets) {
+  const double cell = radius / std::sqrt(3.0);
   auto cell_of = [&](const Vec3& q) {
-    return std::array<int64_t, 3>{static_cast<int64_t>(std::floor(q.x / radius)),
-                                  static_cast<int64_t>(std::floor(q.y / radius)),
-                                  static_cast<int64_t>(std::floor(q.z / radius))};
+    return std::array<int64_t, 3>{static_cast<int64_t>(std::floor(q.x / cell)),
+                                  static_cast<int64_t>(std::floor(q.y / cell)),
+                                  static_cast<int64_t>(std::floor(q.z / cell))};
   };
-  auto hash = [](const std::array<int64_t, 3>& c) {
-    return static_cast<uint64_t>(c[0]) * 73856093u ^ static_cast<uint64_t>(c[1]) * 19349663u ^
-           static_cast<uint64_t>(c[2]) * 83492791u;
+  struct CellHash {
+    size_t operator()(const std::array<int64_t, 3>& c) const {
+      return static_cast<size_t>(static_cast<uint64_t>(c[0]) * 73856093u ^
+                                 static_cast<uint64_t>(c[1]) * 19349663u ^
+                                 static_cast<uint64_t>(c[2]) * 83492791u);
+    }
   };
-  std::unordered_map<uint64_t, std::vector<uint32_t>> grid;
+  std::unordered_map<std::array<int64_t, 3>, std::vector<uint32_t>, CellHash> grid;
   for (uint32_t i = 0; i < p.size(); ++i)
-    if (is_finite(p[i])) grid[hash(cell_of(p[i]))].push_back(i);
+    if (is_finite(p[i])) grid[cell_of(p[i])].push_back(i);
+  for (const auto& [key, members] : grid)
+    for (uint32_t m : members) sets.unite(members.front(), m);
   const double r2 = radius * radius;
-  for (uint32_t i = 0; i < p.size(); ++i) {
-    if (!is_finite(p[i])) continue;
-    auto c = cell_of(p[i]);
-    for (int64_t dx = -1; dx <= 1; ++dx)
-      for (int64_t dy = -1; dy <= 1; ++dy)
-        for (int64_t dz = -1; dz <= 1; ++dz) {
-          auto it = grid.find(hash({c[0] + dx, c[1] + dy, c[2] + dz}));
-          if (it == grid.end()) continue;
-          for (uint32_t j : it->second)
-            if (j < i && squared_norm(p[i] - p[j]) <= r2) sets.unite(i, j);
+  const uint64_t budget = 200'000'000;  // pair distance tests, ~1 s
+  uint64_t tests = 0;
+  for (const auto& [c, members] : grid)
+    for (int64_t dx = -2; dx <= 2; ++dx)
+      for (int64_t dy = -2; dy <= 2; ++dy)
+        for (int64_t dz = -2; dz <= 2; ++dz) {
+          const std::array<int64_t, 3> other_key{c[0] + dx, c[1] + dy, c[2] + dz};
+          if (!(other_key < c)) continue;  // each pair of cells once
+          const auto other = grid.find(other_key);
+          if (other == grid.end()) continue;
+          if (sets.find(members.front()) == sets.find(other->second.front())) continue;
+          bool joined = false;
+          for (uint32_t i : members) {
+            for (uint32_t j : other->second)
+              if (++tests, squared_norm(p[i] - p[j]) <= r2) {
+                joined = true;
+                break;
+              }
+            if (joined) break;
+          }
+          if (joined) sets.unite(members.front(), other->second.front());
+          if (tests > budget)
+            throw InputError("weld", "weld tolerance " + std::to_string(radius) +
+                                         " compares too many vertex pairs (over " +
+                                         std::to_string(budget) +
+                                         "); use a smaller weld_tolerance");
         }
-  }
 }
 
 double bounding_box_diagonal(const std::vector<Vec3>& p) {
