@@ -24,8 +24,18 @@ struct FaceTerm {
 // the triangle's energy terms with the moving vertex as corner 0.
 struct StarFace {
   Vec3 b, c, bc;
+  double bc_length2;  // |c - b|^2
   FaceTerm term;
 };
+
+// is_valid_triangle(p, f.b, f.c) with b x c already known: the common case (a clear
+// margin) decided from it, the rest by the robust test itself.
+inline bool valid_with(const Vec3& p, const StarFace& f) {
+  const double longest = std::max({squared_norm(f.b - p), squared_norm(f.c - p), f.bc_length2});
+  const double det = dot(p, f.bc);
+  if (det > 1e-10 * longest + 1e-14) return true;
+  return is_valid_triangle(p, f.b, f.c);
+}
 
 struct Incidence {
   uint32_t triangle;
@@ -120,19 +130,23 @@ class StretchProblem {
     star.clear();
     for (uint32_t i = offsets_[v]; i < offsets_[v + 1]; ++i) {
       const auto [b, c] = opposite(q, incidences_[i]);
-      star.push_back({b, c, cross(b, c), term(incidences_[i])});
+      star.push_back({b, c, cross(b, c), squared_norm(c - b), term(incidences_[i])});
     }
     // Local scale: the smallest distance from p to the plane (through the centre) of an
     // opposite edge; moves are measured against it.
-    double min_height = INFINITY;
-    for (const StarFace& f : star) min_height = std::min(min_height, dot(p, f.bc) / norm(f.bc));
-    if (!(min_height > 0)) return 0;  // not valid: leave it (the caller guarantees validity)
+    double min_height2 = INFINITY;
+    for (const StarFace& f : star) {
+      const double det = dot(p, f.bc);
+      if (!(det > 0)) return 0;  // not valid: leave it (the caller guarantees validity)
+      min_height2 = std::min(min_height2, det * det / squared_norm(f.bc));
+    }
+    const double min_height = std::sqrt(min_height2);
 
     auto energy_at = [&](const Vec3& at) {
       double e = 0;
       for (const StarFace& f : star) {
         const double area = 0.5 * dot(at, f.bc);
-        const double n = f.term.cp * squared_norm(f.b - f.c) + f.term.cb * squared_norm(f.c - at) +
+        const double n = f.term.cp * f.bc_length2 + f.term.cb * squared_norm(f.c - at) +
                          f.term.cc * squared_norm(at - f.b);
         e += f.term.k1 * n / (area * area) + f.term.k2 * n;
       }
@@ -156,7 +170,7 @@ class StretchProblem {
       const Vec3 a = 0.5 * face.bc;
       const double area = dot(p, a);
       const double n =
-          f.cp * squared_norm(b - c) + f.cb * squared_norm(c - p) + f.cc * squared_norm(p - b);
+          f.cp * face.bc_length2 + f.cb * squared_norm(c - p) + f.cc * squared_norm(p - b);
       const Vec3 grad_n = (2 * f.cb) * (p - c) + (2 * f.cc) * (p - b);
       const double inv = 1 / area, inv2 = inv * inv;
       const double scale = f.k1 * inv2 + f.k2;
@@ -187,7 +201,7 @@ class StretchProblem {
     if (root > 1e-12 * largest) {
       ex = h12, ey = e1 - h11;
       if (std::abs(ex) + std::abs(ey) < 1e-12 * largest) ex = e1 - h22, ey = h12;
-      const double length = std::hypot(ex, ey);
+      const double length = std::sqrt(ex * ex + ey * ey);
       ex /= length, ey /= length;
     }
     // d = -H^-1 g with H = l1 e e^T + l2 e_perp e_perp^T.
@@ -207,7 +221,7 @@ class StretchProblem {
     auto try_step = [&](double t, double& energy) {
       const Vec3 candidate = normalized_or(p + t * direction, p);
       for (const StarFace& f : star)
-        if (!is_valid_triangle(candidate, f.b, f.c)) return false;
+        if (!valid_with(candidate, f)) return false;
       energy = energy_at(candidate);
       return std::isfinite(energy);
     };
