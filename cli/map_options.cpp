@@ -15,17 +15,19 @@ const std::set<std::string> kMapFlags = {"no-centroid", "largest-component", "no
 const char* const kMapOptionsHelp = R"(Mapping options:
   --quality Q               standard (default): every level of the hierarchy stretch-optimized
                             as it grows (Praun-Hoppe quality at a fraction of its time); fast:
-                            a 10x looser stop rule (about 30% less time, stretch 5-15% higher);
+                            a 10x looser stop rule (20-35% less time, stretch 3-15% higher);
                             high: optimized further (about 3x the time, lower stretch)
   --no-optimize             map each level by Lai-Cheng smoothing only (engine v1: thin parts
                             squeezed, often not float32-safe; the automatic fallback)
-  --stretch-lambda L        standard/high: weight of the inverse-stretch term, in [0, 10]
+  --stretch-lambda L        weight of the inverse-stretch term, in [0, 10]
                             (default 0.1; 1 = symmetric Dirichlet)
-  --stretch-sweeps N        standard/high: optimization sweeps per level at most (default 60;
-                            x10 for high)
-  --method NAME             coarse-to-fine (default): hierarchy + Lai-Cheng per level, bijective
-                            on every valid mesh we know; paper: Lai & Cheng's own loop (slow,
-                            may not reach 0 folds; for comparison)
+  --stretch-sweeps N        optimization sweeps per level at most (default 60; x10 for
+                            high)
+  --method NAME             coarse-to-fine (default): the collapse hierarchy, each level
+                            inserted kernel-safe and stretch-optimized (see --quality);
+                            paper: Lai & Cheng's own loop (slow, may not reach 0 folds; for
+                            comparison)
+  Lai-Cheng smoothing (--method paper, --no-optimize and the fallback):
   --alpha A                 limit-operator parameter in [0, 1] (default 0 = Catmull-Clark)
   --offset U                offset (momentum) weight u in [0, 0.5] (default 0.25)
   --limit-weight W          weight of the A-step, X = P((1-W) Q + W A Q), in [0, 1] (default

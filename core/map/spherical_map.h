@@ -28,7 +28,7 @@ enum class Method { kCoarseToFine, kPaper };
 
 // Coarse-to-fine only: how far every level's map is stretch-optimized as the hierarchy
 // grows (ALGORITHM §F). kStandard: to a relative energy decrease of 1e-3 per sweep;
-// kFast: 1e-2 (measured: 25-40% less time, stretch 5-15% higher); kHigh: 1e-4 and 10x
+// kFast: 1e-2 (measured: 20-35% less time, stretch 3-15% higher); kHigh: 1e-4 and 10x
 // the sweeps. A map the optimized hierarchy cannot make fold-free falls back to the
 // Lai-Cheng map of each level (engine v1, `optimize = false`).
 enum class Quality { kFast, kStandard, kHigh };
