@@ -168,45 +168,49 @@ class CoarseToFine {
 
   Vec3 position(uint32_t id) const { return mesh_.positions[h_.new_to_old[id]]; }
 
-  // Per triangle of level l: the fine surface area its corners stand for (every collapsed
-  // vertex's share moved onto its ring) over the area they have at this level. Shortest-edge
-  // collapses thin a long limb first, so a coarse limb is a needle with little area of its own:
-  // weighed by its own area it would get little room on the sphere, and every finer level would
-  // have to push the rest of the map aside by local moves (measured on the stress fingers:
-  // stretch 5.3 against 3.0).
-  std::vector<double> represented_scale(int l, std::span<const Triangle> triangles) {
-    const size_t n = h_.level_sizes[l];
-    // Levels are visited coarse to fine, so the masses are rebuilt from the finest (a
-    // third of each fine triangle's area on each corner) whenever a finer level comes.
-    if (represented_level_ < l) {
-      represented_.assign(q_.size(), 0);
-      for (const Triangle& t : fine_triangles_) {
-        const double third =
-            norm(cross(position(t[1]) - position(t[0]), position(t[2]) - position(t[0]))) / 6;
-        for (uint32_t v : t) represented_[v] += third;
-      }
-      represented_level_ = static_cast<int>(h_.level_sizes.size()) - 1;
-    }
-    // A collapsed vertex's share goes to its ring in equal parts: after the collapse the
-    // ring's triangles cover its surface (all to the collapse target made the weights
-    // patchy: igea's area distortion 0.106 -> 0.126).
-    for (uint32_t u = h_.level_sizes[represented_level_]; u-- > n;) {
-      const std::span<const uint32_t> ring = h_.ring(u);
-      for (uint32_t w : ring) represented_[w] += represented_[u] / static_cast<double>(ring.size());
-    }
-    represented_level_ = l;
-    std::vector<double> own(n, 0);
+  // A third of each triangle's surface area on each of its corners (ids < n).
+  std::vector<double> corner_areas(std::span<const Triangle> triangles, size_t n) const {
+    std::vector<double> area(n, 0);
     for (const Triangle& t : triangles) {
       const double third =
           norm(cross(position(t[1]) - position(t[0]), position(t[2]) - position(t[0]))) / 6;
-      for (uint32_t v : t) own[v] += third;
+      for (uint32_t v : t) area[v] += third;
     }
+    return area;
+  }
+
+  // The fine surface area each vertex stands for at every level, in one pass from the
+  // finest level down: a collapsed vertex's share goes to its ring in equal parts (after
+  // the collapse the ring's triangles cover its surface; giving it all to the collapse
+  // target made the weights patchy: igea's area distortion 0.106 -> 0.126).
+  void compute_represented_areas() {
+    const int levels = static_cast<int>(h_.level_sizes.size());
+    represented_.assign(levels, {});
+    std::vector<double> mass = corner_areas(fine_triangles_, q_.size());
+    for (int l = levels - 2; l >= 0; --l) {
+      for (uint32_t u = h_.level_sizes[l + 1]; u-- > h_.level_sizes[l];) {
+        const std::span<const uint32_t> ring = h_.ring(u);
+        for (uint32_t w : ring) mass[w] += mass[u] / static_cast<double>(ring.size());
+      }
+      represented_[l].assign(mass.begin(), mass.begin() + h_.level_sizes[l]);
+    }
+  }
+
+  // Per triangle of level l: the fine surface area its corners stand for over the area
+  // they have at this level. Shortest-edge collapses thin a long limb first, so a coarse
+  // limb is a needle with little area of its own: weighed by its own area it would get
+  // little room on the sphere, and every finer level would have to push the rest of the
+  // map aside by local moves (measured on the stress fingers: stretch 5.3 against 2.7).
+  std::vector<double> represented_scale(int l, std::span<const Triangle> triangles) {
+    if (represented_.empty()) compute_represented_areas();
+    const std::vector<double>& stands_for = represented_[l];
+    const std::vector<double> own = corner_areas(triangles, h_.level_sizes[l]);
     std::vector<double> scale(triangles.size());
     for (size_t k = 0; k < triangles.size(); ++k) {
       const Triangle& t = triangles[k];
       const double mine = own[t[0]] + own[t[1]] + own[t[2]];
-      const double stands_for = represented_[t[0]] + represented_[t[1]] + represented_[t[2]];
-      scale[k] = mine > 0 ? stands_for / mine : 1.0;
+      const double theirs = stands_for[t[0]] + stands_for[t[1]] + stands_for[t[2]];
+      scale[k] = mine > 0 ? theirs / mine : 1.0;
     }
     return scale;
   }
@@ -389,9 +393,8 @@ class CoarseToFine {
   CollapseHierarchy h_;
   std::vector<Triangle> fine_triangles_;
   std::vector<Vec3> q_;  // hierarchy ids
-  // Fine surface area each vertex stands for at level represented_level_ (hierarchy ids).
-  std::vector<double> represented_;
-  int represented_level_ = -1;  // none yet
+  // Per level but the finest: the fine surface area each vertex stands for.
+  std::vector<std::vector<double>> represented_;
   SmoothingOptions smoothing_;
 };
 
