@@ -82,11 +82,8 @@ nlohmann::json judge(const PolygonMesh& mesh, std::vector<Vec3> sphere, int reso
     for (Vec3& p : sphere) p.x = -p.x;
     check = verify_map(sphere, oriented.triangles, mesh, oriented.inward);
   }
-  std::vector<Vec3> rounded(sphere.size());
-  for (size_t v = 0; v < sphere.size(); ++v)
-    rounded[v] = {static_cast<float>(sphere[v].x), static_cast<float>(sphere[v].y),
-                  static_cast<float>(sphere[v].z)};
-  const MapCheck float32 = verify_map(rounded, oriented.triangles, mesh, oriented.inward);
+  const MapCheck float32 =
+      verify_map(rounded_to_float32(sphere), oriented.triangles, mesh, oriented.inward);
   const QualityMetrics q = compute_metrics(mesh.positions, sphere, oriented.triangles);
   nlohmann::json row = {
       {"bijective", check.bijective && check.degenerate == 0},

@@ -20,12 +20,8 @@ namespace {
 // The verdict recomputed from the positions alone, in double and float32.
 bool independently_clean(const PolygonMesh& mesh, std::span<const Vec3> sphere) {
   const OrientedTriangles oriented = oriented_triangles(mesh);
-  std::vector<Vec3> rounded(sphere.size());
-  for (size_t v = 0; v < sphere.size(); ++v)
-    rounded[v] = {static_cast<float>(sphere[v].x), static_cast<float>(sphere[v].y),
-                  static_cast<float>(sphere[v].z)};
   return clean(check_map(sphere, oriented.triangles)) &&
-         clean(check_map(rounded, oriented.triangles));
+         clean(check_map(rounded_to_float32(sphere), oriented.triangles));
 }
 
 struct Variant {
@@ -119,11 +115,7 @@ TEST(MapGuarantees, Float32FoldIsNotCertified) {
   std::vector<Vec3>& q = m.map.sphere;
   q[t[0]] = normalized_or(q[t[1]] + 1e-9 * (q[t[0]] - q[t[1]]), q[t[0]]);
   m.map.check = verify_map(q, oriented.triangles, mesh, oriented.inward);
-  std::vector<Vec3> rounded(q.size());
-  for (size_t v = 0; v < q.size(); ++v)
-    rounded[v] = {static_cast<float>(q[v].x), static_cast<float>(q[v].y),
-                  static_cast<float>(q[v].z)};
-  m.float32_check = verify_map(rounded, oriented.triangles, mesh, oriented.inward);
+  m.float32_check = verify_map(rounded_to_float32(q), oriented.triangles, mesh, oriented.inward);
   ASSERT_EQ(m.map.check.folds, 0u);
   const Certification verdict = certify(m, m.float32_check);
   EXPECT_FALSE(verdict.certified);

@@ -1,10 +1,11 @@
-// The default method (ALGORITHM §B4, PROTOTYPE-FINDINGS §6 "MRG40", with the departures
-// measured in BENCHMARKS.md): first the paper's map of the whole mesh with a small
-// budget; failing that, a collapse hierarchy, started from the paper's map of a coarse
-// level (or a tetrahedron), then per level, coarse to fine: kernel-safe insertion,
-// Lai-Cheng smoothing, local repair, and a fold-free fallback; and retries with other
-// smoothing settings while the map folds. Every level starts from a fold-free map when
-// all insertions succeed, and the fallback keeps it fold-free.
+// The default method. First the stretch-optimized hierarchy (ALGORITHM §F): from a
+// tetrahedron, every level inserted kernel-safe and then stretch-optimized. When a level
+// cannot be made fold-free, the engine v1 map (ALGORITHM §B4, with the departures measured
+// in BENCHMARKS.md): the paper's map of the whole mesh with a small budget; failing that,
+// the hierarchy started from the paper's map of a coarse level (or a tetrahedron), then
+// per level kernel-safe insertion, Lai-Cheng smoothing, local repair and a fold-free
+// fallback, retried with other smoothing settings while the map folds. polish_map then
+// opens whatever a reader could not tell from a fold.
 #include <algorithm>
 #include <numeric>
 
@@ -99,8 +100,7 @@ class CoarseToFine {
       result_.stop_reason = StopReason::kCancelled;
       return;
     }
-    result_.sphere.resize(q_.size());
-    for (uint32_t v = 0; v < q_.size(); ++v) result_.sphere[v] = q_[h_.old_to_new[v]];
+    export_sphere();
   }
 
   // The stretch-optimized map (ALGORITHM §F): from the tetrahedron, every level is
@@ -135,13 +135,32 @@ class CoarseToFine {
       result_.stop_reason = StopReason::kCancelled;
       return;
     }
+    export_sphere();
+  }
+
+ private:
+  // The map in the input's vertex ids.
+  void export_sphere() {
     result_.sphere.resize(q_.size());
     for (uint32_t v = 0; v < q_.size(); ++v) result_.sphere[v] = q_[h_.old_to_new[v]];
   }
 
- private:
   std::span<const Triangle> triangles_of(int l, int levels) const {
     return l + 1 == levels ? std::span<const Triangle>(fine_triangles_) : h_.level_triangles[l];
+  }
+
+  // Operator A of level l; the finest level uses the input's polygons.
+  SparseMatrix operator_of(int l, int levels) const {
+    return l + 1 == levels
+               ? fine_operator(mesh_, h_.old_to_new, options_.alpha)
+               : level_operator(h_.level_triangles[l], h_.level_sizes[l], options_.alpha);
+  }
+
+  // Surface positions of the first n vertices (hierarchy ids).
+  std::vector<Vec3> positions_of(size_t n) const {
+    std::vector<Vec3> x(n);
+    for (uint32_t v = 0; v < n; ++v) x[v] = position(v);
+    return x;
   }
 
   // Folds left by failed insertions, removed by the local Lai-Cheng repair. True when
@@ -149,9 +168,7 @@ class CoarseToFine {
   bool repair_level(int l, int levels, LevelReport& report) {
     const size_t n = h_.level_sizes[l];
     std::span<const Triangle> triangles = triangles_of(l, levels);
-    SparseMatrix A = l + 1 == levels ? fine_operator(mesh_, h_.old_to_new, options_.alpha)
-                                     : level_operator(triangles, n, options_.alpha);
-    LaiChengSmoother smoother(triangles, std::move(A), n, smoothing_);
+    LaiChengSmoother smoother(triangles, operator_of(l, levels), n, smoothing_);
     std::span<Vec3> q(q_.data(), n);
     size_t folds = smoother.count_folds(q);
     if (folds > 0) {
@@ -220,8 +237,7 @@ class CoarseToFine {
   void optimize_level(int l, int levels) {
     const size_t n = h_.level_sizes[l];
     std::span<const Triangle> triangles = triangles_of(l, levels);
-    std::vector<Vec3> x(n);
-    for (uint32_t v = 0; v < n; ++v) x[v] = mesh_.positions[h_.new_to_old[v]];
+    const std::vector<Vec3> x = positions_of(n);
     const std::vector<double> area_scale = l + 1 == levels || !options_.represented_area
                                                ? std::vector<double>{}
                                                : represented_scale(l, triangles);
@@ -270,16 +286,11 @@ class CoarseToFine {
 
   bool map_projected(int l, int levels) {
     const size_t n = h_.level_sizes[l];
-    const bool finest = l + 1 == levels;
-    std::span<const Triangle> triangles =
-        finest ? std::span<const Triangle>(fine_triangles_) : h_.level_triangles[l];
-    std::vector<Vec3> x(n);
-    for (uint32_t v = 0; v < n; ++v) x[v] = mesh_.positions[h_.new_to_old[v]];
-    SparseMatrix A = finest ? fine_operator(mesh_, h_.old_to_new, options_.alpha)
-                            : level_operator(triangles, n, options_.alpha);
-    const ProjectedMap start = projected_map(
-        x, triangles, std::move(A), smoothing_, {.iterations = options_.projected_start_iterations},
-        session_, {.stage = "project", .level = l, .levels = levels - 1, .vertices = n});
+    std::span<const Triangle> triangles = triangles_of(l, levels);
+    const ProjectedMap start =
+        projected_map(positions_of(n), triangles, operator_of(l, levels), smoothing_,
+                      {.iterations = options_.projected_start_iterations}, session_,
+                      {.stage = "project", .level = l, .levels = levels - 1, .vertices = n});
     count_work(start.iterations, n);
     count_repair(start.repair);
     if (start.folds > 0) return false;
@@ -311,12 +322,8 @@ class CoarseToFine {
     LevelReport& report = result_.levels.emplace_back();
     insert_level(l, report);
     const size_t n = h_.level_sizes[l];
-    const bool finest = l + 1 == levels;
-    std::span<const Triangle> triangles =
-        finest ? std::span<const Triangle>(fine_triangles_) : h_.level_triangles[l];
-    SparseMatrix A = finest ? fine_operator(mesh_, h_.old_to_new, options_.alpha)
-                            : level_operator(triangles, n, options_.alpha);
-    LaiChengSmoother smoother(triangles, std::move(A), n, smoothing_);
+    std::span<const Triangle> triangles = triangles_of(l, levels);
+    LaiChengSmoother smoother(triangles, operator_of(l, levels), n, smoothing_);
     std::span<Vec3> q(q_.data(), n);
 
     size_t folds = smoother.count_folds(q);

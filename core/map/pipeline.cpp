@@ -79,12 +79,8 @@ MappedMesh map_prepared(PreparedMesh prepared, const MapOptions& options,
   const PolygonMesh& mesh = out.prepared.welded.mesh;
   const OrientedTriangles oriented = oriented_triangles(mesh);
   out.quality = compute_metrics(mesh.positions, out.map.sphere, oriented.triangles);
-  std::vector<Vec3> rounded(out.map.sphere.size());
-  for (size_t v = 0; v < rounded.size(); ++v) {
-    const Vec3& p = out.map.sphere[v];
-    rounded[v] = {static_cast<float>(p.x), static_cast<float>(p.y), static_cast<float>(p.z)};
-  }
-  out.float32_check = verify_map(rounded, oriented.triangles, mesh, oriented.inward);
+  out.float32_check =
+      verify_map(rounded_to_float32(out.map.sphere), oriented.triangles, mesh, oriented.inward);
   out.metrics_seconds = seconds_since(start);
   return out;
 }

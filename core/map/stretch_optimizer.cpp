@@ -343,13 +343,10 @@ StretchStats optimize_stretch(std::span<const Vec3> x, std::span<const Triangle>
 std::vector<uint32_t> uncertain_vertices(std::span<const Vec3> q,
                                          std::span<const Triangle> triangles) {
   std::vector<char> marked(q.size(), 0);
-  auto rounded = [](const Vec3& p) {
-    return Vec3{static_cast<float>(p.x), static_cast<float>(p.y), static_cast<float>(p.z)};
-  };
   for (const Triangle& t : triangles) {
     const Vec3 &a = q[t[0]], &b = q[t[1]], &c = q[t[2]];
     if (spherical_area(a, b, c) < 100 * kDegenerateArea ||
-        !is_valid_triangle(rounded(a), rounded(b), rounded(c)))
+        !is_valid_triangle(rounded_to_float32(a), rounded_to_float32(b), rounded_to_float32(c)))
       for (uint32_t v : t) marked[v] = 1;
   }
   std::vector<uint32_t> out;

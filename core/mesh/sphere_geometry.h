@@ -4,6 +4,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <span>
+#include <vector>
 
 #include "core/mesh/vec3.h"
 
@@ -56,6 +58,17 @@ inline bool is_valid_triangle(const Vec3& a, const Vec3& b, const Vec3& c) {
   if (!(t > margin)) return false;  // conservative: only what double calls valid is re-checked
   if (t > margin + 1e-14) return true;
   return triple_product_exceeds(a, b, c, margin);
+}
+
+// The point as a glTF file stores it: each coordinate rounded to float32. A map that is
+// valid in double can fold once its thinnest triangles are rounded.
+inline Vec3 rounded_to_float32(const Vec3& p) {
+  return {static_cast<float>(p.x), static_cast<float>(p.y), static_cast<float>(p.z)};
+}
+inline std::vector<Vec3> rounded_to_float32(std::span<const Vec3> points) {
+  std::vector<Vec3> out(points.size());
+  for (size_t v = 0; v < points.size(); ++v) out[v] = rounded_to_float32(points[v]);
+  return out;
 }
 
 // Signed area of the spherical triangle (a, b, c) on the unit sphere (Van Oosterom-Strackee).
