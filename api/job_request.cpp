@@ -1,6 +1,7 @@
 #include "api/job_request.h"
 
 #include <algorithm>
+#include <map>
 
 #include "api/job_options.h"
 #include "api/problem.h"
@@ -13,7 +14,18 @@ namespace {
 
 const char* const kAccepted =
     "model/gltf-binary (a .glb), model/gltf+json (a .gltf with embedded buffers), or "
-    "multipart/form-data with a 'mesh' file part and an optional 'options' JSON part";
+    "multipart/form-data with a 'mesh' file part, an optional 'options' JSON part and, for a "
+    ".gltf with external files, one part per file named by its URI";
+
+const char* const kHowToSendResources =
+    "send the .gltf as the 'mesh' part of a multipart/form-data upload and each file it names "
+    "as one more part named by its URI, e.g. curl -F mesh=@scene.gltf -F scene.bin=@scene.bin";
+
+// The detail's last sentence for a fix, in the job options' words.
+std::string option_hint(const Fix& fix) {
+  return "; the job option \"" + fix.option + "\": " + fix.value + " (or ?" + fix.option + "=" +
+         fix.value + ") " + fix.effect;
+}
 
 }  // namespace
 
@@ -34,10 +46,12 @@ std::string media_type(const httplib::Request& request) {
   return type;
 }
 
-// The mesh bytes and the options JSON of the request, by content type.
+// The mesh bytes, the files a .gltf names (multipart parts other than mesh and options,
+// by part name and by file name) and the options JSON of the request, by content type.
 struct Body {
   std::string_view mesh;
   std::string format;
+  std::map<std::string, std::string_view> resources;
   nlohmann::json options = nlohmann::json::object();
 };
 
@@ -54,6 +68,11 @@ Body split_body(const httplib::Request& request) {
                     "the multipart body has no 'mesh' part; send the file as -F mesh=@FILE.glb");
     const auto& part = request.files.find("mesh")->second;
     body.mesh = part.content;
+    for (const auto& [name, file] : request.files) {
+      if (name == "mesh" || name == "options") continue;
+      body.resources.emplace(name, file.content);
+      if (!file.filename.empty()) body.resources.emplace(file.filename, file.content);
+    }
     if (request.has_file("options")) {
       const std::string& text = request.files.find("options")->second.content;
       try {
@@ -93,27 +112,40 @@ std::unique_ptr<server::JobSpec> read_job_request(const httplib::Request& reques
   options.gltf.max_triangles = config.max_faces;
 
   auto spec = std::make_unique<server::JobSpec>();
+  GltfReadStats stats;
   try {
+    const MemoryResources resources(std::move(body.resources), kHowToSendResources);
     spec->input = read_gltf({reinterpret_cast<const uint8_t*>(body.mesh.data()), body.mesh.size()},
-                            options.gltf);
+                            options.gltf, &stats, &resources);
   } catch (const InputError& e) {
+    nlohmann::json extra = {{"check", e.check()}};
+    if (!e.fix().empty()) extra["fix"] = fix_json(e.fix());
+    const std::string hint = e.fix().empty() ? "" : option_hint(e.fix());
     if (e.check() == "too_large")
-      throw Problem(413, "too_large", "Mesh too large", e.what(), {{"check", e.check()}});
-    throw Problem(400, "malformed_gltf", "Malformed glTF", e.what(), {{"check", e.check()}});
+      throw Problem(413, "too_large", "Mesh too large", e.what(), extra);
+    if (e.check() == "missing_resources")
+      throw Problem(422, "missing_resources", "Files of the glTF are missing", e.what(), extra);
+    if (e.check() == "instancing")
+      throw Problem(422, "not_mappable", "Mesh cannot be mapped", e.what() + hint, extra);
+    throw Problem(400, "malformed_gltf", "Malformed glTF", e.what() + hint, extra);
   }
   spec->prepared = prepare_mesh(spec->input, options.prepare);
-  const auto failures = mapping_failures(spec->prepared.topology);
+  const auto failures = input_failures(spec->prepared, &stats);
   if (!failures.empty()) {
     nlohmann::json list = nlohmann::json::array();
     std::string detail;
+    Fix fix;
     for (const auto& f : failures) {
       list.push_back({{"check", f.check}, {"message", f.message}});
+      if (!f.fix.empty()) list.back()["fix"] = fix_json(f.fix);
+      if (fix.empty()) fix = f.fix;
       detail += (detail.empty() ? "" : "; ") + f.message;
     }
-    throw Problem(422, "not_mappable", "Mesh cannot be mapped", detail,
-                  {{"check", failures.front().check},
-                   {"failures", list},
-                   {"topology", topology_json(spec->prepared)}});
+    nlohmann::json extra = {{"check", failures.front().check},
+                            {"failures", list},
+                            {"topology", topology_json(spec->prepared, &stats)}};
+    if (!fix.empty()) extra["fix"] = fix_json(fix), detail += option_hint(fix);
+    throw Problem(422, "not_mappable", "Mesh cannot be mapped", detail, extra);
   }
   spec->map = options.map;
   spec->layout = options.layout;

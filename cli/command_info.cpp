@@ -1,9 +1,11 @@
+#include <cstdio>
 #include <iostream>
 
 #include "cli/arguments.h"
 #include "cli/commands.h"
 #include "cli/map_options.h"
 #include "core/io/mesh_file.h"
+#include "core/mesh/input_error.h"
 #include "core/outputs/report_json.h"
 
 namespace spheremap::cli {
@@ -11,20 +13,34 @@ namespace spheremap::cli {
 int run_info(int argc, char** argv) {
   Arguments args(argc, argv, 2, {"weld-tolerance", "mesh"}, {"help"});
   if (args.flag("help")) {
-    std::cout << "Usage: spheremap info INPUT [--weld-tolerance T] [--mesh INDEX|NAME]\n\n"
-                 "Prints the topology report of INPUT (.obj, .off, .glb, .gltf) as JSON: vertices, "
-                 "edges,\n"
-                 "faces, face sizes, boundary, manifoldness, orientation, components, genus,\n"
-                 "and whether it can be mapped (with the failed checks). Exit 0 when it can,\n"
-                 "2 when it cannot.\n";
+    std::cout
+        << "Usage: spheremap info INPUT [--weld-tolerance T] [--mesh INDEX|NAME]\n\n"
+           "Prints the topology report of INPUT (.obj, .off, .glb, .gltf) as JSON: vertices, "
+           "edges,\n"
+           "faces, face sizes, boundary, manifoldness, orientation, components, genus,\n"
+           "and whether it can be mapped (with the failed checks and, where an option\n"
+           "would help, that option as \"fix\"). A file that cannot be read at all is\n"
+           "still answered in JSON: {\"mappable\": false, \"error\": {\"check\", "
+           "\"message\"}}.\n"
+           "Exit 0 when it can be mapped, 1 usage error, 2 when it cannot be mapped or read.\n";
     return kExitOk;
   }
   if (args.positional().size() != 1) throw UsageError("info takes exactly one INPUT file");
   PrepareOptions prepare;
   prepare.weld_tolerance = args.number("weld-tolerance", 0, 0, 1);
-  const PreparedMesh prepared =
-      prepare_mesh(read_mesh_file(args.positional()[0], gltf_options(args)), prepare);
-  const nlohmann::json report = topology_json(prepared);
+  GltfReadStats stats;
+  PolygonMesh input;
+  try {
+    input = read_mesh_file(args.positional()[0], gltf_options(args), &stats);
+  } catch (const InputError& e) {
+    // A pipeline reads the verdict from stdout whatever went wrong.
+    nlohmann::json error = {{"check", e.check()}, {"message", e.what()}};
+    if (!e.fix().empty()) error["fix"] = fix_json(e.fix());
+    std::cout << nlohmann::json({{"mappable", false}, {"error", error}}).dump(2) << "\n";
+    std::fprintf(stderr, "spheremap: invalid input [%s]: %s\n", e.check().c_str(), e.what());
+    return kExitInvalidInput;
+  }
+  const nlohmann::json report = topology_json(prepare_mesh(input, prepare), &stats);
   std::cout << report.dump(2) << "\n";
   return report["mappable"].get<bool>() ? kExitOk : kExitInvalidInput;
 }

@@ -60,15 +60,18 @@ int run_map(int argc, char** argv) {
   if (layout != "original" && layout != "welded")
     throw UsageError("--layout must be original or welded, got '" + layout + "'");
 
-  const PolygonMesh input = read_mesh_file(args.positional()[0], gltf_options(args));
-  double last_print = 0;
-  const MappedMesh mapped =
-      map_mesh(input, prepare, options, progress_printer(args.flag("quiet"), last_print));
   const std::string output = args.text("output", "");
   const bool glb = output.size() > 4 && output.substr(output.size() - 4) == ".glb";
+  const bool obj = output.size() > 4 && output.substr(output.size() - 4) == ".obj";
+  if (!glb && !obj) throw UsageError("-o must name a .glb or .obj file, got '" + output + "'");
   const int draco_bits =
       args.flag("draco") ? static_cast<int>(args.integer("draco-position-bits", 14, 8, 20)) : 0;
   if (draco_bits && !glb) throw UsageError("--draco needs a .glb output");
+
+  const PolygonMesh input = read_input(args, prepare);
+  double last_print = 0;
+  const MappedMesh mapped =
+      map_mesh(input, prepare, options, progress_printer(args.flag("quiet"), last_print));
   const SphereLayout sphere_layout =
       layout == "welded" ? SphereLayout::kWelded : SphereLayout::kOriginal;
   nlohmann::json metrics;

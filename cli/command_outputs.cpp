@@ -88,7 +88,7 @@ int run_output(int argc, char** argv, Output kind) {
   MapOptions options;
   read_map_options(args, prepare, options);
 
-  const PolygonMesh input = read_mesh_file(args.positional()[0], gltf_options(args));
+  const PolygonMesh input = read_input(args, prepare);
   double last_print = 0;
   const MappedMesh mapped =
       map_mesh(input, prepare, options, progress_printer(args.flag("quiet"), last_print));

@@ -7,6 +7,7 @@
 
 #include "cli/arguments.h"
 #include "cli/commands.h"
+#include "cli/map_options.h"
 #include "core/mesh/input_error.h"
 
 namespace {
@@ -54,6 +55,7 @@ int main(int argc, char** argv) {
     return kExitUsage;
   } catch (const spheremap::InputError& e) {
     std::fprintf(stderr, "spheremap: invalid input [%s]: %s\n", e.check().c_str(), e.what());
+    if (!e.fix().empty()) std::fprintf(stderr, "  fix: %s\n", fix_hint(e.fix()).c_str());
     return kExitInvalidInput;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "spheremap: error: %s\n", e.what());

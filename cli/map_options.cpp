@@ -1,6 +1,10 @@
 #include "cli/map_options.h"
 
+#include <algorithm>
 #include <cstdio>
+
+#include "core/io/mesh_file.h"
+#include "core/outputs/report_json.h"
 
 namespace spheremap::cli {
 
@@ -139,6 +143,23 @@ MapControl progress_printer(bool quiet, double& last_print) {
                  p.iteration, p.folds);
   };
   return control;
+}
+
+PolygonMesh read_input(const Arguments& args, const PrepareOptions& prepare) {
+  GltfReadStats stats;
+  PolygonMesh input = read_mesh_file(args.positional()[0], gltf_options(args), &stats);
+  // A scene that draws one mesh several times cannot map as a whole; say which mesh to
+  // pick before the map is attempted (prepared twice only for such scenes).
+  if (stats.repeated_mesh >= 0) require_none(input_failures(prepare_mesh(input, prepare), &stats));
+  return input;
+}
+
+std::string fix_hint(const Fix& fix) {
+  if (fix.empty()) return "";
+  std::string flag = "--" + fix.option;
+  std::replace(flag.begin(), flag.end(), '_', '-');
+  if (fix.value != "true") flag += " " + fix.value;
+  return flag + " " + fix.effect;
 }
 
 GltfReadOptions gltf_options(const Arguments& args) {

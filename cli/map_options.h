@@ -23,4 +23,11 @@ MapControl progress_printer(bool quiet, double& last_print);
 // --mesh INDEX|NAME: which glTF mesh to read (default: the whole default scene).
 GltfReadOptions gltf_options(const Arguments& args);
 
+// The INPUT file (first positional argument) as read with gltf_options; a glTF scene that
+// draws one mesh several times is refused here with the --mesh that maps it.
+PolygonMesh read_input(const Arguments& args, const PrepareOptions& prepare);
+
+// A fix as the command line spells it: "--largest-component maps only ...".
+std::string fix_hint(const Fix& fix);
+
 }  // namespace spheremap::cli

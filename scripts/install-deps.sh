@@ -3,7 +3,7 @@
 # Idempotent: installs nothing when everything is already there.
 set -euo pipefail
 packages=(build-essential cmake ninja-build pkg-config nlohmann-json3-dev libgtest-dev libdraco-dev
-  libcpp-httplib-dev zlib1g-dev clang-format curl)
+  libcpp-httplib-dev libmeshoptimizer-dev zlib1g-dev clang-format curl)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

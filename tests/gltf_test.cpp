@@ -12,63 +12,16 @@
 #include "core/mesh/sphere_geometry.h"
 #include "core/outputs/sphere_glb.h"
 #include "tests/corpus.h"
+#include "tests/gltf_files.h"
 #include "tests/mesh_generators.h"
 
 namespace spheremap {
 namespace {
 
-std::span<const uint8_t> as_bytes(const std::string& s) {
-  return {reinterpret_cast<const uint8_t*>(s.data()), s.size()};
-}
-
-// A GLB split into its JSON and its binary chunk, to mutate and put back together.
-struct Glb {
-  nlohmann::json json;
-  std::string bin;
-
-  explicit Glb(const std::string& file) {
-    uint32_t json_length;
-    std::memcpy(&json_length, file.data() + 12, 4);
-    json = nlohmann::json::parse(file.substr(20, json_length));
-    const size_t bin_at = 20 + json_length;
-    if (bin_at + 8 <= file.size()) {
-      uint32_t bin_length;
-      std::memcpy(&bin_length, file.data() + bin_at, 4);
-      bin = file.substr(bin_at + 8, bin_length);
-    }
-  }
-  std::string bytes() const {
-    std::string text = json.dump();
-    while (text.size() % 4) text.push_back(' ');
-    std::string out;
-    auto u32 = [&](uint32_t v) { out.append(reinterpret_cast<const char*>(&v), 4); };
-    u32(0x46546C67), u32(2), u32(static_cast<uint32_t>(28 + text.size() + bin.size()));
-    u32(static_cast<uint32_t>(text.size())), u32(0x4E4F534A);
-    out += text;
-    u32(static_cast<uint32_t>(bin.size())), u32(0x004E4942);
-    return out + bin;
-  }
-};
-
-std::string sphere_glb() {
-  const PolygonMesh m = testing::icosphere(1);
-  GlbMesh glb;
-  glb.positions = glb.normals = m.positions;
-  glb.triangles = fan_triangulate(m).triangles;
-  glb.extras = {{"note", "test"}};
-  return format_glb(glb);
-}
-
-std::string read_error(const std::string& bytes) {
-  try {
-    read_gltf(as_bytes(bytes));
-  } catch (const InputError& e) {
-    EXPECT_EQ(e.check(), "gltf");
-    return e.what();
-  }
-  ADD_FAILURE() << "expected an InputError";
-  return "";
-}
+using testing::as_bytes;
+using testing::Glb;
+using testing::read_error;
+using testing::sphere_glb;
 
 TEST(Gltf, WrittenGlbReadsBackExactly) {
   const PolygonMesh m = testing::icosphere(1);
@@ -124,12 +77,21 @@ TEST(Gltf, RejectsIndicesPastTheVertices) {
   EXPECT_NE(read_error(glb.bytes()).find("index 1000 at position 0"), std::string::npos);
 }
 
-TEST(Gltf, RefusesEveryExternalUri) {
-  for (const char* uri : {"mesh.bin", "/etc/passwd", "../../etc/passwd", "file:///etc/passwd",
-                          "http://example.com/a.bin", "data:text/plain,abc"}) {
+TEST(Gltf, RefusesUrisOutsideTheFolderAndOtherSchemes) {
+  const std::pair<const char*, const char*> cases[] = {{"/etc/passwd", "absolute path"},
+                                                       {"../../etc/passwd", "'..' segment"},
+                                                       {"a/%2E%2E/%2e%2e/x.bin", "'..' segment"},
+                                                       {"file:///etc/passwd", "scheme"},
+                                                       {"http://example.com/a.bin", "scheme"},
+                                                       {"c:\\x.bin", "scheme"},
+                                                       {"a\\..\\b.bin", "backslash"},
+                                                       {"x%00.bin", "NUL"},
+                                                       {"x%4.bin", "two hex digits"},
+                                                       {"data:text/plain,abc", "not base64"}};
+  for (const auto& [uri, why] : cases) {
     Glb glb(sphere_glb());
     glb.json["buffers"][0]["uri"] = uri;
-    EXPECT_NE(read_error(glb.bytes()).find("external resource"), std::string::npos) << uri;
+    EXPECT_NE(read_error(glb.bytes()).find(why), std::string::npos) << uri;
   }
 }
 
@@ -159,7 +121,8 @@ TEST(Gltf, RejectsFilesWithoutTriangles) {
   EXPECT_NE(read_error(points.bytes()).find("1 primitive(s) of points or lines"),
             std::string::npos);
   EXPECT_NE(read_error("not json at all").find("does not parse"), std::string::npos);
-  EXPECT_NE(read_error(R"({"asset":{"version":"1.0"}})").find("not a glTF 2.0"), std::string::npos);
+  EXPECT_NE(read_error(R"({"asset":{"version":"1.0"}})").find("glTF 1.0 file"), std::string::npos);
+  EXPECT_NE(read_error(R"({"asset":{"version":"3.0"}})").find("not a glTF 2.0"), std::string::npos);
 }
 
 TEST(Gltf, AppliesNodeTransformsAndKeepsMirroredWindingOutward) {

@@ -1,10 +1,11 @@
 #include "core/io/gltf_document.h"
 
-#include "core/io/bounded_json.h"
-
+#include <algorithm>
 #include <cstring>
 #include <limits>
 
+#include "core/io/bounded_json.h"
+#include "core/io/meshopt_view.h"
 #include "core/mesh/input_error.h"
 
 namespace spheremap::gltf {
@@ -13,6 +14,23 @@ namespace {
 constexpr uint32_t kGlbMagic = 0x46546C67;  // "glTF"
 constexpr uint32_t kJsonChunk = 0x4E4F534A;
 constexpr uint32_t kBinChunk = 0x004E4942;
+// A GLB chunk's length is a uint32: no external buffer may be larger either.
+constexpr size_t kMaxResourceBytes = UINT32_MAX;
+
+const char* const kGltf1 =
+    "this is a glTF 1.0 file; spheremap reads glTF 2.0. Convert it first, e.g. with Cesium's "
+    "gltf-pipeline (npx gltf-pipeline -i in.gltf -o out.glb) or the Khronos glTF 1.0-to-2.0 "
+    "converter";
+
+// Extensions a file may require that change what is drawn, not where: materials,
+// textures, lights. The geometry ones read here are listed separately.
+bool appearance_only(const std::string& name) {
+  return name.rfind("KHR_materials_", 0) == 0 || name == "KHR_texture_transform" ||
+         name == "KHR_texture_basisu" || name == "EXT_texture_webp" || name == "EXT_texture_avif" ||
+         name == "KHR_lights_punctual" || name == "KHR_xmp_json_ld";
+}
+const char* const kGeometryExtensions[] = {"KHR_draco_mesh_compression", "KHR_mesh_quantization",
+                                           "EXT_meshopt_compression", "EXT_mesh_gpu_instancing"};
 
 uint32_t read_u32(std::span<const uint8_t> bytes, size_t at) {
   uint32_t v;
@@ -90,11 +108,14 @@ size_t index_field(const nlohmann::json& object, const char* key, size_t limit, 
   return static_cast<size_t>(it->get<uint64_t>());
 }
 
-Document::Document(std::span<const uint8_t> bytes) {
+Document::Document(std::span<const uint8_t> bytes, const GltfResources* resources,
+                   size_t max_decoded_bytes)
+    : decode_budget_(max_decoded_bytes) {
   std::span<const uint8_t> json_text = bytes, bin;
   bool has_bin = false;
   if (bytes.size() >= 4 && read_u32(bytes, 0) == kGlbMagic) {
     if (bytes.size() < 20) fail("GLB is truncated: " + std::to_string(bytes.size()) + " bytes");
+    if (read_u32(bytes, 4) == 1) fail(kGltf1);
     if (read_u32(bytes, 4) != 2)
       fail("GLB version " + std::to_string(read_u32(bytes, 4)) + " is not 2");
     const uint32_t length = read_u32(bytes, 8);
@@ -125,17 +146,49 @@ Document::Document(std::span<const uint8_t> bytes) {
   }
   if (json_.is_discarded() || !json_.is_object()) fail("the glTF JSON does not parse as an object");
   const auto asset = json_.find("asset");
+  if (asset != json_.end() && asset->is_object() && asset->contains("version") &&
+      (*asset)["version"].is_string() && (*asset)["version"].get<std::string>().rfind("1.", 0) == 0)
+    fail(kGltf1);
   if (asset == json_.end() || !asset->is_object() || !asset->contains("version") ||
       !(*asset)["version"].is_string() ||
       (*asset)["version"].get<std::string>().rfind("2.", 0) != 0)
     fail("not a glTF 2.0 asset (asset.version must be \"2.x\")");
-  load_buffers(bin, has_bin);
+  check_required_extensions();
+  load_buffers(bin, has_bin, resources);
 }
 
-void Document::load_buffers(std::span<const uint8_t> bin, bool has_bin) {
+bool Document::uses_extension(const char* name) const {
+  for (const char* key : {"extensionsUsed", "extensionsRequired"})
+    if (const auto it = json_.find(key); it != json_.end() && it->is_array())
+      for (const auto& e : *it)
+        if (e == name) return true;
+  return false;
+}
+
+void Document::check_required_extensions() const {
+  const auto it = json_.find("extensionsRequired");
+  if (it == json_.end()) return;
+  if (!it->is_array()) fail("extensionsRequired is not an array");
+  for (const auto& e : *it) {
+    if (!e.is_string()) fail("extensionsRequired holds a non-string");
+    const std::string& name = e.get_ref<const std::string&>();
+    if (appearance_only(name)) continue;
+    if (std::find(std::begin(kGeometryExtensions), std::end(kGeometryExtensions), name) !=
+        std::end(kGeometryExtensions))
+      continue;
+    fail("the file requires the extension " + describe_json(e) +
+         ", which spheremap does not read (geometry extensions read: KHR_draco_mesh_compression, "
+         "KHR_mesh_quantization, EXT_meshopt_compression, EXT_mesh_gpu_instancing)");
+  }
+}
+
+void Document::load_buffers(std::span<const uint8_t> bin, bool has_bin,
+                            const GltfResources* resources) {
   const auto it = json_.find("buffers");
   if (it == json_.end()) return;
   if (!it->is_array()) fail("buffers is not an array");
+  std::vector<std::string> missing;
+  placeholder_.assign(it->size(), 0);
   for (size_t i = 0; i < it->size(); ++i) {
     const nlohmann::json& b = (*it)[i];
     if (!b.is_object()) fail("buffer " + std::to_string(i) + " is not an object");
@@ -144,18 +197,36 @@ void Document::load_buffers(std::span<const uint8_t> bin, bool has_bin) {
       fail("buffer " + std::to_string(i) + " has no valid byteLength");
     const uint64_t declared = length_it->get<uint64_t>();
     std::vector<uint8_t> data;
+    const auto meshopt = b.find("extensions");
+    const bool fallback = meshopt != b.end() && meshopt->is_object() &&
+                          meshopt->contains("EXT_meshopt_compression") &&
+                          (*meshopt)["EXT_meshopt_compression"].is_object() &&
+                          (*meshopt)["EXT_meshopt_compression"].value("fallback", false) == true;
     if (const auto uri = b.find("uri"); uri != b.end()) {
       if (!uri->is_string()) fail("buffer " + std::to_string(i) + " uri is not a string");
       const std::string& text = uri->get_ref<const std::string&>();
       const size_t comma = text.find(',');
-      if (text.rfind("data:", 0) != 0 || comma == std::string::npos ||
-          text.substr(0, comma).find(";base64") == std::string::npos)
-        fail("buffer " + std::to_string(i) +
-             " refers to an external resource; only GLB or embedded base64 data: URIs are "
-             "accepted");
-      data = decode_base64(std::string_view(text).substr(comma + 1));
+      if (text.rfind("data:", 0) == 0) {
+        if (comma == std::string::npos ||
+            text.substr(0, comma).find(";base64") == std::string::npos)
+          fail("buffer " + std::to_string(i) + " has a data: URI that is not base64");
+        data = decode_base64(std::string_view(text).substr(comma + 1));
+      } else {
+        const std::string path = checked_resource_path(text);
+        std::optional<std::string> bytes;
+        if (resources) bytes = resources->fetch(path, kMaxResourceBytes);
+        if (!bytes) {
+          if (missing.size() < 8) missing.push_back(describe_json(path));
+          continue;
+        }
+        data.assign(bytes->begin(), bytes->end());
+      }
     } else if (i == 0 && has_bin) {
       data.assign(bin.begin(), bin.end());
+    } else if (fallback) {
+      placeholder_[i] = 1;  // its views are all compressed; nothing to read here
+      buffers_.emplace_back();
+      continue;
     } else {
       fail("buffer " + std::to_string(i) + " has no data (no uri and no GLB binary chunk)");
     }
@@ -164,6 +235,13 @@ void Document::load_buffers(std::span<const uint8_t> bin, bool has_bin) {
            " bytes but holds " + std::to_string(data.size()));
     data.resize(static_cast<size_t>(declared));
     buffers_.push_back(std::move(data));
+  }
+  if (!missing.empty()) {
+    std::string list;
+    for (const auto& m : missing) list += (list.empty() ? "" : ", ") + m;
+    throw InputError("missing_resources",
+                     "the .gltf names file(s) that were not supplied: " + list +
+                         (resources ? "; " + resources->how_to_supply() : std::string()));
   }
 }
 
@@ -176,19 +254,43 @@ const nlohmann::json& Document::element(const char* key, size_t index) const {
   return e;
 }
 
-std::span<const uint8_t> Document::buffer_view(size_t index) const {
-  const nlohmann::json& view = element("bufferViews", index);
-  const size_t buffer = index_field(view, "buffer", buffers_.size(), "bufferView.buffer");
-  if (buffer == SIZE_MAX) fail("bufferView " + std::to_string(index) + " has no buffer");
-  const uint64_t offset = index_field(view, "byteOffset", SIZE_MAX, "byteOffset", 0);
-  const uint64_t length = index_field(view, "byteLength", SIZE_MAX, "byteLength", SIZE_MAX);
-  if (length == SIZE_MAX) fail("bufferView " + std::to_string(index) + " has no byteLength");
+// The bytes `object` (a bufferView, or its EXT_meshopt_compression extension) names by
+// buffer, byteOffset and byteLength, checked against the buffer.
+std::span<const uint8_t> Document::buffer_range(const nlohmann::json& object, size_t buffer_limit,
+                                                const std::string& name) const {
+  const size_t buffer = index_field(object, "buffer", buffer_limit, "bufferView.buffer");
+  if (buffer == SIZE_MAX) fail(name + " has no buffer");
+  const uint64_t offset = index_field(object, "byteOffset", SIZE_MAX, "byteOffset", 0);
+  const uint64_t length = index_field(object, "byteLength", SIZE_MAX, "byteLength", SIZE_MAX);
+  if (length == SIZE_MAX) fail(name + " has no byteLength");
+  if (placeholder_[buffer])
+    fail(name + " reads buffer " + std::to_string(buffer) +
+         ", which only stands in for EXT_meshopt_compression data and holds none");
   const uint64_t available = buffers_[buffer].size();
   if (offset > available || length > available - offset)
-    fail("bufferView " + std::to_string(index) + " (bytes " + std::to_string(offset) + "+" +
-         std::to_string(length) + ") runs past its buffer of " + std::to_string(available) +
-         " bytes");
+    fail(name + " (bytes " + std::to_string(offset) + "+" + std::to_string(length) +
+         ") runs past its buffer of " + std::to_string(available) + " bytes");
   return std::span<const uint8_t>(buffers_[buffer]).subspan(offset, length);
+}
+
+std::span<const uint8_t> Document::buffer_view(size_t index) const {
+  const nlohmann::json& view = element("bufferViews", index);
+  const std::string name = "bufferView " + std::to_string(index);
+  const auto extensions = view.find("extensions");
+  if (extensions == view.end() || !extensions->is_object() ||
+      !extensions->contains("EXT_meshopt_compression"))
+    return buffer_range(view, buffers_.size(), name);
+  if (const auto done = decoded_views_.find(index); done != decoded_views_.end())
+    return done->second;
+  const nlohmann::json& meshopt = (*extensions)["EXT_meshopt_compression"];
+  if (!meshopt.is_object()) fail(name + ": EXT_meshopt_compression is not an object");
+  const size_t length = index_field(view, "byteLength", SIZE_MAX, "byteLength", SIZE_MAX);
+  if (length == SIZE_MAX) fail(name + " has no byteLength");
+  std::vector<uint8_t> decoded =
+      decode_meshopt_view(meshopt, buffer_range(meshopt, buffers_.size(), name + " (compressed)"),
+                          length, decode_budget_, index);
+  decode_budget_ -= decoded.size();
+  return decoded_views_.emplace(index, std::move(decoded)).first->second;
 }
 
 Document::AccessorView Document::accessor(size_t index) const {
@@ -221,18 +323,52 @@ Document::AccessorView Document::accessor(size_t index) const {
   return v;
 }
 
-std::vector<double> Document::read_floats(size_t index, int components) const {
+std::vector<double> Document::read_positions(size_t index) const {
   const AccessorView v = accessor(index);
-  if (v.component_type != 5126 || v.components != components)
-    fail("accessor " + std::to_string(index) + " must be FLOAT with " + std::to_string(components) +
-         " components");
-  std::vector<double> out(v.count * static_cast<size_t>(components));
-  for (size_t i = 0; i < v.count; ++i)
-    for (int c = 0; c < components; ++c) {
-      float f;
-      std::memcpy(&f, v.bytes.data() + i * v.stride + 4 * static_cast<size_t>(c), 4);
-      out[i * static_cast<size_t>(components) + static_cast<size_t>(c)] = f;
+  const std::string name = "POSITION accessor " + std::to_string(index);
+  if (v.components != 3) fail(name + " must be VEC3");
+  const bool quantized = v.component_type != 5126;
+  if (quantized && v.component_type == 5125)
+    fail(name +
+         " is UNSIGNED_INT; positions are FLOAT or, with KHR_mesh_quantization, "
+         "(UNSIGNED_)BYTE or (UNSIGNED_)SHORT");
+  if (quantized && !uses_extension("KHR_mesh_quantization"))
+    fail(name +
+         " stores integers, which needs KHR_mesh_quantization, and the file does not "
+         "list that extension in extensionsUsed");
+  const nlohmann::json& a = element("accessors", index);
+  const bool normalized = a.contains("normalized") && a["normalized"] == true;
+  // KHR_mesh_quantization: normalized integers map to [-1, 1] or [0, 1] (signed ones
+  // clamped at -1); unnormalized ones are taken as they are, the node transform scales them.
+  auto value = [&](const uint8_t* p) -> double {
+    switch (v.component_type) {
+      case 5120: {
+        const double x = static_cast<int8_t>(p[0]);
+        return normalized ? std::max(x / 127.0, -1.0) : x;
+      }
+      case 5121:
+        return normalized ? p[0] / 255.0 : p[0];
+      case 5122: {
+        int16_t x;
+        std::memcpy(&x, p, 2);
+        return normalized ? std::max(x / 32767.0, -1.0) : x;
+      }
+      case 5123: {
+        uint16_t x;
+        std::memcpy(&x, p, 2);
+        return normalized ? x / 65535.0 : x;
+      }
+      default: {
+        float f;
+        std::memcpy(&f, p, 4);
+        return f;
+      }
     }
+  };
+  const size_t size = component_size(v.component_type);
+  std::vector<double> out(v.count * 3);
+  for (size_t i = 0; i < v.count; ++i)
+    for (size_t c = 0; c < 3; ++c) out[i * 3 + c] = value(v.bytes.data() + i * v.stride + size * c);
   return out;
 }
 

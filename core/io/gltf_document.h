@@ -2,10 +2,13 @@
 // access to accessors. Internal to the glTF reader.
 #pragma once
 
+#include <map>
 #include <nlohmann/json.hpp>
 #include <span>
 #include <string>
 #include <vector>
+
+#include "core/io/gltf_resources.h"
 
 namespace spheremap::gltf {
 
@@ -13,14 +16,19 @@ namespace spheremap::gltf {
 
 class Document {
  public:
-  // bytes: a GLB file or glTF JSON text.
-  explicit Document(std::span<const uint8_t> bytes);
+  // bytes: a GLB file or glTF JSON text. `resources` supplies the files that buffer URIs
+  // name (none: every such URI is reported missing). EXT_meshopt_compression views decode
+  // to at most `max_decoded_bytes` in all. Checks extensionsRequired first: an extension
+  // that changes geometry and is not read here is refused by name.
+  Document(std::span<const uint8_t> bytes, const GltfResources* resources,
+           size_t max_decoded_bytes);
 
   const nlohmann::json& json() const { return json_; }
   // The bytes of bufferView `index`, checked against its buffer.
   std::span<const uint8_t> buffer_view(size_t index) const;
-  // Accessor `index` read as doubles (positions) or indices, checked against its view.
-  std::vector<double> read_floats(size_t index, int components) const;
+  // Accessor `index` read as doubles (positions: FLOAT, or the integer types of
+  // KHR_mesh_quantization, normalized or not) or indices, checked against its view.
+  std::vector<double> read_positions(size_t index) const;
   std::vector<uint32_t> read_indices(size_t index, size_t vertex_count) const;
 
   // Array element `index` of json()[key], or fail naming the reference.
@@ -33,10 +41,20 @@ class Document {
     int component_type, components;
   };
   AccessorView accessor(size_t index) const;
-  void load_buffers(std::span<const uint8_t> bin_chunk, bool has_bin);
+  void check_required_extensions() const;
+  void load_buffers(std::span<const uint8_t> bin_chunk, bool has_bin,
+                    const GltfResources* resources);
+  std::span<const uint8_t> buffer_range(const nlohmann::json& object, size_t buffer_limit,
+                                        const std::string& name) const;
+  bool uses_extension(const char* name) const;
 
   nlohmann::json json_;
   std::vector<std::vector<uint8_t>> buffers_;
+  // Buffers that only stand in for EXT_meshopt_compression data ("fallback": true, no uri).
+  std::vector<char> placeholder_;
+  // Decoded EXT_meshopt_compression views, by view index, and the bytes left to decode.
+  mutable std::map<size_t, std::vector<uint8_t>> decoded_views_;
+  mutable size_t decode_budget_;
 };
 
 // Integer field of a JSON object: absent -> fallback; present but not a non-negative

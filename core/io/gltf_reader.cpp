@@ -75,27 +75,32 @@ Matrix local_transform(const nlohmann::json& node) {
 
 class Reader {
  public:
-  Reader(std::span<const uint8_t> bytes, const GltfReadOptions& options, GltfReadStats& stats)
-      : doc_(bytes), options_(options), stats_(stats) {}
+  Reader(std::span<const uint8_t> bytes, const GltfReadOptions& options, GltfReadStats& stats,
+         const GltfResources* resources)
+      : doc_(bytes, resources, decode_budget(options)), options_(options), stats_(stats) {}
 
   PolygonMesh read() {
     const nlohmann::json& json = doc_.json();
     const size_t mesh_count =
         json.contains("meshes") && json["meshes"].is_array() ? json["meshes"].size() : 0;
     if (mesh_count == 0) fail("the file has no meshes");
+    draws_.assign(mesh_count, 0);
+    const bool has_scene =
+        json.contains("scenes") && json["scenes"].is_array() && !json["scenes"].empty();
     if (options_.mesh_index >= 0 || !options_.mesh_name.empty()) {
-      add_mesh(chosen_mesh(mesh_count), kIdentity);
-    } else if (json.contains("scenes") && json["scenes"].is_array() && !json["scenes"].empty()) {
-      const size_t scene = index_field(json, "scene", json["scenes"].size(), "scene", 0);
-      const nlohmann::json& s = doc_.element("scenes", scene);
-      if (const auto nodes = s.find("nodes"); nodes != s.end() && nodes->is_array())
-        for (const auto& n : *nodes) {
-          if (!n.is_number_unsigned()) fail("a scene node reference is not an index");
-          visit(n.get<size_t>(), kIdentity, 0);
-        }
+      // The chosen mesh as its first node draws it (quantized positions need that node's
+      // transform), or as stored when no node does.
+      chosen_ = chosen_mesh(mesh_count);
+      if (has_scene) walk_scene();
+      if (!chosen_drawn_) add_mesh(chosen_, kIdentity);
+    } else if (has_scene) {
+      walk_scene();
     } else {
       for (size_t m = 0; m < mesh_count; ++m) add_mesh(m, kIdentity);
     }
+    for (size_t m = 0; m < mesh_count; ++m)
+      if (draws_[m] > 1 && (stats_.repeated_mesh < 0 || draws_[m] > stats_.repeated_mesh_draws))
+        stats_.repeated_mesh = static_cast<int>(m), stats_.repeated_mesh_draws = draws_[m];
     if (mesh_.face_count() == 0)
       fail("no triangles to map: " + std::to_string(stats_.skipped_primitives) +
            " primitive(s) of points or lines, " + std::to_string(stats_.primitives) +
@@ -104,6 +109,22 @@ class Reader {
   }
 
  private:
+  static size_t decode_budget(const GltfReadOptions& options) {
+    // Room for interleaved vertex data and 32-bit indices at the caps, no more.
+    return options.max_vertices * 64 + options.max_triangles * 12;
+  }
+
+  void walk_scene() {
+    const nlohmann::json& json = doc_.json();
+    const size_t scene = index_field(json, "scene", json["scenes"].size(), "scene", 0);
+    const nlohmann::json& s = doc_.element("scenes", scene);
+    if (const auto nodes = s.find("nodes"); nodes != s.end() && nodes->is_array())
+      for (const auto& n : *nodes) {
+        if (!n.is_number_unsigned()) fail("a scene node reference is not an index");
+        visit(n.get<size_t>(), kIdentity, 0);
+      }
+  }
+
   size_t chosen_mesh(size_t mesh_count) {
     if (!options_.mesh_name.empty()) {
       for (size_t m = 0; m < mesh_count; ++m) {
@@ -133,7 +154,7 @@ class Reader {
     const Matrix world = multiply(parent, local_transform(node));
     const size_t meshes = doc_.json().contains("meshes") ? doc_.json()["meshes"].size() : 0;
     if (const size_t mesh = index_field(node, "mesh", meshes, "node.mesh"); mesh != SIZE_MAX)
-      add_mesh(mesh, world);
+      draw(node_index, node, mesh, world);
     if (const auto children = node.find("children"); children != node.end() && children->is_array())
       for (const auto& c : *children) {
         if (!c.is_number_unsigned()) fail("a node child reference is not an index");
@@ -141,7 +162,45 @@ class Reader {
       }
   }
 
+  void draw(size_t node_index, const nlohmann::json& node, size_t mesh, const Matrix& world) {
+    ++draws_[mesh];
+    if (const size_t instances = chosen_ == SIZE_MAX ? gpu_instances(node) : 1; instances > 1) {
+      const std::string m = std::to_string(mesh);
+      throw InputError("instancing",
+                       "node " + std::to_string(node_index) + " draws mesh " + m + " as " +
+                           std::to_string(instances) +
+                           " instances (EXT_mesh_gpu_instancing); a spherical map needs one "
+                           "closed surface",
+                       {"mesh", m, "maps mesh " + m + " once"});
+    }
+    if (chosen_ == SIZE_MAX) return add_mesh(mesh, world);
+    if (mesh == chosen_ && !chosen_drawn_) {
+      chosen_drawn_ = true;
+      add_mesh(mesh, world);
+    }
+  }
+
+  // EXT_mesh_gpu_instancing: how many copies the node draws (1 without the extension).
+  size_t gpu_instances(const nlohmann::json& node) const {
+    const auto ext = node.find("extensions");
+    if (ext == node.end() || !ext->is_object() || !ext->contains("EXT_mesh_gpu_instancing"))
+      return 1;
+    const nlohmann::json& instancing = (*ext)["EXT_mesh_gpu_instancing"];
+    if (!instancing.is_object() || !instancing.contains("attributes") ||
+        !instancing["attributes"].is_object() || instancing["attributes"].empty())
+      fail("EXT_mesh_gpu_instancing has no attributes");
+    const size_t accessors =
+        doc_.json().contains("accessors") ? doc_.json()["accessors"].size() : 0;
+    const size_t accessor =
+        index_field(instancing["attributes"], instancing["attributes"].begin().key().c_str(),
+                    accessors, "EXT_mesh_gpu_instancing accessor");
+    return index_field(doc_.element("accessors", accessor), "count", SIZE_MAX, "count", 1);
+  }
+
   std::vector<char> visited_;  // nodes reached by the scene walk
+  std::vector<size_t> draws_;  // per mesh, how many nodes draw it
+  size_t chosen_ = SIZE_MAX;   // --mesh: the one mesh to read
+  bool chosen_drawn_ = false;
 
   void add_mesh(size_t mesh_index, const Matrix& world) {
     const nlohmann::json& mesh = doc_.element("meshes", mesh_index);
@@ -174,7 +233,7 @@ class Reader {
       const size_t accessors =
           doc_.json().contains("accessors") ? doc_.json()["accessors"].size() : 0;
       positions =
-          doc_.read_floats(index_field(*attributes, "POSITION", accessors, "POSITION accessor"), 3);
+          doc_.read_positions(index_field(*attributes, "POSITION", accessors, "POSITION accessor"));
       const size_t vertex_count = positions.size() / 3;
       if (const size_t ia = index_field(p, "indices", accessors, "indices accessor");
           ia != SIZE_MAX) {
@@ -286,9 +345,22 @@ class Reader {
 }  // namespace
 
 PolygonMesh read_gltf(std::span<const uint8_t> bytes, const GltfReadOptions& options,
-                      GltfReadStats* stats) {
+                      GltfReadStats* stats, const GltfResources* resources) {
   GltfReadStats local;
-  return Reader(bytes, options, stats ? *stats : local).read();
+  return Reader(bytes, options, stats ? *stats : local, resources).read();
+}
+
+void suggest_repeated_mesh(std::vector<ValidationFailure>& failures, const GltfReadStats& stats) {
+  if (stats.repeated_mesh < 0 || failures.empty()) return;
+  for (const ValidationFailure& f : failures)
+    if (f.check == "non_manifold_edge" || f.check == "non_manifold_vertex" ||
+        f.check == "components") {
+      const std::string m = std::to_string(stats.repeated_mesh);
+      failures.front().fix = {"mesh", m,
+                              "maps mesh " + m + " alone (the scene draws it " +
+                                  std::to_string(stats.repeated_mesh_draws) + " times)"};
+      return;
+    }
 }
 
 }  // namespace spheremap

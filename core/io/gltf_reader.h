@@ -1,20 +1,27 @@
-// Reading glTF 2.0 (GLB, or JSON with embedded data: buffers), Draco-compressed or not,
-// as one polygon mesh of triangles. Input is untrusted: nothing here touches the
-// filesystem or the network (external URIs are refused), every index, offset, stride
-// and count is checked against the bytes actually present before it is used, and sizes
-// are capped. Errors are InputError("gltf", message) with our own messages only.
+// Reading glTF 2.0 (GLB, or JSON with its buffers embedded or supplied by a
+// GltfResources), plain, KHR_draco_mesh_compression, KHR_mesh_quantization or
+// EXT_meshopt_compression, as one polygon mesh of triangles. Input is untrusted: nothing
+// here touches the filesystem or the network itself (external URIs go to the caller's
+// GltfResources, checked first), every index, offset, stride and count is checked
+// against the bytes actually present before it is used, and sizes are capped. Errors are
+// InputError("gltf", message) with our own messages only; "missing_resources" when
+// named files were not supplied, "instancing" for EXT_mesh_gpu_instancing scenes.
 #pragma once
 
 #include <cstdint>
 #include <span>
 #include <string>
 
+#include "core/io/gltf_resources.h"
 #include "core/mesh/mesh.h"
+#include "core/mesh/topology.h"
 
 namespace spheremap {
 
 struct GltfReadOptions {
-  int mesh_index = -1;    // >= 0: only this mesh (identity transform), not the scene
+  // >= 0: only this mesh, with the transform of the first node that draws it (identity
+  // when none does), not the scene.
+  int mesh_index = -1;
   std::string mesh_name;  // non-empty: only the mesh of this name
   // Over either cap: InputError("too_large") (the service answers 413).
   size_t max_vertices = 20'000'000;
@@ -24,12 +31,20 @@ struct GltfReadOptions {
 // What was read, for reports: primitives used and skipped (points, lines).
 struct GltfReadStats {
   size_t primitives = 0, skipped_primitives = 0, draco_primitives = 0;
+  // The mesh the scene draws most often when some mesh is drawn by several nodes.
+  int repeated_mesh = -1;
+  size_t repeated_mesh_draws = 0;
 };
 
 // Every TRIANGLES (and strip/fan, converted) primitive of the default scene with node
 // transforms applied (world space), or of the chosen mesh. Vertices are not welded:
 // glTF splits them along seams; weld() joins them.
 PolygonMesh read_gltf(std::span<const uint8_t> bytes, const GltfReadOptions& options = {},
-                      GltfReadStats* stats = nullptr);
+                      GltfReadStats* stats = nullptr, const GltfResources* resources = nullptr);
+
+// When the scene draws one mesh several times and the failures are what that causes
+// (non-manifold edges where copies overlap, several components where they do not), the
+// fix is to map that mesh alone (--mesh / the job option mesh).
+void suggest_repeated_mesh(std::vector<ValidationFailure>& failures, const GltfReadStats& stats);
 
 }  // namespace spheremap

@@ -23,14 +23,20 @@ std::string lowercase_extension(const std::string& path) {
 
 }  // namespace
 
-PolygonMesh read_mesh_file(const std::string& path, const GltfReadOptions& gltf) {
+PolygonMesh read_mesh_file(const std::string& path, const GltfReadOptions& gltf,
+                           GltfReadStats* stats) {
   const std::string ext = lowercase_extension(path);
   if (ext != "obj" && ext != "off" && ext != "glb" && ext != "gltf")
     throw InputError(
         "io", "cannot read '" + path + "': unknown extension (use .obj, .off, .glb or .gltf)");
   const std::string text = read_file(path);
-  if (ext == "glb" || ext == "gltf")
-    return read_gltf({reinterpret_cast<const uint8_t*>(text.data()), text.size()}, gltf);
+  if (ext == "glb" || ext == "gltf") {
+    // Buffers a .gltf (or a GLB) names by URI are read from its own folder only.
+    const size_t slash = path.find_last_of('/');
+    const FolderResources folder(slash == std::string::npos ? "." : path.substr(0, slash + 1));
+    return read_gltf({reinterpret_cast<const uint8_t*>(text.data()), text.size()}, gltf, stats,
+                     &folder);
+  }
   return ext == "obj" ? parse_obj(text) : parse_off(text);
 }
 

@@ -193,10 +193,11 @@ std::vector<ValidationFailure> mapping_failures(const TopologyReport& r) {
                                       " edges have faces on both sides running the same way "
                                       "(inconsistent orientation)"});
   if (r.component_vertices.size() > 1)
-    out.push_back(
-        {"components", "mesh has " + n(r.component_vertices.size()) +
-                           " connected components (vertices: " + list_sizes(r.component_vertices) +
-                           "); spherical mapping needs exactly one"});
+    out.push_back({"components",
+                   "mesh has " + n(r.component_vertices.size()) +
+                       " connected components (vertices: " + list_sizes(r.component_vertices) +
+                       "); spherical mapping needs exactly one",
+                   {"largest_component", "true", "maps only the part with the most faces"}});
   if (out.empty() && r.genus() != 0)
     out.push_back({"genus", "mesh has genus " + std::to_string(r.genus()) +
                                 " (Euler characteristic " + std::to_string(r.euler_characteristic) +
@@ -207,11 +208,18 @@ std::vector<ValidationFailure> mapping_failures(const TopologyReport& r) {
 }
 
 void require_mappable(const TopologyReport& report) {
-  auto failures = mapping_failures(report);
+  require_none(mapping_failures(report));
+}
+
+void require_none(const std::vector<ValidationFailure>& failures) {
   if (failures.empty()) return;
   std::string message = failures[0].message;
-  for (size_t i = 1; i < failures.size(); ++i) message += "; also " + failures[i].message;
-  throw InputError(failures[0].check, message);
+  Fix fix = failures[0].fix;
+  for (size_t i = 1; i < failures.size(); ++i) {
+    message += "; also " + failures[i].message;
+    if (fix.empty()) fix = failures[i].fix;
+  }
+  throw InputError(failures[0].check, message, fix);
 }
 
 }  // namespace spheremap

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "core/mesh/input_error.h"
 #include "core/mesh/mesh.h"
 
 namespace spheremap {
@@ -39,14 +40,20 @@ struct TopologyReport {
 TopologyReport analyze_topology(const PolygonMesh& mesh);
 
 struct ValidationFailure {
+  ValidationFailure(std::string check_name, std::string text, Fix option = {})
+      : check(std::move(check_name)), message(std::move(text)), fix(std::move(option)) {}
   std::string check;    // stable name: "non_finite", "boundary", "genus", ...
   std::string message;  // one sentence with the counts
+  Fix fix;              // the option that gets past it, when one does
 };
 
 // Every failed check, most fundamental first; empty when the mesh can be mapped.
 std::vector<ValidationFailure> mapping_failures(const TopologyReport& report);
 
-// Throws InputError naming the first failed check, with all failures in its message.
+// Throws InputError naming the first failed check, with all failures in its message and
+// the first fix any of them has.
 void require_mappable(const TopologyReport& report);
+// The same for a list of failures already made (and perhaps given fixes).
+void require_none(const std::vector<ValidationFailure>& failures);
 
 }  // namespace spheremap

@@ -11,13 +11,28 @@ nlohmann::json summary_json(const DistortionSummary& s) {
 
 }  // namespace
 
-nlohmann::json topology_json(const PreparedMesh& prepared) {
+nlohmann::json fix_json(const Fix& fix) {
+  return {{"option", fix.option},
+          {"value", nlohmann::json::parse(fix.value, nullptr, false)},
+          {"effect", fix.effect}};
+}
+
+std::vector<ValidationFailure> input_failures(const PreparedMesh& prepared,
+                                              const GltfReadStats* gltf) {
+  std::vector<ValidationFailure> failures = mapping_failures(prepared.topology);
+  if (gltf) suggest_repeated_mesh(failures, *gltf);
+  return failures;
+}
+
+nlohmann::json topology_json(const PreparedMesh& prepared, const GltfReadStats* gltf) {
   const TopologyReport& r = prepared.topology;
   nlohmann::json sizes = nlohmann::json::object();
   for (auto [corners, count] : r.face_sizes) sizes[std::to_string(corners)] = count;
   nlohmann::json failures = nlohmann::json::array();
-  for (const ValidationFailure& f : mapping_failures(r))
+  for (const ValidationFailure& f : input_failures(prepared, gltf)) {
     failures.push_back({{"check", f.check}, {"message", f.message}});
+    if (!f.fix.empty()) failures.back()["fix"] = fix_json(f.fix);
+  }
   const long long genus = r.genus();
   return {
       {"input_vertices", prepared.welded.input_to_welded.size()},

@@ -3,11 +3,20 @@
 
 #include <nlohmann/json.hpp>
 
+#include "core/io/gltf_reader.h"
 #include "core/map/pipeline.h"
 
 namespace spheremap {
 
-nlohmann::json topology_json(const PreparedMesh& prepared);
+// The checks a prepared mesh fails, each with the option that would get past it (a glTF
+// scene that draws one mesh several times is told to map that mesh alone).
+std::vector<ValidationFailure> input_failures(const PreparedMesh& prepared,
+                                              const GltfReadStats* gltf = nullptr);
+// {"option", "value", "effect"} of a fix, the value as JSON.
+nlohmann::json fix_json(const Fix& fix);
+
+// The topology report with "mappable" and "failures" (each with its "fix" when one exists).
+nlohmann::json topology_json(const PreparedMesh& prepared, const GltfReadStats* gltf = nullptr);
 nlohmann::json metrics_json(const MappedMesh& mapped, const MapOptions& options);
 
 }  // namespace spheremap

@@ -1,0 +1,347 @@
+// glTF as exporters ship it: a .gltf with its .bin beside it, KHR_mesh_quantization,
+// EXT_meshopt_compression, required extensions, instancing, repeated meshes, glTF 1.0,
+// and the Khronos sample models of the corpus (gltf-samples/).
+#include <gtest/gtest.h>
+#include <meshoptimizer.h>
+
+#include <unistd.h>
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+#include "core/io/gltf_reader.h"
+#include "core/io/mesh_file.h"
+#include "core/map/certification.h"
+#include "core/map/pipeline.h"
+#include "core/outputs/report_json.h"
+#include "tests/corpus.h"
+#include "tests/gltf_files.h"
+
+namespace spheremap {
+namespace {
+
+namespace fs = std::filesystem;
+using testing::as_bytes;
+using testing::Glb;
+using testing::read_error;
+using testing::sphere_glb;
+
+// A fresh folder under the system temp dir, removed at the end of the test.
+struct TempFolder {
+  fs::path path;
+  TempFolder() {
+    static int made = 0;
+    path = fs::temp_directory_path() /
+           ("spheremap_gltf_" + std::to_string(getpid()) + "_" + std::to_string(++made));
+    fs::remove_all(path);
+    fs::create_directories(path);
+  }
+  ~TempFolder() { fs::remove_all(path); }
+  void write(const std::string& name, const std::string& bytes) const {
+    std::ofstream(path / name, std::ios::binary) << bytes;
+  }
+};
+
+// The test sphere as a .gltf whose buffer is the file `bin_name` named by `uri`.
+void write_split_gltf(const TempFolder& folder, const std::string& gltf_name,
+                      const std::string& uri, const std::string& bin_name) {
+  Glb glb(sphere_glb());
+  glb.json["buffers"][0]["uri"] = uri;
+  folder.write(gltf_name, glb.json.dump());
+  folder.write(bin_name, glb.bin);
+}
+
+InputError read_failure(const std::string& bytes, const GltfReadOptions& options = {},
+                        const GltfResources* resources = nullptr) {
+  try {
+    read_gltf(as_bytes(bytes), options, nullptr, resources);
+  } catch (const InputError& e) {
+    return e;
+  }
+  ADD_FAILURE() << "expected an InputError";
+  return InputError("none", "");
+}
+
+TEST(GltfRealWorld, ReadsABinBesideTheGltfByItsPercentEncodedUri) {
+  TempFolder folder;
+  write_split_gltf(folder, "sphere.gltf", "mesh%20data.bin", "mesh data.bin");
+  const PolygonMesh expected = read_gltf(as_bytes(sphere_glb()));
+  const PolygonMesh read = read_mesh_file((folder.path / "sphere.gltf").string());
+  EXPECT_EQ(read.positions, expected.positions);
+  EXPECT_EQ(read.indices, expected.indices);
+}
+
+TEST(GltfRealWorld, ListsMissingFilesAndSaysWhereTheyMustBe) {
+  TempFolder folder;
+  write_split_gltf(folder, "sphere.gltf", "elsewhere.bin", "mesh.bin");
+  try {
+    read_mesh_file((folder.path / "sphere.gltf").string());
+    ADD_FAILURE() << "expected missing_resources";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.check(), "missing_resources");
+    EXPECT_NE(std::string(e.what()).find("\"elsewhere.bin\""), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("the .gltf's folder"), std::string::npos) << e.what();
+  }
+  // From memory (the service's multipart parts): found by name, or told how to send it.
+  Glb glb(sphere_glb());
+  glb.json["buffers"][0]["uri"] = "a.bin";
+  const MemoryResources parts({{"a.bin", glb.bin}}, "send it as a part");
+  EXPECT_EQ(read_gltf(as_bytes(glb.json.dump()), {}, nullptr, &parts).positions.size(), 42u);
+  const MemoryResources none({}, "send it as a part");
+  const InputError e = read_failure(glb.json.dump(), {}, &none);
+  EXPECT_EQ(e.check(), "missing_resources");
+  EXPECT_NE(std::string(e.what()).find("send it as a part"), std::string::npos);
+}
+
+TEST(GltfRealWorld, RefusesSymlinksLeadingOutOfTheFolder) {
+  TempFolder outside, folder;
+  Glb glb(sphere_glb());
+  outside.write("secret.bin", glb.bin);
+  fs::create_symlink(outside.path / "secret.bin", folder.path / "link.bin");
+  glb.json["buffers"][0]["uri"] = "link.bin";
+  folder.write("a.gltf", glb.json.dump());
+  try {
+    read_mesh_file((folder.path / "a.gltf").string());
+    ADD_FAILURE() << "a symlink out of the folder was followed";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("symbolic link"), std::string::npos) << e.what();
+  }
+  // A link that stays inside the folder is fine.
+  folder.write("real.bin", glb.bin);
+  fs::create_symlink(folder.path / "real.bin", folder.path / "inside.bin");
+  glb.json["buffers"][0]["uri"] = "inside.bin";
+  folder.write("b.gltf", glb.json.dump());
+  EXPECT_EQ(read_mesh_file((folder.path / "b.gltf").string()).positions.size(), 42u);
+}
+
+TEST(GltfRealWorld, ChecksRequiredExtensionsByName) {
+  Glb glb(sphere_glb());
+  glb.json["extensionsRequired"] = {"KHR_materials_unlit", "EXT_made_up_geometry"};
+  EXPECT_NE(read_error(glb.bytes()).find("\"EXT_made_up_geometry\""), std::string::npos);
+  glb.json["extensionsRequired"] = {"KHR_materials_unlit", "KHR_texture_transform"};
+  EXPECT_EQ(read_gltf(as_bytes(glb.bytes())).positions.size(), 42u);
+}
+
+TEST(GltfRealWorld, SaysGltf1IsGltf1AndHowToConvert) {
+  std::string glb = sphere_glb();
+  const uint32_t version1 = 1;
+  std::memcpy(glb.data() + 4, &version1, 4);
+  const std::string message = read_error(glb);
+  EXPECT_NE(message.find("glTF 1.0"), std::string::npos) << message;
+  EXPECT_NE(message.find("gltf-pipeline"), std::string::npos) << message;
+}
+
+// The test sphere with positions stored as `component_type` (BYTE .. UNSIGNED_SHORT)
+// quantized over [-1, 1] (normalized) or [0, max] with a node transform undoing it.
+std::string quantized_sphere(int component_type, bool normalized, bool declare_extension) {
+  Glb glb(sphere_glb());
+  const PolygonMesh m = read_gltf(as_bytes(sphere_glb()));
+  const bool is_signed = component_type == 5120 || component_type == 5122;
+  const size_t size = component_type <= 5121 ? 1 : 2;
+  const double max = size == 1 ? (is_signed ? 127 : 255) : (is_signed ? 32767 : 65535);
+  std::string positions;
+  for (const Vec3& p : m.positions) {
+    for (int c = 0; c < 3; ++c) {
+      // Unsigned: shift [-1, 1] to [0, 1]; the node's translation moves it back.
+      const double unit = is_signed ? p[c] : (p[c] + 1) / 2;
+      const int q = static_cast<int>(std::lround(unit * max));
+      positions.append(reinterpret_cast<const char*>(&q), size);
+    }
+    while (positions.size() % 4) positions.push_back('\0');  // 4-byte aligned stride
+  }
+  const size_t stride = positions.size() / m.positions.size();
+  const size_t offset = glb.bin.size();
+  glb.bin += positions;
+  glb.json["buffers"][0]["byteLength"] = glb.bin.size();
+  glb.json["bufferViews"].push_back({{"buffer", 0},
+                                     {"byteOffset", offset},
+                                     {"byteLength", positions.size()},
+                                     {"byteStride", stride}});
+  const int position = glb.json["meshes"][0]["primitives"][0]["attributes"]["POSITION"];
+  auto& accessor = glb.json["accessors"][position];
+  accessor["bufferView"] = glb.json["bufferViews"].size() - 1;
+  accessor["byteOffset"] = 0;
+  accessor["componentType"] = component_type;
+  accessor.erase("min"), accessor.erase("max");
+  if (normalized) accessor["normalized"] = true;
+  const double scale = normalized ? (is_signed ? 1.0 : 2.0) : (is_signed ? 1 / max : 2 / max);
+  glb.json["nodes"][0]["scale"] = {scale, scale, scale};
+  if (!is_signed) glb.json["nodes"][0]["translation"] = {-1.0, -1.0, -1.0};
+  if (declare_extension) {
+    glb.json["extensionsUsed"] = {"KHR_mesh_quantization"};
+    glb.json["extensionsRequired"] = {"KHR_mesh_quantization"};
+  }
+  return glb.bytes();
+}
+
+TEST(GltfRealWorld, ReadsKhrMeshQuantizationInEveryIntegerType) {
+  const PolygonMesh expected = read_gltf(as_bytes(sphere_glb()));
+  for (int type : {5120, 5121, 5122, 5123})
+    for (bool normalized : {false, true}) {
+      const PolygonMesh m = read_gltf(as_bytes(quantized_sphere(type, normalized, true)));
+      ASSERT_EQ(m.positions.size(), expected.positions.size());
+      const double step = type <= 5121 ? 2.0 / 127 : 2.0 / 32767;
+      double worst = 0;
+      for (size_t v = 0; v < m.positions.size(); ++v)
+        worst = std::max(worst, norm(m.positions[v] - expected.positions[v]));
+      EXPECT_LT(worst, step) << "componentType " << type << " normalized " << normalized;
+      EXPECT_EQ(m.indices, expected.indices);
+    }
+  const std::string message = read_error(quantized_sphere(5122, true, false));
+  EXPECT_NE(message.find("KHR_mesh_quantization"), std::string::npos) << message;
+}
+
+// The test sphere with both views EXT_meshopt_compression-encoded (by meshoptimizer's
+// own encoder), the uncompressed buffer a fallback placeholder with no data.
+std::string meshopt_sphere() {
+  const PolygonMesh m = read_gltf(as_bytes(sphere_glb()));
+  std::vector<float> vertices;
+  for (const Vec3& p : m.positions)
+    for (int c = 0; c < 3; ++c) vertices.push_back(static_cast<float>(p[c]));
+  const size_t count = m.positions.size(), index_count = m.indices.size();
+  std::vector<unsigned char> encoded_vertices(meshopt_encodeVertexBufferBound(count, 12));
+  encoded_vertices.resize(meshopt_encodeVertexBuffer(
+      encoded_vertices.data(), encoded_vertices.size(), vertices.data(), count, 12));
+  std::vector<unsigned char> encoded_indices(meshopt_encodeIndexBufferBound(index_count, count));
+  encoded_indices.resize(meshopt_encodeIndexBuffer(encoded_indices.data(), encoded_indices.size(),
+                                                   m.indices.data(), index_count));
+  Glb glb(sphere_glb());
+  glb.bin.assign(encoded_vertices.begin(), encoded_vertices.end());
+  while (glb.bin.size() % 4) glb.bin.push_back('\0');
+  const size_t index_offset = glb.bin.size();
+  glb.bin.append(encoded_indices.begin(), encoded_indices.end());
+  while (glb.bin.size() % 4) glb.bin.push_back('\0');
+  using nlohmann::json;
+  glb.json["buffers"] =
+      json::array({{{"byteLength", glb.bin.size()}},
+                   {{"byteLength", count * 12 + index_count * 4},
+                    {"extensions", {{"EXT_meshopt_compression", {{"fallback", true}}}}}}});
+  auto view = [](size_t offset, size_t length, size_t stride, size_t n, const char* mode,
+                 size_t decoded_offset) {
+    return json{{"buffer", 1},
+                {"byteOffset", decoded_offset},
+                {"byteLength", n * stride},
+                {"extensions",
+                 {{"EXT_meshopt_compression",
+                   {{"buffer", 0},
+                    {"byteOffset", offset},
+                    {"byteLength", length},
+                    {"byteStride", stride},
+                    {"count", n},
+                    {"mode", mode}}}}}};
+  };
+  glb.json["bufferViews"] = json::array(
+      {view(0, encoded_vertices.size(), 12, count, "ATTRIBUTES", 0),
+       view(index_offset, encoded_indices.size(), 4, index_count, "TRIANGLES", count * 12)});
+  glb.json["accessors"] = json::array(
+      {{{"bufferView", 0}, {"componentType", 5126}, {"count", count}, {"type", "VEC3"}},
+       {{"bufferView", 1}, {"componentType", 5125}, {"count", index_count}, {"type", "SCALAR"}}});
+  glb.json["meshes"][0]["primitives"] =
+      json::array({{{"attributes", {{"POSITION", 0}}}, {"indices", 1}}});
+  glb.json["extensionsUsed"] = glb.json["extensionsRequired"] = {"EXT_meshopt_compression"};
+  return glb.bytes();
+}
+
+TEST(GltfRealWorld, ReadsExtMeshoptCompressionExactly) {
+  const PolygonMesh expected = read_gltf(as_bytes(sphere_glb()));
+  const PolygonMesh m = read_gltf(as_bytes(meshopt_sphere()));
+  EXPECT_EQ(m.positions, expected.positions);  // float32 in both: bit-exact
+  // The index codec may rotate a triangle's corners (keeping its winding).
+  auto rotated_to_smallest = [](std::vector<uint32_t> indices) {
+    for (size_t t = 0; t + 2 < indices.size(); t += 3)
+      while (indices[t] > indices[t + 1] || indices[t] > indices[t + 2])
+        std::rotate(indices.begin() + t, indices.begin() + t + 1, indices.begin() + t + 3);
+    return indices;
+  };
+  EXPECT_EQ(rotated_to_smallest(m.indices), rotated_to_smallest(expected.indices));
+}
+
+TEST(GltfRealWorld, RefusesMeshoptStreamsThatDoNotDecodeOrClaimTooMuch) {
+  Glb corrupt(meshopt_sphere());
+  std::fill(corrupt.bin.begin(), corrupt.bin.begin() + 8, '\xff');
+  EXPECT_NE(read_error(corrupt.bytes()).find("does not decode"), std::string::npos);
+  Glb huge(meshopt_sphere());  // 4 billion vertices from a few hundred bytes
+  huge.json["bufferViews"][0]["extensions"]["EXT_meshopt_compression"]["count"] = 4000000000u;
+  try {
+    read_gltf(as_bytes(huge.bytes()));
+    ADD_FAILURE() << "expected a refusal";
+  } catch (const InputError& e) {
+    EXPECT_TRUE(e.check() == "too_large" || e.check() == "gltf") << e.check();
+    EXPECT_NE(std::string(e.what()).find("bufferView 0"), std::string::npos) << e.what();
+  }
+  Glb placeholder(meshopt_sphere());  // a plain view reading the placeholder buffer
+  placeholder.json["bufferViews"][0].erase("extensions");
+  EXPECT_NE(read_error(placeholder.bytes()).find("stands in for EXT_meshopt_compression"),
+            std::string::npos);
+}
+
+TEST(GltfRealWorld, GpuInstancingIsRefusedWithTheMeshToPick) {
+  Glb glb(sphere_glb());
+  const size_t n = glb.json["accessors"].size();
+  glb.json["accessors"].push_back(glb.json["accessors"][0]);  // 42 VEC3 floats: 42 translations
+  glb.json["nodes"][0]["extensions"] = {
+      {"EXT_mesh_gpu_instancing", {{"attributes", {{"TRANSLATION", n}}}}}};
+  const InputError e = read_failure(glb.bytes());
+  EXPECT_EQ(e.check(), "instancing");
+  EXPECT_NE(std::string(e.what()).find("as 42 instances"), std::string::npos) << e.what();
+  EXPECT_EQ(e.fix().option, "mesh");
+  EXPECT_EQ(e.fix().value, "0");
+  GltfReadOptions one;
+  one.mesh_index = 0;
+  EXPECT_EQ(read_gltf(as_bytes(glb.bytes()), one).positions.size(), 42u);
+}
+
+TEST(GltfRealWorld, ASceneDrawingOneMeshTwiceIsToldToPickIt) {
+  Glb glb(sphere_glb());
+  glb.json["nodes"].push_back(glb.json["nodes"][0]);
+  glb.json["scenes"][0]["nodes"].push_back(glb.json["nodes"].size() - 1);
+  GltfReadStats stats;
+  const PolygonMesh both = read_gltf(as_bytes(glb.bytes()), {}, &stats);
+  EXPECT_EQ(stats.repeated_mesh, 0);
+  EXPECT_EQ(stats.repeated_mesh_draws, 2u);
+  const auto failures = input_failures(prepare_mesh(both, {}), &stats);
+  ASSERT_FALSE(failures.empty());
+  EXPECT_EQ(failures.front().check, "non_manifold_edge");
+  EXPECT_EQ(failures.front().fix.option, "mesh");
+  EXPECT_NE(failures.front().fix.effect.find("draws it 2 times"), std::string::npos);
+}
+
+// The Khronos sample models of the corpus, as shipped (gltf-samples/MANIFEST.md).
+TEST(GltfRealWorld, SampleBoxWithSpacesMapsFromItsGltfAndBin) {
+  const std::string path = "gltf-samples/BoxWithSpaces-glTF/Box With Spaces.gltf";
+  SKIP_WITHOUT_CORPUS(path);
+  const MappedMesh mapped = map_mesh(read_mesh_file(testing::corpus_path(path)), {}, {});
+  EXPECT_TRUE(certify(mapped, mapped.float32_check).certified);
+}
+
+TEST(GltfRealWorld, SampleCesiumManDracoGltfMapsCertifiedInFloat32) {
+  const std::string path = "gltf-samples/CesiumMan-glTF-Draco/CesiumMan.gltf";
+  SKIP_WITHOUT_CORPUS(path);
+  GltfReadStats stats;
+  const PolygonMesh input = read_mesh_file(testing::corpus_path(path), {}, &stats);
+  EXPECT_GT(stats.draco_primitives, 0u);
+  const MappedMesh mapped = map_mesh(input, {}, {});
+  EXPECT_TRUE(certify(mapped, mapped.float32_check).certified)
+      << certify(mapped, mapped.float32_check).detail;
+}
+
+TEST(GltfRealWorld, SampleBarramundiFishIsRefusedWithTheOptionThatMapsItsBody) {
+  const std::string path = "gltf-samples/BarramundiFish-glTF/BarramundiFish.gltf";
+  SKIP_WITHOUT_CORPUS(path);
+  const PolygonMesh input = read_mesh_file(testing::corpus_path(path));
+  try {
+    map_mesh(input, {}, {});
+    ADD_FAILURE() << "three parts mapped as one";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.check(), "components");
+    EXPECT_EQ(e.fix().option, "largest_component");
+  }
+  PrepareOptions largest;
+  largest.largest_component = true;
+  const MappedMesh body = map_mesh(input, largest, {});
+  EXPECT_TRUE(certify(body, body.float32_check).certified);
+}
+
+}  // namespace
+}  // namespace spheremap
