@@ -19,6 +19,7 @@ Arguments::Arguments(int argc, char** argv, int first, const std::set<std::strin
   for (int i = first; i < argc; ++i) {
     std::string arg = argv[i];
     if (arg == "-o") arg = "--output";
+    if (arg == "-h") arg = "--help";
     if (arg.size() < 2 || arg.compare(0, 2, "--") != 0 || arg == "--") {
       positional_.push_back(arg);
       continue;

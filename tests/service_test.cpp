@@ -19,6 +19,7 @@
 #include "core/mesh/sphere_geometry.h"
 #include "server/job_store.h"
 #include "tests/corpus.h"
+#include "tests/gltf_files.h"
 #include "tests/mesh_generators.h"
 #include "tests/test_server.h"
 
@@ -204,6 +205,55 @@ TEST(Service, MultipartWithOptionsMakesDraco) {
   const PolygonMesh read =
       read_gltf({reinterpret_cast<const uint8_t*>(sphere->body.data()), sphere->body.size()});
   EXPECT_EQ(read.vertex_count(), 218u);
+}
+
+// A .gltf whose buffer is a separate file, as exporters ship it: the file goes along as
+// one more multipart part named by its URI; without it the 422 lists it and says how.
+TEST(Service, GltfWithItsBinAsMultipartPartsMaps) {
+  TestServer server(small_config());
+  auto client = server.client();
+  testing::Glb glb(glb_of(testing::capped_tube(12, 30, 12)));
+  glb.json["buffers"][0]["uri"] = "tube%20data.bin";  // percent-encoded, as URIs are
+  const std::string gltf = glb.json.dump();
+  httplib::MultipartFormDataItems form = {
+      {"mesh", gltf, "tube.gltf", "model/gltf+json"},
+      {"tube data.bin", glb.bin, "tube data.bin", "application/octet-stream"}};
+  auto submitted = client.Post("/v1/jobs", form);
+  ASSERT_EQ(submitted->status, 202) << submitted->body;
+  const json done = wait_for(client, body_json(submitted)["id"]);
+  ASSERT_EQ(done["status"], "succeeded") << done.dump(2);
+  EXPECT_TRUE(done["metrics"]["bijective"]);
+
+  auto alone = client.Post("/v1/jobs", gltf, "model/gltf+json");
+  expect_problem(alone, 422, "missing_resources");
+  const std::string detail = json::parse(alone->body)["detail"];
+  EXPECT_NE(detail.find("\"tube data.bin\""), std::string::npos) << detail;
+  EXPECT_NE(detail.find("one more part named by its URI"), std::string::npos) << detail;
+  httplib::MultipartFormDataItems escape = {
+      {"mesh", std::string(gltf).replace(gltf.find("tube%20data.bin"), 15, "../etc/passwd"),
+       "tube.gltf", "model/gltf+json"}};
+  expect_problem(client.Post("/v1/jobs", escape), 400, "malformed_gltf");
+}
+
+// A scene that draws one mesh many times is refused with the job option that maps it.
+TEST(Service, RepeatedMeshGets422NamingTheMeshOption) {
+  TestServer server(small_config());
+  auto client = server.client();
+  testing::Glb glb(glb_of(testing::icosphere(2)));
+  for (int copy = 0; copy < 3; ++copy) {
+    glb.json["nodes"].push_back(glb.json["nodes"][0]);
+    glb.json["scenes"][0]["nodes"].push_back(glb.json["nodes"].size() - 1);
+  }
+  auto refused = post_glb(client, glb.bytes());
+  expect_problem(refused, 422, "not_mappable");
+  const json problem = json::parse(refused->body);
+  EXPECT_EQ(problem["fix"]["option"], "mesh") << problem.dump(2);
+  EXPECT_EQ(problem["fix"]["value"], 0);
+  EXPECT_NE(problem["detail"].get<std::string>().find("the job option \"mesh\": 0"),
+            std::string::npos);
+  auto mapped = post_glb(client, glb.bytes(), "/v1/jobs?mesh=0");
+  ASSERT_EQ(mapped->status, 202) << mapped->body;
+  EXPECT_EQ(wait_for(client, body_json(mapped)["id"])["status"], "succeeded");
 }
 
 TEST(Service, RemeshUvAndMorphArtifacts) {
@@ -640,6 +690,9 @@ TEST_F(ServiceCorpus, BadMeshesGet422WithTheirReason) {
       auto result = post_glb(client, read_bytes(testing::corpus_path(file)));
       expect_problem(result, 422, "not_mappable");
       EXPECT_EQ(json::parse(result->body)["check"], check) << file;
+      if (std::string(check) == "components") {  // the option that maps the largest part
+        EXPECT_EQ(json::parse(result->body)["fix"]["option"], "largest_component") << file;
+      }
     }
   auto holes = post_glb(client, read_bytes(testing::corpus_path("bad/bunny_holes.glb")));
   EXPECT_NE(json::parse(holes->body)["detail"].get<std::string>().find(

@@ -1,0 +1,69 @@
+#!/usr/bin/env bash
+# glTF as pipelines make it: corpus meshes run through gltfpack (default output:
+# KHR_mesh_quantization; -cc: EXT_meshopt_compression too) and gltf-transform (quantize,
+# meshopt) at test time must map certified, with stretch within 3% of the original's;
+# the Khronos samples as shipped (.gltf + .bin) map or are refused with the fix; `info`
+# answers JSON even for a file it cannot read. Exit 77 (skipped) without the corpus or npm.
+set -uo pipefail
+spheremap=$1 corpus=$2
+here=$(cd "$(dirname "$0")" && pwd)
+fail() { echo "FAIL: $*"; exit 1; }
+[ -d "$corpus" ] || { echo "corpus not found: skipped"; exit 77; }
+command -v npm > /dev/null || { echo "npm not found: skipped"; exit 77; }
+if [ ! -x "$here/node_modules/.bin/gltfpack" ] || [ ! -x "$here/node_modules/.bin/gltf-transform" ]; then
+  (cd "$here" && npm install --no-audit --no-fund --loglevel=error) || fail "npm install"
+fi
+bin=$here/node_modules/.bin
+out=$(mktemp -d)
+trap 'rm -rf "$out"' EXIT
+stretch() { python3 -c "import json,sys; print(json.load(open(sys.argv[1]))['stretch']['l2'])" "$1"; }
+
+for mesh in spot hand; do
+  [ -f "$corpus/$mesh.glb" ] || continue
+  "$spheremap" map "$corpus/$mesh.glb" -o "$out/$mesh.glb" --metrics "$out/$mesh.json" --quiet ||
+    fail "$mesh.glb"
+  reference=$(stretch "$out/$mesh.json")
+  "$bin/gltfpack" -i "$corpus/$mesh.glb" -o "$out/${mesh}_pack.glb" > /dev/null || fail "gltfpack"
+  "$bin/gltfpack" -i "$corpus/$mesh.glb" -o "$out/${mesh}_pack_cc.glb" -cc > /dev/null || fail "gltfpack -cc"
+  "$bin/gltf-transform" quantize "$corpus/$mesh.glb" "$out/${mesh}_quantize.glb" > /dev/null 2>&1 ||
+    fail "gltf-transform quantize"
+  "$bin/gltf-transform" meshopt "$corpus/$mesh.glb" "$out/${mesh}_meshopt.glb" > /dev/null 2>&1 ||
+    fail "gltf-transform meshopt"
+  grep -q KHR_mesh_quantization "$out/${mesh}_pack.glb" || fail "gltfpack did not quantize"
+  grep -q EXT_meshopt_compression "$out/${mesh}_pack_cc.glb" || fail "gltfpack -cc did not use meshopt"
+  for variant in pack pack_cc quantize meshopt; do
+    file=$out/${mesh}_$variant.glb
+    "$spheremap" map "$file" -o "$out/s.glb" --metrics "$out/m.json" --quiet ||
+      fail "$mesh $variant: exit $?"
+    s=$(stretch "$out/m.json")
+    python3 -c "import sys; a,b=map(float,sys.argv[1:]); sys.exit(0 if abs(a-b) <= 0.03*b else 1)" \
+      "$s" "$reference" || fail "$mesh $variant: stretch $s vs $reference"
+    echo "$mesh $variant: certified, stretch $s (original $reference)"
+  done
+done
+
+samples=$corpus/gltf-samples
+if [ -d "$samples" ]; then
+  "$spheremap" map "$samples/BoxWithSpaces-glTF/Box With Spaces.gltf" -o "$out/box.glb" --quiet ||
+    fail "Box With Spaces.gltf"
+  "$spheremap" map "$samples/CesiumMan-glTF-Draco/CesiumMan.gltf" -o "$out/man.glb" --quiet ||
+    fail "CesiumMan Draco .gltf"
+  err=$("$spheremap" map "$samples/BarramundiFish-glTF/BarramundiFish.gltf" -o "$out/f.glb" 2>&1)
+  [ $? -eq 2 ] && [[ "$err" == *"fix: --largest-component"* ]] || fail "fish hint: $err"
+  "$spheremap" map "$samples/BarramundiFish-glTF/BarramundiFish.gltf" -o "$out/f.glb" \
+    --largest-component --quiet || fail "fish body"
+  # A copy whose buffer URI climbs out of its folder is refused; nothing is read.
+  mkdir -p "$out/escape/inner"
+  sed 's|"uri" *: *"BarramundiFish.bin"|"uri": "../../BarramundiFish.bin"|' \
+    "$samples/BarramundiFish-glTF/BarramundiFish.gltf" > "$out/escape/inner/fish.gltf"
+  cp "$samples/BarramundiFish-glTF/BarramundiFish.bin" "$out/"
+  "$spheremap" info "$out/escape/inner/fish.gltf" > "$out/info.json" 2> /dev/null
+  [ $? -eq 2 ] || fail "escape exit code"
+  python3 -c "import json,sys; d=json.load(open(sys.argv[1])); assert d['mappable'] is False and \"'..' segment\" in d['error']['message'], d" \
+    "$out/info.json" || fail "escape refused in JSON"
+fi
+printf 'glTF\001\000\000\000\024\000\000\000\000\000\000\000\000\000\000\000' > "$out/v1.glb"
+"$spheremap" info "$out/v1.glb" > "$out/v1.json" 2> /dev/null
+[ $? -eq 2 ] || fail "glTF 1.0 exit code"
+grep -q 'glTF 1.0' "$out/v1.json" || fail "glTF 1.0 named in JSON: $(cat "$out/v1.json")"
+echo "real-world glTF: ok"
