@@ -29,6 +29,12 @@ for mesh in spot hand; do
     fail "gltf-transform quantize"
   "$bin/gltf-transform" meshopt "$corpus/$mesh.glb" "$out/${mesh}_meshopt.glb" > /dev/null 2>&1 ||
     fail "gltf-transform meshopt"
+  # A quantized .gltf with its .bin beside it, as gltf-transform writes a .gltf.
+  mkdir -p "$out/split"
+  "$bin/gltf-transform" quantize "$corpus/$mesh.glb" "$out/split/${mesh}_quantize.gltf" > /dev/null 2>&1 ||
+    fail "gltf-transform quantize to .gltf"
+  ls "$out/split/"*.bin > /dev/null 2>&1 || fail "gltf-transform wrote no .bin"
+  "$spheremap" map "$out/split/${mesh}_quantize.gltf" -o "$out/s.glb" --quiet || fail "$mesh quantized .gltf + .bin"
   grep -q KHR_mesh_quantization "$out/${mesh}_pack.glb" || fail "gltfpack did not quantize"
   grep -q EXT_meshopt_compression "$out/${mesh}_pack_cc.glb" || fail "gltfpack -cc did not use meshopt"
   for variant in pack pack_cc quantize meshopt; do
