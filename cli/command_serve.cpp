@@ -36,6 +36,11 @@ jobs (shutdown_grace_seconds) and exits 0.
                             3600 s, 1 GiB, 10000 jobs); older ones are evicted (410 Gone)
   --sync-timeout-seconds S  POST /v1/map waits at most this long, then answers 202 (30)
   --shutdown-grace-seconds S  time given to jobs on SIGTERM before they are cancelled (30)
+  --worker-isolation process|thread
+                            each job in a child process (default), or in the server
+  --worker-memory-bytes N, --worker-cpu-seconds S
+                            limits of one worker process (defaults: 3/4 of RAM;
+                            (2 x job limit + 60 s) x threads per job)
   --http-threads N, --keep-alive-timeout-seconds S, --read-timeout-seconds S
                             connection handling (16, 5 s, 30 s)
 )";

@@ -9,6 +9,7 @@
 #include "cli/commands.h"
 #include "cli/map_options.h"
 #include "core/mesh/input_error.h"
+#include "server/worker_process.h"
 
 namespace {
 
@@ -41,6 +42,8 @@ int main(int argc, char** argv) {
     if (command == "uv") return run_uv(argc, argv);
     if (command == "morph") return run_morph(argc, argv);
     if (command == "health") return run_health(argc, argv);
+    // Internal: the service runs each job in `spheremap worker-process` (server/worker_process.h).
+    if (command == "worker-process") return spheremap::server::worker_process_main();
     if (command == "--version") {
       std::puts("spheremap 0.1.0");
       return kExitOk;

@@ -1,5 +1,6 @@
 #include "server/config.h"
 
+#include <unistd.h>
 #include <algorithm>
 #include <cctype>
 #include <charconv>
@@ -40,6 +41,10 @@ const std::vector<Setting>& settings() {
       {"shutdown_grace_seconds", &ServerConfig::shutdown_grace_seconds, 0, 3600},
       {"keep_alive_timeout_seconds", &ServerConfig::keep_alive_timeout_seconds, 0, 3600},
       {"read_timeout_seconds", &ServerConfig::read_timeout_seconds, 0.1, 3600},
+      {"worker_isolation", &ServerConfig::worker_isolation},
+      {"worker_executable", &ServerConfig::worker_executable},
+      {"worker_memory_bytes", &ServerConfig::worker_memory_bytes, 0, 1e15},
+      {"worker_cpu_seconds", &ServerConfig::worker_cpu_seconds, 0, 1e7},
   };
   return table;
 }
@@ -67,6 +72,8 @@ void store(ServerConfig& config, const Setting& s, const nlohmann::json& value,
            const std::string& source) {
   if (auto text = std::get_if<std::string ServerConfig::*>(&s.field)) {
     if (!value.is_string()) throw ConfigError(source + ": " + s.name + " must be a string");
+    if (s.name == "worker_isolation" && value != "process" && value != "thread")
+      throw ConfigError(source + ": worker_isolation must be \"process\" or \"thread\"");
     config.*(*text) = value.get<std::string>();
     return;
   }
@@ -95,12 +102,25 @@ int ServerConfig::effective_threads_per_job() const {
   return threads_per_job > 0 ? threads_per_job : std::max(1, cores() / effective_workers());
 }
 
+size_t ServerConfig::effective_worker_memory_bytes() const {
+  if (worker_memory_bytes > 0) return worker_memory_bytes;
+  const long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGESIZE);
+  return pages > 0 && page > 0 ? static_cast<size_t>(pages) / 4 * 3 * static_cast<size_t>(page) : 0;
+}
+
+double ServerConfig::effective_worker_cpu_seconds() const {
+  if (worker_cpu_seconds > 0) return worker_cpu_seconds;
+  return (2 * job_time_limit_seconds + 60) * effective_threads_per_job();
+}
+
 nlohmann::json ServerConfig::to_json() const {
   nlohmann::json out = nlohmann::json::object();
   for (const Setting& s : settings())
     std::visit([&](auto field) { out[s.name] = this->*field; }, s.field);
   out["workers"] = effective_workers();
   out["threads_per_job"] = effective_threads_per_job();
+  out["worker_memory_bytes"] = effective_worker_memory_bytes();
+  out["worker_cpu_seconds"] = effective_worker_cpu_seconds();
   return out;
 }
 

@@ -29,10 +29,18 @@ struct ServerConfig {
   double shutdown_grace_seconds = 30;        // on SIGTERM: time for queued and running jobs
   double keep_alive_timeout_seconds = 5;
   double read_timeout_seconds = 30;  // a client that stalls while sending is dropped
+  // "process" (default): each job in a child process (worker_process.h); "thread": in the
+  // server process (no isolation; a crash in the engine takes the server down).
+  std::string worker_isolation = "process";
+  std::string worker_executable;   // "" = the server's own binary
+  size_t worker_memory_bytes = 0;  // address space of a worker; 0 = 3/4 of physical memory
+  double worker_cpu_seconds = 0;   // CPU time of a worker; 0 = (2 x job limit + 60 s) x threads
 
   // The resolved worker and thread counts for this machine.
   int effective_workers() const;
   int effective_threads_per_job() const;
+  size_t effective_worker_memory_bytes() const;
+  double effective_worker_cpu_seconds() const;
   nlohmann::json to_json() const;  // with the resolved counts, for the start-up log
 };
 

@@ -1,7 +1,12 @@
 #include "server/service.h"
 
+#include <signal.h>
+
+#include <algorithm>
+
 #include "server/job_runner.h"
 #include "server/log.h"
+#include "server/worker_process.h"
 
 namespace spheremap::server {
 namespace {
@@ -20,6 +25,8 @@ Service::Service(ServerConfig config)
     : config_(std::move(config)),
       store_(store_limits(config_),
              [this](const std::shared_ptr<Job>& job, JobStatus status) { observe(job, status); }) {
+  // A worker process that dies while we write its request must not kill the server.
+  signal(SIGPIPE, SIG_IGN);
   for (int i = 0; i < config_.effective_workers(); ++i) workers_.emplace_back([this] { work(); });
 }
 
@@ -29,7 +36,12 @@ Service::~Service() {
 
 void Service::work() {
   const RunLimits limits{config_.job_time_limit_seconds, config_.effective_threads_per_job()};
-  while (std::shared_ptr<Job> job = store_.next()) store_.finish(job, run_job(*job, limits));
+  const WorkerLimits worker{config_.worker_executable, config_.effective_worker_memory_bytes(),
+                            config_.effective_worker_cpu_seconds(),
+                            std::max<size_t>(config_.result_memory_bytes, size_t{1} << 30)};
+  const bool isolated = config_.worker_isolation != "thread";
+  while (std::shared_ptr<Job> job = store_.next())
+    store_.finish(job, isolated ? run_job_in_worker(*job, limits, worker) : run_job(*job, limits));
 }
 
 void Service::observe(const std::shared_ptr<Job>& job, JobStatus status) {

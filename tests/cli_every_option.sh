@@ -24,7 +24,8 @@ declare -A value=(
   [max-body-bytes]=1000000 [max-faces]=1000 [max-jobs-kept]=10 [max-vertices]=1000
   [queue-capacity]=4 [read-timeout-seconds]=5 [result-memory-bytes]=1000000
   [result-ttl-seconds]=60 [shutdown-grace-seconds]=1 [sync-timeout-seconds]=5
-  [threads-per-job]=1 [workers]=1 [geometry-image]=$tmp/gi.png)
+  [threads-per-job]=1 [workers]=1 [worker-isolation]=thread [worker-memory-bytes]=4000000000
+  [worker-cpu-seconds]=100 [geometry-image]=$tmp/gi.png)
 flags=" draco largest-component no-centroid no-optimize quiet "
 echo '{"workers": 1}' > "$tmp/config.json"
 

@@ -8,6 +8,8 @@
 #include <unistd.h>
 
 #include <bit>
+#include <csignal>
+#include <filesystem>
 #include <fstream>
 #include <set>
 #include <sstream>
@@ -49,6 +51,7 @@ server::ServerConfig small_config() {
   config.workers = 2;
   config.threads_per_job = 1;
   config.http_threads = 8;
+  config.worker_executable = SPHEREMAP_BINARY;  // this test binary is not spheremap
   return config;
 }
 
@@ -529,6 +532,96 @@ TEST(Service, FullQueueGets429AndCancelWorksQueuedAndRunning) {
   EXPECT_LT(seconds, 5.0);  // generous for sanitizer builds; ~ms in release
   // The queue has room again.
   EXPECT_EQ(client.Post("/v1/jobs", glb, "model/gltf-binary")->status, 202);
+}
+
+// The worker processes this test's server started (children running `worker-process`).
+std::vector<pid_t> worker_processes() {
+  std::vector<pid_t> out;
+  for (const auto& entry : std::filesystem::directory_iterator("/proc")) {
+    const std::string name = entry.path().filename();
+    if (name.find_first_not_of("0123456789") != std::string::npos) continue;
+    std::ifstream stat(entry.path() / "stat");
+    std::string line;
+    std::getline(stat, line);
+    const size_t close = line.rfind(')');
+    if (close == std::string::npos) continue;
+    std::istringstream fields(line.substr(close + 2));
+    std::string state;
+    pid_t parent = 0;
+    fields >> state >> parent;
+    std::ifstream cmdline(entry.path() / "cmdline");
+    const std::string args((std::istreambuf_iterator<char>(cmdline)), {});
+    if (parent == getpid() && args.find("worker-process") != std::string::npos)
+      out.push_back(std::stoi(name));
+  }
+  return out;
+}
+
+// A worker process killed mid-job (a crash, the OOM killer, an operator) fails only its
+// job, as worker_crashed with the signal; the server, in this very process, goes on.
+TEST(Service, AKilledWorkerProcessFailsOnlyItsJob) {
+  server::ServerConfig config = small_config();
+  config.workers = 1;
+  TestServer server(config);
+  auto client = server.client();
+  auto slow = client.Post(kSlowJob, glb_of(testing::horseshoe()), "model/gltf-binary");
+  ASSERT_EQ(slow->status, 202);
+  const std::string id = body_json(slow)["id"];
+  std::vector<pid_t> workers;
+  for (int i = 0; i < 500 && workers.empty(); ++i) {
+    workers = worker_processes();
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  ASSERT_EQ(workers.size(), 1u) << "the job does not run in a worker process";
+  ASSERT_EQ(kill(workers[0], SIGKILL), 0);
+  const json failed = wait_for(client, id);
+  EXPECT_EQ(failed["status"], "failed");
+  EXPECT_EQ(failed["error"]["type"], "/v1/problems/worker_crashed") << failed.dump(2);
+  EXPECT_NE(failed["error"]["detail"].get<std::string>().find("SIGKILL"), std::string::npos);
+  EXPECT_EQ(client.Get("/readyz")->status, 200);
+  auto next = post_glb(client, glb_of(testing::icosphere(2)));
+  EXPECT_EQ(wait_for(client, body_json(next)["id"])["status"], "succeeded");
+  EXPECT_TRUE(worker_processes().empty());  // reaped, none left behind
+}
+
+// A job over the worker's memory limit fails as out of memory; the server goes on.
+TEST(Service, AWorkerOverItsMemoryLimitFailsItsJobOnly) {
+#if defined(__SANITIZE_ADDRESS__)
+  GTEST_SKIP() << "AddressSanitizer reserves terabytes of address space: no RLIMIT_AS";
+#endif
+  server::ServerConfig config = small_config();
+  config.workers = 1;
+  config.worker_memory_bytes = 160u << 20;  // enough to start, not for 330K triangles
+  TestServer server(config);
+  auto client = server.client();
+  auto big = post_glb(client, glb_of(testing::icosphere(7)));
+  ASSERT_EQ(big->status, 202) << big->body;
+  const json failed = wait_for(client, body_json(big)["id"]);
+  EXPECT_EQ(failed["status"], "failed");
+  EXPECT_EQ(failed["error"]["type"], "/v1/problems/out_of_memory") << failed.dump(2);
+  EXPECT_EQ(client.Get("/readyz")->status, 200);
+}
+
+// Cancel reaches the worker process: it is gone within a second, and so are the artifacts.
+TEST(Service, CancelKillsTheWorkerProcessWithinASecond) {
+  server::ServerConfig config = small_config();
+  config.workers = 1;
+  TestServer server(config);
+  auto client = server.client();
+  auto slow = client.Post(kSlowJob, glb_of(testing::horseshoe()), "model/gltf-binary");
+  const std::string id = body_json(slow)["id"];
+  for (int i = 0; i < 500 && worker_processes().empty(); ++i)
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  ASSERT_FALSE(worker_processes().empty());
+  const auto start = std::chrono::steady_clock::now();
+  EXPECT_EQ(client.Delete(("/v1/jobs/" + id).c_str())->status, 202);
+  while (!worker_processes().empty() &&
+         std::chrono::steady_clock::now() - start < std::chrono::seconds(5))
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(1));
+  const json cancelled = wait_for(client, id);
+  EXPECT_EQ(cancelled["status"], "cancelled");
+  EXPECT_FALSE(cancelled.contains("artifacts")) << cancelled.dump(2);
 }
 
 TEST(Service, AJobOverItsTimeLimitFailsAndTheWorkerGoesOn) {

@@ -3,7 +3,8 @@
 # several concurrency levels and a mixed load, measured with wrk (Debian); then a soak of
 # SOAK_SECONDS (default 600) of mixed load, sampling the server's resident memory.
 # Prints the lines BENCHMARKS.md quotes.
-# Usage: bench/load/run.sh [corpus dir] [seconds per level] [soak seconds]
+# Usage: [ISOLATION=process|thread] [LEVELS="small:1 medium:4 ..."] bench/load/run.sh [corpus dir]
+#        [seconds per level] [soak seconds]
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 corpus=$(realpath "${1:-../shared/meshes}")
@@ -20,20 +21,23 @@ medium=$work/icosphere4.glb     # 5,120 triangles
 port=18080
 # Results are kept within 128 MiB (default 1 GiB) so the soak reaches the cap and shows
 # the plateau.
+isolation=${ISOLATION:-process}
 build/cli/spheremap serve --port $port --queue-capacity 256 --result-memory-bytes 134217728 \
-  2> "$work/server.log" &
+  --worker-isolation "$isolation" 2> "$work/server.log" &
 server=$!
 sleep 1
 url=http://127.0.0.1:$port
 rss() { curl -s $url/metrics | awk '/^spheremap_resident_memory_bytes/{printf "%.1f", $2/1048576}'; }
 
 echo "Machine: $(nproc) cores, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | xargs); $(date -u +%Y-%m-%d)"
-echo "Command: bench/load/run.sh $corpus $seconds $soak (server defaults: workers = cores)"
+echo "Command: ISOLATION=$isolation bench/load/run.sh $corpus $seconds $soak (server defaults: workers = cores)"
 echo "small = $(basename "$small") ($(stat -c %s "$small") B), medium = $(basename "$medium") ($(stat -c %s "$medium") B)"
 echo "RSS at start: $(rss) MiB"
 # mixed c=16 overloads on purpose: more than http_threads/2 synchronous waiters get 202 at
 # once and a full queue gets 429 (the non2xx column), while accepted jobs keep their latency.
-for load in "small 1" "small 2" "small 4" "small 8" "medium 1" "medium 4" "mixed 4" "mixed 8" "mixed 16"; do
+levels=${LEVELS:-"small:1 small:2 small:4 small:8 medium:1 medium:4 mixed:4 mixed:8 mixed:16"}
+for load in $levels; do
+  load=${load/:/ }
   set -- $load
   files=$small
   [ "$1" = medium ] && files=$medium

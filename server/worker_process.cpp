@@ -1,0 +1,297 @@
+#include "server/worker_process.h"
+
+#include <fcntl.h>
+#include <poll.h>
+#include <signal.h>
+#include <sys/prctl.h>
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cmath>
+#include <cstring>
+#include <thread>
+
+#include "server/worker_protocol.h"
+
+namespace spheremap::server {
+namespace {
+
+// Under AddressSanitizer a process reserves terabytes of shadow address space, so an
+// RLIMIT_AS would stop the worker before it starts; sanitizer builds run without it.
+#if defined(__SANITIZE_ADDRESS__)
+constexpr bool kAddressSpaceLimitUsable = false;
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+constexpr bool kAddressSpaceLimitUsable = false;
+#else
+constexpr bool kAddressSpaceLimitUsable = true;
+#endif
+#else
+constexpr bool kAddressSpaceLimitUsable = true;
+#endif
+
+bool write_all(int fd, const char* data, size_t size) {
+  while (size > 0) {
+    const ssize_t n = ::write(fd, data, size);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) return false;
+    data += n, size -= static_cast<size_t>(n);
+  }
+  return true;
+}
+
+void fail_job(Job& job, int status, const char* problem, const char* title, std::string detail) {
+  std::lock_guard lock(job.mutex);
+  job.artifacts.clear();  // a partial answer is never served
+  job.metrics = nullptr;
+  job.error = JobError{status, problem, title, std::move(detail)};
+}
+
+struct Child {
+  pid_t pid = -1;
+  int in = -1, out = -1;  // the child's stdin (we write), its stdout (we read)
+};
+
+// Everything the child needs is prepared before fork(): after it, only async-signal-safe
+// calls until execv.
+Child spawn(const WorkerLimits& worker) {
+  int to_child[2], from_child[2];
+  if (pipe2(to_child, O_CLOEXEC) != 0) return {};
+  if (pipe2(from_child, O_CLOEXEC) != 0) {
+    close(to_child[0]), close(to_child[1]);
+    return {};
+  }
+  const std::string executable = worker.executable.empty() ? "/proc/self/exe" : worker.executable;
+  const char* argv[] = {executable.c_str(), "worker-process", nullptr};
+  rlimit memory{static_cast<rlim_t>(worker.memory_bytes), static_cast<rlim_t>(worker.memory_bytes)};
+  const rlim_t cpu = static_cast<rlim_t>(std::ceil(worker.cpu_seconds));
+  rlimit cpu_limit{cpu, cpu + 5};  // SIGXCPU at the soft limit, SIGKILL 5 s later
+  const pid_t server = getpid();
+  const pid_t pid = fork();
+  if (pid == 0) {
+    prctl(PR_SET_PDEATHSIG, SIGKILL);
+    if (getppid() != server) _exit(126);  // the server died between fork and prctl
+    dup2(to_child[0], STDIN_FILENO);
+    dup2(from_child[1], STDOUT_FILENO);
+    if (worker.memory_bytes > 0 && kAddressSpaceLimitUsable) setrlimit(RLIMIT_AS, &memory);
+    if (cpu > 0) setrlimit(RLIMIT_CPU, &cpu_limit);
+    execv(argv[0], const_cast<char* const*>(argv));
+    _exit(127);
+  }
+  close(to_child[0]), close(from_child[1]);
+  if (pid < 0) {
+    close(to_child[1]), close(from_child[0]);
+    return {};
+  }
+  return {pid, to_child[1], from_child[0]};
+}
+
+std::string signal_text(int signal) {
+  const char* name = sigabbrev_np(signal);
+  return std::string("SIG") + (name ? name : std::to_string(signal)) + " (" + strsignal(signal) +
+         ")";
+}
+
+// Applies one frame from the child to the job; returns the status once the child sent it.
+std::optional<JobStatus> apply(Job& job, const FrameReader::Frame& frame) {
+  std::lock_guard lock(job.mutex);
+  switch (frame.type) {
+    case FrameType::kProgress:
+      job.progress = progress_from_json(frame.payload);
+      break;
+    case FrameType::kArtifact: {
+      const size_t newline = frame.payload.find('\n');
+      const nlohmann::json header = nlohmann::json::parse(frame.payload.substr(0, newline));
+      job.artifacts.push_back(
+          {header.at("name"), header.at("content_type"), frame.payload.substr(newline + 1)});
+      break;
+    }
+    case FrameType::kMetrics:
+      job.metrics = nlohmann::json::parse(frame.payload);
+      break;
+    case FrameType::kError: {
+      const nlohmann::json e = nlohmann::json::parse(frame.payload);
+      job.error = JobError{e.at("status"), e.at("problem"), e.at("title"), e.at("detail")};
+      break;
+    }
+    case FrameType::kStatus: {
+      const std::string status = nlohmann::json::parse(frame.payload).at("status");
+      if (status == "succeeded") return JobStatus::kSucceeded;
+      if (status == "cancelled") return JobStatus::kCancelled;
+      return JobStatus::kFailed;
+    }
+  }
+  return std::nullopt;
+}
+
+}  // namespace
+
+JobStatus run_job_in_worker(Job& job, const RunLimits& limits, const WorkerLimits& worker) {
+  std::string request;
+  double time_limit = limits.time_limit_seconds;
+  {
+    std::lock_guard lock(job.mutex);
+    if (job.spec->map.time_limit_seconds > 0)
+      time_limit = std::min(time_limit, job.spec->map.time_limit_seconds);
+    request = encode_request(*job.spec, limits.time_limit_seconds, limits.threads);
+  }
+  const Child child = spawn(worker);
+  if (child.pid < 0) {
+    fail_job(job, 503, "worker_unavailable", "No worker process",
+             std::string("could not start a worker process: ") + std::strerror(errno));
+    return JobStatus::kFailed;
+  }
+  // The child reads its whole request before it writes anything: no deadlock. A child
+  // that dies first makes the write fail (EPIPE; SIGPIPE is ignored by the service).
+  write_all(child.in, request.data(), request.size());
+  close(child.in);
+  request = std::string();
+
+  // The engine stops itself at the time limit; the output stages after it are not
+  // limited, so the watchdog allows as long again (at least 30 s) before it kills.
+  const auto deadline =
+      Clock::now() + std::chrono::duration_cast<Clock::duration>(
+                         std::chrono::duration<double>(time_limit + std::max(30.0, time_limit)));
+  FrameReader frames;
+  std::optional<JobStatus> status;
+  bool killed_for_cancel = false, killed_for_time = false, protocol_error = false;
+  std::vector<char> chunk(1 << 16);
+  for (;;) {
+    pollfd p{child.out, POLLIN, 0};
+    const int ready = poll(&p, 1, 100);
+    if (ready < 0 && errno != EINTR) break;
+    if (job.cancel && !killed_for_cancel) {
+      kill(child.pid, SIGKILL);
+      killed_for_cancel = true;
+    }
+    if (Clock::now() > deadline && !killed_for_time && !killed_for_cancel) {
+      kill(child.pid, SIGKILL);
+      killed_for_time = true;
+    }
+    if (ready <= 0) continue;
+    const ssize_t n = read(child.out, chunk.data(), chunk.size());
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) break;  // end of the child's output
+    frames.append(chunk.data(), static_cast<size_t>(n));
+    try {
+      while (auto frame = frames.next(worker.max_artifact_bytes))
+        if (auto s = apply(job, *frame)) status = s;
+    } catch (const std::exception&) {
+      protocol_error = true;
+      kill(child.pid, SIGKILL);
+    }
+  }
+  close(child.out);
+  int wait_status = 0;
+  while (waitpid(child.pid, &wait_status, 0) < 0 && errno == EINTR) {
+  }
+
+  if (killed_for_cancel || job.cancel) {
+    std::lock_guard lock(job.mutex);
+    job.artifacts.clear();  // cancel deletes what the job made
+    return JobStatus::kCancelled;
+  }
+  if (killed_for_time) {
+    fail_job(job, 422, "time_limit", "Time limit reached",
+             "the worker was still busy " + std::to_string(static_cast<int>(time_limit)) +
+                 " s past the time limit and was stopped");
+    return JobStatus::kFailed;
+  }
+  if (protocol_error) {
+    fail_job(job, 500, "internal", "Internal error", "the worker process sent a malformed answer");
+    return JobStatus::kFailed;
+  }
+  if (WIFSIGNALED(wait_status)) {
+    const int signal = WTERMSIG(wait_status);
+    std::string why = signal == SIGXCPU ? " (over its CPU-time limit, worker_cpu_seconds)"
+                      : signal == SIGKILL
+                          ? " (by the kernel's out-of-memory killer, an operator, or over its "
+                            "CPU-time limit)"
+                          : "";
+    fail_job(job, 500, "worker_crashed", "Worker crashed",
+             "the worker process mapping this job was killed by " + signal_text(signal) + why +
+                 "; the server and the other jobs are unaffected");
+    return JobStatus::kFailed;
+  }
+  if (!status || !WIFEXITED(wait_status) || WEXITSTATUS(wait_status) != 0) {
+    fail_job(job, 500, "worker_crashed", "Worker crashed",
+             "the worker process exited with code " +
+                 std::to_string(WIFEXITED(wait_status) ? WEXITSTATUS(wait_status) : -1) +
+                 " before it answered" +
+                 (WIFEXITED(wait_status) && WEXITSTATUS(wait_status) == 127
+                      ? " (the worker executable could not be started)"
+                      : ""));
+    return JobStatus::kFailed;
+  }
+  return *status;
+}
+
+int worker_process_main() {
+  std::string request;
+  std::vector<char> chunk(1 << 16);
+  for (;;) {
+    const ssize_t n = read(STDIN_FILENO, chunk.data(), chunk.size());
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) break;
+    request.append(chunk.data(), static_cast<size_t>(n));
+  }
+  std::mutex out_mutex;
+  auto send = [&](FrameType type, const std::string& payload) {
+    const std::string frame = encode_frame(type, payload);
+    std::lock_guard lock(out_mutex);
+    write_all(STDOUT_FILENO, frame.data(), frame.size());
+  };
+  Job job;
+  RunLimits limits;
+  try {
+    WorkerRequest decoded = decode_request(request);
+    request = std::string();
+    limits.time_limit_seconds = decoded.time_limit_seconds;
+    limits.threads = decoded.threads;
+    job.spec = std::make_unique<JobSpec>(std::move(decoded.spec));
+  } catch (const std::exception& e) {
+    send(FrameType::kError, nlohmann::json{{"status", 500},
+                                           {"problem", "internal"},
+                                           {"title", "Internal error"},
+                                           {"detail", e.what()}}
+                                .dump());
+    send(FrameType::kStatus, R"({"status":"failed"})");
+    return 0;
+  }
+  // Progress every 100 ms while the job runs, when it changed.
+  std::atomic<bool> running{true};
+  std::thread reporter([&] {
+    std::string last;
+    while (running) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(100));
+      std::string now;
+      {
+        std::lock_guard lock(job.mutex);
+        now = progress_json(job.progress);
+      }
+      if (now != last) send(FrameType::kProgress, last = now);
+    }
+  });
+  const JobStatus status = run_job(job, limits);
+  running = false;
+  reporter.join();
+  std::lock_guard lock(job.mutex);
+  send(FrameType::kProgress, progress_json(job.progress));
+  for (const Artifact& a : job.artifacts)
+    send(
+        FrameType::kArtifact,
+        nlohmann::json{{"name", a.name}, {"content_type", a.content_type}}.dump() + "\n" + a.bytes);
+  if (!job.metrics.is_null()) send(FrameType::kMetrics, job.metrics.dump());
+  if (job.error)
+    send(FrameType::kError, nlohmann::json{{"status", job.error->status},
+                                           {"problem", job.error->problem},
+                                           {"title", job.error->title},
+                                           {"detail", job.error->detail}}
+                                .dump());
+  send(FrameType::kStatus, nlohmann::json{{"status", to_string(status)}}.dump());
+  return 0;
+}
+
+}  // namespace spheremap::server

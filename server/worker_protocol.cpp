@@ -1,0 +1,170 @@
+#include "server/worker_protocol.h"
+
+#include <cstring>
+#include <stdexcept>
+#include <type_traits>
+
+namespace spheremap::server {
+namespace {
+
+constexpr char kMagic[4] = {'S', 'M', 'W', '1'};
+
+static_assert(std::is_trivially_copyable_v<MapOptions>, "MapOptions travels as bytes");
+static_assert(std::is_trivially_copyable_v<Vec3>, "positions travel as bytes");
+
+class Writer {
+ public:
+  template <typename T>
+  void put(const T& value) {
+    static_assert(std::is_trivially_copyable_v<T>);
+    out_.append(reinterpret_cast<const char*>(&value), sizeof(T));
+  }
+  template <typename T>
+  void put_vector(const std::vector<T>& values) {
+    put<uint64_t>(values.size());
+    out_.append(reinterpret_cast<const char*>(values.data()), values.size() * sizeof(T));
+  }
+  void put_string(const std::string& text) {
+    put<uint64_t>(text.size());
+    out_ += text;
+  }
+  void put_mesh(const PolygonMesh& mesh) {
+    put_vector(mesh.positions);
+    put_vector(mesh.offsets);
+    put_vector(mesh.indices);
+  }
+  std::string take() { return std::move(out_); }
+
+ private:
+  std::string out_;
+};
+
+class Reader {
+ public:
+  explicit Reader(const std::string& bytes) : bytes_(bytes) {}
+  template <typename T>
+  T get() {
+    T value;
+    take(&value, sizeof(T));
+    return value;
+  }
+  template <typename T>
+  std::vector<T> get_vector() {
+    const uint64_t count = get<uint64_t>();
+    if (count > (bytes_.size() - at_) / sizeof(T)) throw std::runtime_error("truncated request");
+    std::vector<T> values(count);
+    take(values.data(), count * sizeof(T));
+    return values;
+  }
+  std::string get_string() {
+    const std::vector<char> chars = get_vector<char>();
+    return {chars.begin(), chars.end()};
+  }
+  PolygonMesh get_mesh() {
+    PolygonMesh mesh;
+    mesh.positions = get_vector<Vec3>();
+    mesh.offsets = get_vector<uint32_t>();
+    mesh.indices = get_vector<uint32_t>();
+    return mesh;
+  }
+  bool done() const { return at_ == bytes_.size(); }
+
+ private:
+  void take(void* out, size_t size) {
+    if (size > bytes_.size() - at_) throw std::runtime_error("truncated request");
+    std::memcpy(out, bytes_.data() + at_, size);
+    at_ += size;
+  }
+  const std::string& bytes_;
+  size_t at_ = 0;
+};
+
+}  // namespace
+
+std::string encode_request(const JobSpec& spec, double time_limit_seconds, int threads) {
+  Writer w;
+  for (char c : kMagic) w.put(c);
+  w.put<uint64_t>(sizeof(MapOptions));
+  w.put(spec.map);
+  w.put<int32_t>(static_cast<int32_t>(spec.layout));
+  w.put<int32_t>(spec.draco_position_bits);
+  w.put<int32_t>(spec.remesh_resolution);
+  w.put<int32_t>(threads);
+  w.put<double>(time_limit_seconds);
+  w.put<uint64_t>(spec.outputs.size());
+  for (const std::string& output : spec.outputs) w.put_string(output);
+  w.put_mesh(spec.input);
+  w.put_mesh(spec.prepared.welded.mesh);
+  w.put_vector(spec.prepared.welded.input_to_welded);
+  w.put<uint64_t>(spec.prepared.welded.unreferenced_vertices);
+  return w.take();
+}
+
+WorkerRequest decode_request(const std::string& bytes) {
+  Reader r(bytes);
+  for (char c : kMagic)
+    if (r.get<char>() != c) throw std::runtime_error("not a worker request");
+  if (r.get<uint64_t>() != sizeof(MapOptions))
+    throw std::runtime_error("the worker binary is not the server's build (MapOptions differ)");
+  WorkerRequest request;
+  JobSpec& spec = request.spec;
+  spec.map = r.get<MapOptions>();
+  spec.layout = static_cast<SphereLayout>(r.get<int32_t>());
+  spec.draco_position_bits = r.get<int32_t>();
+  spec.remesh_resolution = r.get<int32_t>();
+  request.threads = r.get<int32_t>();
+  request.time_limit_seconds = r.get<double>();
+  const uint64_t outputs = r.get<uint64_t>();
+  if (outputs > 16) throw std::runtime_error("too many outputs");
+  spec.outputs.clear();
+  for (uint64_t i = 0; i < outputs; ++i) spec.outputs.push_back(r.get_string());
+  spec.input = r.get_mesh();
+  spec.prepared.welded.mesh = r.get_mesh();
+  spec.prepared.welded.input_to_welded = r.get_vector<uint32_t>();
+  spec.prepared.welded.unreferenced_vertices = r.get<uint64_t>();
+  if (!r.done()) throw std::runtime_error("trailing bytes after the request");
+  spec.prepared.topology = analyze_topology(spec.prepared.welded.mesh);
+  return request;
+}
+
+std::string encode_frame(FrameType type, const std::string& payload) {
+  std::string frame(1, static_cast<char>(type));
+  const uint64_t length = payload.size();
+  frame.append(reinterpret_cast<const char*>(&length), sizeof length);
+  return frame + payload;
+}
+
+std::optional<FrameReader::Frame> FrameReader::next(size_t max_payload) {
+  constexpr size_t kHeader = 1 + sizeof(uint64_t);
+  if (buffer_.size() - read_ < kHeader) return std::nullopt;
+  uint64_t length;
+  std::memcpy(&length, buffer_.data() + read_ + 1, sizeof length);
+  if (length > max_payload) throw std::runtime_error("a worker frame over the size limit");
+  if (buffer_.size() - read_ - kHeader < length) return std::nullopt;
+  Frame frame{static_cast<FrameType>(buffer_[read_]), buffer_.substr(read_ + kHeader, length)};
+  read_ += kHeader + length;
+  if (read_ == buffer_.size()) buffer_.clear(), read_ = 0;
+  return frame;
+}
+
+std::string progress_json(const JobProgress& p) {
+  return nlohmann::json{{"stage", p.stage},       {"level", p.level},         {"levels", p.levels},
+                        {"vertices", p.vertices}, {"iteration", p.iteration}, {"folds", p.folds},
+                        {"energy", p.energy}}
+      .dump();
+}
+
+JobProgress progress_from_json(const std::string& text) {
+  const nlohmann::json j = nlohmann::json::parse(text);
+  JobProgress p;
+  p.stage = j.value("stage", "running");
+  p.level = j.value("level", 0);
+  p.levels = j.value("levels", 0);
+  p.vertices = j.value("vertices", size_t{0});
+  p.iteration = j.value("iteration", size_t{0});
+  p.folds = j.value("folds", size_t{0});
+  p.energy = j.value("energy", 0.0);
+  return p;
+}
+
+}  // namespace spheremap::server
