@@ -4,10 +4,12 @@
 #include <atomic>
 #include <charconv>
 
+#include "api/job_events.h"
 #include "api/job_request.h"
 #include "api/job_view.h"
 #include "api/problem.h"
 #include "server/log.h"
+#include "web/web_assets.h"
 
 namespace spheremap::api {
 namespace {
@@ -196,6 +198,39 @@ httplib::Server::Handler guarded(Body body) {
 
 thread_local Clock::time_point request_start;
 
+// CORS: browsers on other origins may call the API when `cors_origins` allows them ("*",
+// the default, or a comma-separated list of origins echoed back one at a time).
+void add_cors_headers(const std::string& allowed, const httplib::Request& request,
+                      httplib::Response& response) {
+  if (allowed.empty()) return;
+  const std::string origin = request.get_header_value("Origin");
+  if (allowed == "*") {
+    response.set_header("Access-Control-Allow-Origin", "*");
+  } else if (!origin.empty() &&
+             ("," + allowed + ",").find("," + origin + ",") != std::string::npos) {
+    response.set_header("Access-Control-Allow-Origin", origin);
+    response.set_header("Vary", "Origin");
+  } else {
+    return;
+  }
+  response.set_header("Access-Control-Expose-Headers",
+                      "Location, Content-Location, Link, Retry-After, Spheremap-Job, "
+                      "Spheremap-Bijective, Spheremap-Folds");
+}
+
+void serve_asset(const httplib::Request& request, httplib::Response& response) {
+  const web::Asset* asset = web::find_asset(request.path);
+  if (!asset)
+    throw Problem(404, "not_found", "Not found", "no page at " + request.path.substr(0, 200));
+  std::string type(asset->content_type);
+  if (type.starts_with("text/")) type += "; charset=utf-8";
+  response.set_content(std::string(asset->bytes), type);
+  // The page itself may change with a new server; three.js is pinned by its path.
+  response.set_header("Cache-Control", request.path.starts_with("/web/three/")
+                                           ? "public, max-age=86400"
+                                           : "no-cache");
+}
+
 }  // namespace
 
 void install_api(httplib::Server& http, Service& service) {
@@ -251,6 +286,19 @@ void install_api(httplib::Server& http, Service& service) {
       return httplib::Server::HandlerResponse::Handled;
     }
     return httplib::Server::HandlerResponse::Unhandled;
+  });
+  http.set_post_routing_handler(
+      [&config](const httplib::Request& request, httplib::Response& response) {
+        add_cors_headers(config.cors_origins, request, response);
+      });
+  // Preflight for any path: what a browser may send cross-origin.
+  http.Options(R"(/.*)", [&config](const httplib::Request&, httplib::Response& response) {
+    response.status = 204;
+    response.set_header("Allow", "GET, POST, DELETE, OPTIONS");
+    if (config.cors_origins.empty()) return;
+    response.set_header("Access-Control-Allow-Methods", "GET, POST, DELETE, OPTIONS");
+    response.set_header("Access-Control-Allow-Headers", "Content-Type, Prefer, Authorization");
+    response.set_header("Access-Control-Max-Age", "600");
   });
   http.set_logger([&service](const httplib::Request& request, const httplib::Response& response) {
     service.metrics().request(response.status);
@@ -327,6 +375,8 @@ void install_api(httplib::Server& http, Service& service) {
                                  service.config().effective_workers()),
         "text/plain; version=0.0.4; charset=utf-8");
   });
+  http.Get("/", guarded(serve_asset));
+  http.Get(R"(/web/[A-Za-z0-9_./-]+)", guarded(serve_asset));
   http.Get("/v1/openapi.yaml", [](const httplib::Request&, httplib::Response& response) {
     response.set_content(kOpenApiYaml, "application/yaml");
   });
@@ -343,6 +393,12 @@ void install_api(httplib::Server& http, Service& service) {
            guarded([&service](const httplib::Request& request, httplib::Response& response) {
              const std::shared_ptr<Job> job = find_job(service, request);
              send_json(response, 200, job_json(*job, service.store().queue_position(*job)));
+           }));
+  auto event_streams = std::make_shared<std::atomic<int>>(0);
+  http.Get(std::string("/v1/jobs/") + kJobId + "/events",
+           guarded([&service, event_streams](const httplib::Request& request,
+                                             httplib::Response& response) {
+             stream_job_events(service, find_job(service, request), response, event_streams);
            }));
   http.Get(std::string("/v1/jobs/") + kJobId + "/artifacts/([A-Za-z0-9_.-]+)",
            guarded([&service](const httplib::Request& request, httplib::Response& response) {

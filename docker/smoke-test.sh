@@ -66,6 +66,7 @@ done
 [ -n "$ready" ] || fail "not ready"
 echo "start to ready: $(echo "$(date +%s.%N) - $start" | bc) s"
 $engine exec "$name" /usr/local/bin/spheremap health || fail "HEALTHCHECK command"
+curl -sf "http://127.0.0.1:$port/" | grep -q '<input id="file" type="file"' || fail "GET / is not the page"
 [ "$($engine exec "$name" id -u)" != 0 ] || fail "runs as root"
 
 if [ ! -f "$mesh" ]; then  # a fresh clone without the corpus: a generated mesh

@@ -3,12 +3,15 @@
 # Idempotent: installs nothing when everything is already there.
 set -euo pipefail
 packages=(build-essential cmake ninja-build pkg-config nlohmann-json3-dev libgtest-dev libdraco-dev
-  libcpp-httplib-dev libmeshoptimizer-dev zlib1g-dev clang-format curl)
+  libcpp-httplib-dev libmeshoptimizer-dev zlib1g-dev clang-format curl
+  # headless Chromium drives the web page in the tests (with npm playwright-core)
+  chromium)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
 done
-# node and npm run the Khronos glTF validator in the tests (from the npm registry).
+# node and npm: three.js for the page (web/, built into the binary), and in the tests the
+# Khronos glTF validator, gltfpack, gltf-transform and playwright-core (npm registry).
 command -v npm > /dev/null || missing+=(nodejs npm)
 if [ ${#missing[@]} -gt 0 ]; then
   echo "installing: ${missing[*]}"

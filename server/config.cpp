@@ -41,6 +41,7 @@ const std::vector<Setting>& settings() {
       {"shutdown_grace_seconds", &ServerConfig::shutdown_grace_seconds, 0, 3600},
       {"keep_alive_timeout_seconds", &ServerConfig::keep_alive_timeout_seconds, 0, 3600},
       {"read_timeout_seconds", &ServerConfig::read_timeout_seconds, 0.1, 3600},
+      {"cors_origins", &ServerConfig::cors_origins},
       {"worker_isolation", &ServerConfig::worker_isolation},
       {"worker_executable", &ServerConfig::worker_executable},
       {"worker_memory_bytes", &ServerConfig::worker_memory_bytes, 0, 1e15},

@@ -29,6 +29,9 @@ struct ServerConfig {
   double shutdown_grace_seconds = 30;        // on SIGTERM: time for queued and running jobs
   double keep_alive_timeout_seconds = 5;
   double read_timeout_seconds = 30;  // a client that stalls while sending is dropped
+  // Origins whose pages may call the API (CORS): "*" (default), a comma-separated list, or
+  // "" for none.
+  std::string cors_origins = "*";
   // "process" (default): each job in a child process (worker_process.h); "thread": in the
   // server process (no isolation; a crash in the engine takes the server down).
   std::string worker_isolation = "process";

@@ -76,7 +76,7 @@ for option in $(options_of serve); do
   [ "$option" = port ] && port=()
   "$spheremap" serve "${port[@]}" "${extra[@]}" 2> "$tmp/serve.log" &
   pid=$!
-  for _ in $(seq 100); do grep -q '"listening"' "$tmp/serve.log" && break; sleep 0.05; done
+  for _ in $(seq 400); do grep -q '"listening"' "$tmp/serve.log" && break; sleep 0.05; done
   kill -TERM $pid 2> /dev/null
   wait $pid
   usage_error "$(cat "$tmp/serve.log")" && fail "serve ${extra[*]}: $(cat "$tmp/serve.log")"

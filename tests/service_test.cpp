@@ -259,6 +259,76 @@ TEST(Service, RepeatedMeshGets422NamingTheMeshOption) {
   EXPECT_EQ(wait_for(client, body_json(mapped)["id"])["status"], "succeeded");
 }
 
+// A browser on another origin may call the API: preflight, and the headers it needs.
+TEST(Service, CorsPreflightAndHeaders) {
+  TestServer server(small_config());
+  auto client = server.client();
+  auto preflight = client.Options("/v1/jobs", {{"Origin", "https://pipeline.example"},
+                                               {"Access-Control-Request-Method", "POST"}});
+  ASSERT_TRUE(preflight);
+  EXPECT_EQ(preflight->status, 204);
+  EXPECT_EQ(preflight->get_header_value("Access-Control-Allow-Origin"), "*");
+  EXPECT_NE(preflight->get_header_value("Access-Control-Allow-Methods").find("POST"),
+            std::string::npos);
+  auto submitted = post_glb(client, glb_of(testing::icosphere(1)));
+  EXPECT_EQ(submitted->get_header_value("Access-Control-Allow-Origin"), "*");
+  EXPECT_NE(submitted->get_header_value("Access-Control-Expose-Headers").find("Location"),
+            std::string::npos);
+
+  server::ServerConfig listed = small_config();
+  listed.cors_origins = "https://a.example,https://b.example";
+  TestServer strict(listed);
+  auto strict_client = strict.client();
+  auto allowed = strict_client.Get("/healthz", {{"Origin", "https://b.example"}});
+  EXPECT_EQ(allowed->get_header_value("Access-Control-Allow-Origin"), "https://b.example");
+  auto other = strict_client.Get("/healthz", {{"Origin", "https://evil.example"}});
+  EXPECT_FALSE(other->has_header("Access-Control-Allow-Origin"));
+}
+
+// GET /v1/jobs/{id}/events: progress events while the job runs, then its status.
+TEST(Service, EventStreamSendsProgressThenTheFinalStatus) {
+  TestServer server(small_config());
+  auto client = server.client();
+  auto submitted = post_glb(client, glb_of(testing::capped_tube(16, 40, 16)));
+  const std::string id = body_json(submitted)["id"];
+  std::string stream;
+  auto result =
+      client.Get(("/v1/jobs/" + id + "/events").c_str(), [&](const char* data, size_t length) {
+        stream.append(data, length);
+        return true;
+      });
+  ASSERT_TRUE(result);
+  EXPECT_EQ(result->status, 200);
+  EXPECT_EQ(result->get_header_value("Content-Type"), "text/event-stream");
+  EXPECT_NE(stream.find("event: progress\ndata: {"), std::string::npos) << stream;
+  const size_t status = stream.find("event: status\ndata: ");
+  ASSERT_NE(status, std::string::npos) << stream;
+  const size_t end = stream.find("\n\n", status);
+  const json job = json::parse(stream.substr(status + 20, end - status - 20));
+  EXPECT_EQ(job["status"], "succeeded");
+  EXPECT_TRUE(job["artifacts"].contains("sphere.glb"));
+  expect_problem(client.Get("/v1/jobs/0123456789abcdef0123456789abcdef/events"), 404,
+                 "job_not_found");
+}
+
+// The page: GET / and the modules it imports are served by the service itself.
+TEST(Service, ServesThePageAndItsModules) {
+  TestServer server(small_config());
+  auto client = server.client();
+  auto page = client.Get("/");
+  ASSERT_EQ(page->status, 200);
+  EXPECT_EQ(page->get_header_value("Content-Type"), "text/html; charset=utf-8");
+  EXPECT_NE(page->body.find("<input id=\"file\" type=\"file\""), std::string::npos);
+  for (const char* path : {"/web/app.js", "/web/three/build/three.module.js",
+                           "/web/three/examples/jsm/loaders/GLTFLoader.js"}) {
+    auto module = client.Get(path);
+    ASSERT_EQ(module->status, 200) << path;
+    EXPECT_EQ(module->get_header_value("Content-Type"), "text/javascript; charset=utf-8");
+    EXPECT_GT(module->body.size(), 1000u) << path;
+  }
+  expect_problem(client.Get("/web/nothing.js"), 404, "not_found");
+}
+
 TEST(Service, RemeshUvAndMorphArtifacts) {
   TestServer server(small_config());
   auto client = server.client();

@@ -1,0 +1,71 @@
+#include "api/job_events.h"
+
+#include "api/job_view.h"
+#include "api/problem.h"
+
+namespace spheremap::api {
+namespace {
+
+using namespace std::chrono_literals;
+
+std::string event(const char* name, const nlohmann::json& data) {
+  return std::string("event: ") + name +
+         "\ndata: " + data.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace) + "\n\n";
+}
+
+struct Stream {
+  std::shared_ptr<server::Job> job;
+  std::shared_ptr<std::atomic<int>> streams;
+  std::string last_progress;
+  server::Clock::time_point last_write = server::Clock::now();
+};
+
+}  // namespace
+
+void stream_job_events(server::Service& service, const std::shared_ptr<server::Job>& job,
+                       httplib::Response& response, std::shared_ptr<std::atomic<int>> streams) {
+  const int max_streams = std::max(1, service.config().http_threads / 4);
+  if (streams->fetch_add(1) >= max_streams) {
+    streams->fetch_sub(1);
+    throw Problem(503, "too_many_streams", "Too many event streams",
+                  "at most " + std::to_string(max_streams) +
+                      " event streams at once; poll GET /v1/jobs/{id} instead");
+  }
+  auto stream = std::make_shared<Stream>();
+  stream->job = job;
+  stream->streams = std::move(streams);
+  response.set_header("Cache-Control", "no-cache");
+  response.set_header("X-Accel-Buffering", "no");  // nginx: pass events through at once
+  response.set_chunked_content_provider(
+      "text/event-stream",
+      [stream, &service](size_t, httplib::DataSink& sink) {
+        server::Job& job = *stream->job;
+        bool terminal;
+        {
+          std::unique_lock lock(job.mutex);
+          terminal = job.finished_cv.wait_for(lock, 250ms,
+                                              [&] { return server::is_terminal(job.status); });
+        }
+        const nlohmann::json view = job_json(job, service.store().queue_position(job));
+        std::string out;
+        const std::string progress = view["progress"].dump();
+        if (progress != stream->last_progress) {
+          nlohmann::json data = view["progress"];
+          data["status"] = view["status"];
+          out += event("progress", data);
+          stream->last_progress = progress;
+        }
+        if (terminal) out += event("status", view);
+        if (out.empty() && server::Clock::now() - stream->last_write > 15s)
+          out = ": keep-alive\n\n";
+        if (!out.empty()) {
+          if (!sink.write(out.data(), out.size())) return false;  // the client went away
+          stream->last_write = server::Clock::now();
+        }
+        if (terminal) sink.done();
+        return true;
+      },
+      [stream](bool) { stream->streams->fetch_sub(1); });
+}
+
+}  // namespace spheremap::api

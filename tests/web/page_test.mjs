@@ -1,0 +1,74 @@
+// Drives the page at GET / in headless Chromium as a person would: choose a file, wait
+// for the job to end, look at the canvas. Usage: node page_test.mjs URL MESH [MESH.gltf
+// RESOURCES...]. Fails (exit 1) on a console error, a page error, a status other than
+// succeeded, a blank canvas, or missing downloads.
+import { chromium } from 'playwright-core';
+
+const [url, ...files] = process.argv.slice(2);
+const fail = (message) => { console.error(`FAIL: ${message}`); process.exitCode = 1; };
+
+const browser = await chromium.launch({
+  executablePath: process.env.CHROMIUM ?? '/usr/bin/chromium',
+  headless: true,
+  args: ['--no-sandbox', '--disable-gpu', '--use-angle=swiftshader', '--enable-unsafe-swiftshader',
+    '--disable-quic', '--no-first-run', '--disable-background-networking',
+    '--disable-component-update', '--disable-sync'],
+});
+try {
+  const page = await browser.newPage({ viewport: { width: 1280, height: 900 } });
+  const errors = [];
+  page.on('console', (m) => { if (m.type() === 'error') errors.push(m.text()); });
+  page.on('pageerror', (e) => errors.push(e.message));
+  page.on('requestfailed', (r) => {
+    // The event stream is closed by the page itself once the job ends.
+    if (!r.url().endsWith('/events')) errors.push(`request failed: ${r.url()}`);
+  });
+
+  await page.goto(url);
+  const inputs = await page.locator('input[type="file"]').count();
+  if (inputs !== 1) fail(`expected one file input, found ${inputs}`);
+  const start = Date.now();
+  await page.locator('input[type="file"]').setInputFiles(files);
+  await page.waitForFunction(
+    () => !['idle', 'submitting', 'queued', 'running'].includes(document.body.dataset.status),
+    null, { timeout: 120000 });
+  const status = await page.evaluate(() => document.body.dataset.status);
+  console.log(`status ${status} after ${((Date.now() - start) / 1000).toFixed(1)} s`);
+  if (status !== 'succeeded') fail(`job ended ${status}: ${await page.locator('#error').textContent()}`);
+
+  // Non-blank: the canvas, read back, has many distinct colours (a mesh, shaded), not one.
+  await page.waitForTimeout(500);
+  const colours = await page.evaluate(() => {
+    const source = document.querySelector('canvas');
+    const copy = Object.assign(document.createElement('canvas'), { width: 160, height: 120 });
+    const context = copy.getContext('2d');
+    context.drawImage(source, 0, 0, 160, 120);
+    const data = context.getImageData(0, 0, 160, 120).data;
+    const seen = new Set();
+    for (let i = 0; i < data.length; i += 4) seen.add((data[i] >> 3) << 10 | (data[i + 1] >> 3) << 5 | data[i + 2] >> 3);
+    return seen.size;
+  });
+  console.log(`canvas: ${colours} distinct colours`);
+  if (colours < 20) fail(`the canvas looks blank (${colours} colours)`);
+
+  const downloads = await page.locator('#downloads a').allTextContents();
+  console.log(`downloads: ${downloads.join(', ')}`);
+  for (const name of ['sphere.glb', 'metrics.json', 'remesh.glb', 'morph.glb'])
+    if (!downloads.includes(name)) fail(`no download link for ${name}`);
+  const verdict = await page.locator('#verdict').textContent();
+  if (!verdict.startsWith('Bijective')) fail(`verdict: ${verdict}`);
+
+  // Every view draws, and the heat map and the morph slider work.
+  for (const view of ['input', 'remesh', 'morph']) {
+    const button = page.locator(`#views [data-view="${view}"]`);
+    if (await button.isDisabled()) { fail(`view ${view} is not available`); continue; }
+    await button.click();
+  }
+  await page.locator('#heat').check();
+  await page.locator('#morph').fill('1');
+  await page.waitForTimeout(300);
+  if (process.env.SCREENSHOT) await page.screenshot({ path: process.env.SCREENSHOT });
+  if (errors.length) fail(`console errors:\n  ${errors.join('\n  ')}`);
+} finally {
+  await browser.close();
+}

@@ -1,0 +1,40 @@
+#!/usr/bin/env bash
+# The page at GET / in headless Chromium (Debian chromium + npm playwright-core) against
+# the real server on a loopback port: a GLB (a corpus model, or a generated one without
+# the corpus) and a .gltf chosen with its .bin and textures must end `succeeded` with a
+# drawn canvas and no console error. Exit 77 (skipped) without chromium or npm.
+set -uo pipefail
+spheremap=$1 make_meshes=$2 corpus=$3
+here=$(cd "$(dirname "$0")" && pwd)
+fail() { echo "FAIL: $*"; [ -f "$work/server.log" ] && tail -5 "$work/server.log"; exit 1; }
+command -v npm > /dev/null || { echo "npm not found: skipped"; exit 77; }
+chromium=${CHROMIUM:-/usr/bin/chromium}
+[ -x "$chromium" ] || { echo "chromium not found: skipped (apt-get install chromium)"; exit 77; }
+if [ ! -d "$here/node_modules/playwright-core" ]; then
+  (cd "$here" && npm install --no-audit --no-fund --loglevel=error) || { echo "npm install failed"; exit 1; }
+fi
+work=$(mktemp -d)
+trap 'kill $server 2> /dev/null; wait $server 2> /dev/null; rm -rf "$work"' EXIT
+"$spheremap" serve --port 0 --workers 1 2> "$work/server.log" &
+server=$!
+port=
+for _ in $(seq 100); do
+  port=$(grep -o '"port":[0-9]*' "$work/server.log" | tail -1 | cut -d: -f2)
+  [ -n "$port" ] && [ "$port" != 0 ] && grep -q '"listening"' "$work/server.log" && break
+  sleep 0.05
+done
+[ -n "$port" ] || fail "the server did not start"
+url=http://127.0.0.1:$port/
+mesh=$corpus/spot.glb
+if [ ! -f "$mesh" ]; then
+  "$make_meshes" "$work" > /dev/null || fail "make_test_meshes"
+  mesh=$work/icosphere4.glb
+fi
+CHROMIUM=$chromium node "$here/page_test.mjs" "$url" "$mesh" || fail "page test on $(basename "$mesh")"
+box=$corpus/gltf-samples/BoxWithSpaces-glTF
+if [ -d "$box" ]; then
+  CHROMIUM=$chromium node "$here/page_test.mjs" "$url" "$box/Box With Spaces.gltf" "$box/Box With Spaces.bin" \
+    "$box/glTF Logo With Spaces.png" "$box/Normal Map.png" "$box/Roughness Metallic.png" ||
+    fail "page test on a .gltf with its .bin and textures"
+fi
+echo "page: ok"

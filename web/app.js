@@ -1,0 +1,368 @@
+// The spheremap page: submit a mesh, follow the job's events, show what came back.
+// Contract kept for tests: one <input type="file">; when a job ends,
+// document.body.dataset.status is its final status; the viewer draws into the <canvas>.
+import * as THREE from 'three';
+import { GLTFLoader } from 'three/addons/loaders/GLTFLoader.js';
+import { DRACOLoader } from 'three/addons/loaders/DRACOLoader.js';
+import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
+import { MeshoptDecoder } from 'three/addons/libs/meshopt_decoder.module.js';
+
+const $ = (id) => document.getElementById(id);
+const state = { files: [], extraOptions: {}, events: null, poll: null, models: {}, view: null };
+
+// ---- viewer -------------------------------------------------------------------------
+const canvas = $('canvas');
+// preserveDrawingBuffer: the canvas can be read back (tests check it is not blank).
+const renderer = new THREE.WebGLRenderer({ canvas, antialias: true, preserveDrawingBuffer: true });
+renderer.setPixelRatio(Math.min(window.devicePixelRatio, 2));
+const scene = new THREE.Scene();
+scene.background = new THREE.Color(0x20242b);
+const camera = new THREE.PerspectiveCamera(35, 1, 0.01, 100);
+camera.position.set(0, 0.5, 2.9);
+const controls = new OrbitControls(camera, canvas);
+controls.enableDamping = true;
+scene.add(new THREE.HemisphereLight(0xffffff, 0x303040, 1.6));
+const headlight = new THREE.DirectionalLight(0xffffff, 1.6);
+headlight.position.set(1, 2, 3);
+camera.add(headlight);
+scene.add(camera);
+
+function resize() {
+  const { clientWidth: w, clientHeight: h } = canvas;
+  if (canvas.width !== Math.floor(w * renderer.getPixelRatio()) ||
+      canvas.height !== Math.floor(h * renderer.getPixelRatio())) {
+    renderer.setSize(w, h, false);
+    camera.aspect = w / Math.max(h, 1);
+    camera.updateProjectionMatrix();
+  }
+}
+renderer.setAnimationLoop(() => {
+  resize();
+  controls.update();
+  renderer.render(scene, camera);
+});
+
+const draco = new DRACOLoader().setDecoderPath('/web/three/examples/jsm/libs/draco/');
+function gltfLoader(manager) {
+  return new GLTFLoader(manager).setDRACOLoader(draco).setMeshoptDecoder(MeshoptDecoder);
+}
+
+// Centres an object on the origin and scales it into the unit ball, so every view frames
+// alike (the sphere, the remesh and the morph are already there).
+function framed(object) {
+  const box = new THREE.Box3().setFromObject(object);
+  const sphere = box.getBoundingSphere(new THREE.Sphere());
+  const holder = new THREE.Group();
+  object.position.sub(sphere.center);
+  holder.add(object);
+  holder.scale.setScalar(sphere.radius > 0 ? 1 / sphere.radius : 1);
+  return holder;
+}
+
+function setModel(name, object) {
+  if (state.models[name]) scene.remove(state.models[name]);
+  state.models[name] = object;
+  object.visible = false;
+  scene.add(object);
+  document.querySelector(`#views [data-view="${name}"]`).disabled = false;
+}
+
+function show(name) {
+  state.view = name;
+  for (const [key, object] of Object.entries(state.models)) object.visible = key === name;
+  for (const button of document.querySelectorAll('#views button'))
+    button.setAttribute('aria-selected', String(button.dataset.view === name));
+  $('morph-control').hidden = name !== 'morph';
+  applyHeat();
+}
+
+for (const button of document.querySelectorAll('#views button'))
+  button.addEventListener('click', () => show(button.dataset.view));
+$('morph').addEventListener('input', () => {
+  state.models.morph?.traverse((o) => {
+    if (o.morphTargetInfluences) o.morphTargetInfluences[0] = Number($('morph').value);
+  });
+});
+
+// A plain surface material for our own outputs, so the map's shape is what one sees; the
+// triangle edges too, except on the morph (a wireframe would not follow its target).
+function surface(object, color, edges = true) {
+  object.traverse((o) => {
+    if (!o.isMesh) return;
+    o.material = new THREE.MeshStandardMaterial({
+      color, roughness: 0.65, metalness: 0.0, side: THREE.DoubleSide, flatShading: false });
+    if (!edges || !o.geometry.index || o.geometry.index.count > 600000) return;
+    o.add(new THREE.LineSegments(new THREE.WireframeGeometry(o.geometry),
+      new THREE.LineBasicMaterial({ color: 0x000000, transparent: true, opacity: 0.12 })));
+  });
+  return object;
+}
+
+// ---- distortion heat map: log(area on the sphere / area on the mesh), each as a share
+// of its total, per triangle of the morph (its base is the mesh, its target the sphere),
+// averaged at the vertices; blue = shrunk, grey = even, red = grown.
+function heatColors(geometry) {
+  const base = geometry.attributes.position;
+  const delta = geometry.morphAttributes.position?.[0];
+  const index = geometry.index;
+  if (!delta || !index) return null;
+  const relative = geometry.morphTargetsRelative;
+  const p = [new THREE.Vector3(), new THREE.Vector3(), new THREE.Vector3()];
+  const q = [new THREE.Vector3(), new THREE.Vector3(), new THREE.Vector3()];
+  const triangles = index.count / 3;
+  const meshArea = new Float64Array(triangles), sphereArea = new Float64Array(triangles);
+  let meshTotal = 0, sphereTotal = 0;
+  const area = (a, b, c) => new THREE.Vector3().subVectors(b, a).cross(new THREE.Vector3().subVectors(c, a)).length() / 2;
+  for (let t = 0; t < triangles; ++t) {
+    for (let k = 0; k < 3; ++k) {
+      const v = index.getX(3 * t + k);
+      p[k].fromBufferAttribute(base, v);
+      q[k].fromBufferAttribute(delta, v);
+      if (relative) q[k].add(p[k]);
+    }
+    meshTotal += meshArea[t] = area(p[0], p[1], p[2]);
+    sphereTotal += sphereArea[t] = area(q[0], q[1], q[2]);
+  }
+  const sum = new Float64Array(base.count), count = new Float64Array(base.count);
+  for (let t = 0; t < triangles; ++t) {
+    const ratio = (sphereArea[t] / sphereTotal) / Math.max(meshArea[t] / meshTotal, 1e-30);
+    const value = Math.log(Math.max(ratio, 1e-12));
+    for (let k = 0; k < 3; ++k) {
+      const v = index.getX(3 * t + k);
+      sum[v] += value;
+      count[v] += 1;
+    }
+  }
+  const colors = new Float32Array(base.count * 3);
+  const shrunk = new THREE.Color(0x3b4cc0), even = new THREE.Color(0xdddddd), grown = new THREE.Color(0xb40426);
+  const c = new THREE.Color();
+  for (let v = 0; v < base.count; ++v) {
+    const x = Math.max(-1, Math.min(1, (count[v] ? sum[v] / count[v] : 0) / 2));  // |log| 2 = 7.4x
+    c.copy(even).lerp(x < 0 ? shrunk : grown, Math.abs(x));
+    colors.set([c.r, c.g, c.b], 3 * v);
+  }
+  return new THREE.BufferAttribute(colors, 3);
+}
+
+function applyHeat() {
+  const on = $('heat').checked && state.view === 'morph';
+  $('heat-legend').hidden = !on;
+  state.models.morph?.traverse((o) => {
+    if (!o.isMesh) return;
+    if (on && !o.geometry.attributes.color) {
+      const colors = heatColors(o.geometry);
+      if (colors) o.geometry.setAttribute('color', colors);
+    }
+    o.material.vertexColors = on && !!o.geometry.attributes.color;
+    o.material.color.set(on ? 0xffffff : 0xd8b06a);
+    o.material.needsUpdate = true;
+  });
+}
+$('heat').addEventListener('change', applyHeat);
+
+async function loadGlb(url) {
+  const bytes = await (await fetch(url)).arrayBuffer();
+  return (await gltfLoader().parseAsync(bytes, '')).scene;
+}
+
+// The input as the browser reads it, with the selected files as its resources.
+async function previewInput(main) {
+  const urls = new Map(state.files.map((f) => [f.name, URL.createObjectURL(f)]));
+  const manager = new THREE.LoadingManager();
+  manager.setURLModifier((url) => {
+    const name = decodeURIComponent(url.split('/').pop());
+    return urls.get(name) ?? url;
+  });
+  try {
+    const gltf = await gltfLoader(manager).parseAsync(await main.arrayBuffer(), '');
+    setModel('input', framed(gltf.scene));
+    show('input');
+  } catch (error) {
+    console.warn('no preview of the input:', error.message);
+  } finally {
+    setTimeout(() => urls.forEach((u) => URL.revokeObjectURL(u)), 60000);
+  }
+}
+
+// ---- jobs ---------------------------------------------------------------------------
+function setStatus(status) { document.body.dataset.status = status; }
+
+function showError(text, fix) {
+  const box = $('error');
+  box.hidden = !text;
+  box.textContent = text || '';
+  if (fix) {
+    const button = document.createElement('button');
+    button.type = 'button';
+    button.textContent = fix.option === 'largest_component' ? 'Map the largest part'
+      : `Map with ${fix.option} = ${JSON.stringify(fix.value)}`;
+    button.addEventListener('click', () => {
+      if (fix.option === 'largest_component') $('largest').checked = true;
+      else state.extraOptions[fix.option] = fix.value;
+      submit();
+    });
+    box.append(document.createElement('br'), button);
+  }
+}
+
+function showProgress(p) {
+  $('progress').hidden = false;
+  const fraction = p.status === 'succeeded' ? 1 : p.levels > 0 ? p.level / p.levels : 0.02;
+  $('bar-fill').style.width = `${Math.round(100 * Math.min(1, Math.max(fraction, 0.02)))}%`;
+  const parts = [p.status === 'queued' ? 'queued' : p.stage];
+  if (p.levels) parts.push(`level ${p.level}/${p.levels}`);
+  if (p.vertices) parts.push(`${p.vertices.toLocaleString()} vertices`);
+  if (p.iteration) parts.push(`iteration ${p.iteration}`);
+  if (p.folds) parts.push(`${p.folds} folds`);
+  if (p.energy) parts.push(`energy ${p.energy.toFixed(3)}`);
+  $('stage').textContent = parts.join(' · ');
+}
+
+function options() {
+  const outputs = ['sphere'];
+  for (const name of ['remesh', 'morph', 'uv']) if ($(`out-${name}`).checked) outputs.push(name);
+  const chosen = { quality: $('quality').value, outputs, ...state.extraOptions };
+  if ($('largest').checked) chosen.largest_component = true;
+  return chosen;
+}
+
+async function submit() {
+  stopFollowing();
+  const main = state.files.find((f) => /\.(glb|gltf)$/i.test(f.name));
+  if (!main) {
+    showError('Choose a .glb or .gltf file (with the .bin files a .gltf names).');
+    return;
+  }
+  showError('');
+  $('results').hidden = true;
+  $('run').disabled = false;
+  setStatus('submitting');
+  previewInput(main);
+  const form = new FormData();
+  form.append('mesh', main, main.name);
+  // A .gltf's files go along as parts named by their file name (the service matches URIs).
+  for (const f of state.files) if (f !== main) form.append(f.name, f, f.name);
+  form.append('options', new Blob([JSON.stringify(options())], { type: 'application/json' }));
+  let response, body;
+  try {
+    response = await fetch('/v1/jobs', { method: 'POST', body: form });
+    body = await response.json();
+  } catch (error) {
+    setStatus('error');
+    showError(`The service did not answer: ${error.message}`);
+    return;
+  }
+  if (response.status !== 202) {
+    setStatus('rejected');
+    $('progress').hidden = true;
+    showError(`${body.title ?? 'Refused'}: ${body.detail ?? response.status}`, body.fix);
+    return;
+  }
+  setStatus(body.status);
+  showProgress({ ...body.progress, status: body.status });
+  follow(body.id);
+}
+
+function stopFollowing() {
+  state.events?.close();
+  clearInterval(state.poll);
+  state.events = state.poll = null;
+}
+
+// Server-Sent Events while they work; polling when they cannot (too many streams, a proxy).
+function follow(id) {
+  const events = new EventSource(`/v1/jobs/${id}/events`);
+  state.events = events;
+  events.addEventListener('progress', (e) => {
+    const p = JSON.parse(e.data);
+    if (['queued', 'running'].includes(p.status)) setStatus(p.status);  // the end: finished()
+    showProgress(p);
+  });
+  events.addEventListener('status', (e) => {
+    stopFollowing();
+    finished(JSON.parse(e.data));
+  });
+  events.onerror = () => {
+    if (state.events !== events) return;
+    stopFollowing();
+    state.poll = setInterval(async () => {
+      const job = await (await fetch(`/v1/jobs/${id}`)).json();
+      showProgress({ ...job.progress, status: job.status });
+      if (!['queued', 'running'].includes(job.status)) {
+        stopFollowing();
+        finished(job);
+      }
+    }, 500);
+  };
+}
+
+const number = (x, digits = 3) => (typeof x === 'number' ? x.toFixed(digits) : '–');
+
+async function finished(job) {
+  showProgress({ ...job.progress, status: job.status });
+  const metrics = job.metrics ?? {};
+  const artifacts = job.artifacts ?? {};
+  $('results').hidden = false;
+  const verdict = $('verdict');
+  if (job.status === 'succeeded') {
+    verdict.textContent = 'Bijective: no folded or degenerate triangle (certified in float32)';
+    verdict.className = 'ok';
+  } else {
+    verdict.textContent = job.status === 'failed' ? `Not certified: ${job.error?.title ?? 'failed'}` : 'Cancelled';
+    verdict.className = 'bad';
+    if (job.error) showError(job.error.detail);
+  }
+  const seconds = Object.values(metrics.seconds ?? {}).reduce((a, b) => a + b, 0);
+  const rows = [
+    ['vertices / triangles', `${metrics.vertices ?? '–'} / ${metrics.triangles ?? '–'}`],
+    ['stretch L2 (1 = even)', number(metrics.stretch?.l2)],
+    ['mean |log area ratio|', number(metrics.area_distortion?.mean_abs_log)],
+    ['folds as written', metrics.folds_as_written ?? '–'],
+    ['quality', metrics.quality ?? '–'],
+    ['map time (s)', number(seconds, 2)],
+  ];
+  if (metrics.remesh?.distance?.hausdorff !== undefined)
+    rows.push(['remesh Hausdorff (% of diagonal)', number(100 * metrics.remesh.distance.hausdorff, 2)]);
+  $('metrics').replaceChildren(...rows.map(([k, v]) => {
+    const tr = document.createElement('tr');
+    for (const text of [k, String(v)]) tr.append(Object.assign(document.createElement('td'), { textContent: text }));
+    return tr;
+  }));
+  $('metrics-json').textContent = JSON.stringify(metrics, null, 2);
+  $('downloads').replaceChildren(...Object.entries(artifacts).map(([name, a]) => {
+    const li = document.createElement('li');
+    li.append(Object.assign(document.createElement('a'), { href: a.href, download: name, textContent: name }),
+      ` (${(a.bytes / 1024).toFixed(1)} KiB)`);
+    return li;
+  }));
+  try {
+    if (artifacts['sphere.glb']) setModel('sphere', surface(await loadGlb(artifacts['sphere.glb'].href), 0x8fb3e8));
+    if (artifacts['remesh.glb']) setModel('remesh', surface(await loadGlb(artifacts['remesh.glb'].href), 0x9ad0a1));
+    if (artifacts['morph.glb']) {
+      setModel('morph', framed(surface(await loadGlb(artifacts['morph.glb'].href), 0xd8b06a, false)));
+      $('heat').disabled = false;
+    }
+    if (state.models.sphere) show('sphere');
+  } catch (error) {
+    console.warn('could not show a result:', error.message);
+  }
+  // Last: the status is what tests wait for, once everything is drawn.
+  requestAnimationFrame(() => setStatus(job.status));
+}
+
+// ---- file choice ----------------------------------------------------------------------
+function choose(fileList) {
+  state.files = [...fileList];
+  state.extraOptions = {};
+  if (state.files.length) submit();
+}
+$('file').addEventListener('change', (e) => choose(e.target.files));
+$('run').addEventListener('click', submit);
+const drop = $('drop');
+drop.addEventListener('dragover', (e) => { e.preventDefault(); drop.classList.add('over'); });
+drop.addEventListener('dragleave', () => drop.classList.remove('over'));
+drop.addEventListener('drop', (e) => {
+  e.preventDefault();
+  drop.classList.remove('over');
+  choose(e.dataTransfer.files);
+});

@@ -1,0 +1,20 @@
+// The web page the service serves at GET / and the modules it loads (three.js), built
+// into the binary by web/CMakeLists.txt.
+#pragma once
+
+#include <string_view>
+#include <vector>
+
+namespace spheremap::web {
+
+struct Asset {
+  std::string_view path;  // URL path: "/index.html", "/web/app.js", ...
+  std::string_view content_type;
+  std::string_view bytes;
+};
+
+const std::vector<Asset>& assets();
+// The asset at a URL path ("/" is "/index.html"), or nullptr.
+const Asset* find_asset(std::string_view path);
+
+}  // namespace spheremap::web
