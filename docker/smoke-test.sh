@@ -3,7 +3,10 @@
 # loopback port, maps a mesh over HTTP and checks the result is a bijective sphere, then
 # sends SIGTERM and checks a clean exit (0). Prints the image size and the start-to-ready
 # time. Without a registry it makes the base image debian:bookworm-slim itself with
-# debootstrap (minbase) and imports it. Usage: docker/smoke-test.sh [MESH.glb]
+# debootstrap (minbase) and imports it. Leaves the host as it found it: no configuration
+# file is written (podman's settings go through $CONTAINERS_CONF, a temporary file) and
+# every image the test added (the service, its builder stage, a debootstrapped base) is
+# removed at the end. Usage: docker/smoke-test.sh [MESH.glb]
 set -euo pipefail
 cd "$(dirname "$0")/.."
 mesh=${1:-../shared/meshes/spot.glb}
@@ -13,7 +16,15 @@ port=18181
 sudo=
 [ "$(id -u)" = 0 ] || sudo=sudo
 work=$(mktemp -d)
-cleanup() { $engine rm -f "$name" > /dev/null 2>&1 || true; rm -rf "$work"; }
+images_before= tracking=
+cleanup() {
+  $engine rm -f "$name" > /dev/null 2>&1 || true
+  if [ -n "$tracking" ]; then  # remove exactly the images this run added
+    comm -13 <(echo "$images_before") <($engine images -aq --no-trunc | sort -u) |
+      xargs -r $engine rmi -f > /dev/null 2>&1 || true
+  fi
+  rm -rf "$work"
+}
 fail() { echo "FAIL: $*"; $engine logs "$name" 2>&1 | tail -20 || true; exit 1; }
 
 if command -v docker > /dev/null && docker info > /dev/null 2>&1; then
@@ -27,14 +38,14 @@ else
       podman buildah runc debootstrap uidmap > /dev/null
   fi
   # podman here runs with runc (crun is not usable in this sandbox) and ulimits no higher
-  # than this process's own hard limits (raising them is not permitted here).
-  if ! grep -qs '^runtime *= *"runc"' /etc/containers/containers.conf; then
-    nofile=$(ulimit -Hn) nproc=$(( $(ulimit -Hu) < 4096 ? $(ulimit -Hu) : 4096 ))
-    $sudo mkdir -p /etc/containers
-    printf '[containers]\ndefault_ulimits = ["nofile=%s:%s", "nproc=%s:%s"]\n\n[engine]\nruntime = "runc"\n' \
-      "$nofile" "$nofile" "$nproc" "$nproc" | $sudo tee /etc/containers/containers.conf > /dev/null
-  fi
+  # than this process's own hard limits (raising them is not permitted here), set for
+  # this run only.
+  nofile=$(ulimit -Hn) nproc=$(( $(ulimit -Hu) < 4096 ? $(ulimit -Hu) : 4096 ))
+  printf '[containers]\ndefault_ulimits = ["nofile=%s:%s", "nproc=%s:%s"]\n\n[engine]\nruntime = "runc"\n' \
+    "$nofile" "$nofile" "$nproc" "$nproc" > "$work/containers.conf"
+  export CONTAINERS_CONF=$work/containers.conf
 fi
+images_before=$($engine images -aq --no-trunc | sort -u) tracking=1
 trap cleanup EXIT
 echo "engine: $engine"
 

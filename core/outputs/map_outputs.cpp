@@ -1,5 +1,7 @@
 #include "core/outputs/map_outputs.h"
 
+#include "core/outputs/report_json.h"
+
 #include <chrono>
 #include <cmath>
 
@@ -118,7 +120,7 @@ RemeshAsset remesh_asset(const MappedMesh& mapped, int resolution, int threads) 
   glb.positions = remesh.positions;
   for (uint32_t vertex : remesh.vertex) glb.normals.push_back(stitched_normals[vertex]);
   glb.triangles = remesh.triangles;
-  glb.extras = {{"spheremap_remesh", asset.metrics}};
+  glb.extras = {{"spheremap_remesh", without_timings(asset.metrics)}};
   glb.texcoords = std::move(texcoords);
   asset.glb = format_glb(glb);
   return asset;
@@ -147,7 +149,7 @@ UvAsset uv_asset(const MappedMesh& mapped) {
   glb.positions = uv.positions;
   glb.normals = vertex_normals(uv.positions, uv.triangles);
   glb.triangles = uv.triangles;
-  glb.extras = {{"spheremap_uv", asset.metrics}};
+  glb.extras = {{"spheremap_uv", without_timings(asset.metrics)}};
   glb.texcoords = std::move(texcoords);
   glb.base_color_png = checker_png();
   asset.glb = format_glb(glb);
@@ -188,7 +190,7 @@ MorphAsset morph_asset(const MappedMesh& mapped, double seconds) {
                    {"sphere_center", {centroid.x, centroid.y, centroid.z}},
                    {"sphere_radius", radius},
                    {"animation_seconds", seconds}};
-  glb.extras = {{"spheremap_morph", asset.metrics}};
+  glb.extras = {{"spheremap_morph", without_timings(asset.metrics)}};
   asset.glb = format_glb(glb);
   asset.metrics["seconds"] = seconds_since(start);
   return asset;

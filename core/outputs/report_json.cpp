@@ -130,4 +130,14 @@ nlohmann::json metrics_json(const MappedMesh& mapped, const MapOptions& options)
   };
 }
 
+nlohmann::json without_timings(nlohmann::json metrics) {
+  if (metrics.is_object()) {
+    metrics.erase("seconds");
+    for (auto& [key, value] : metrics.items()) value = without_timings(std::move(value));
+  } else if (metrics.is_array()) {
+    for (auto& value : metrics) value = without_timings(std::move(value));
+  }
+  return metrics;
+}
+
 }  // namespace spheremap

@@ -19,4 +19,8 @@ nlohmann::json fix_json(const Fix& fix);
 nlohmann::json topology_json(const PreparedMesh& prepared, const GltfReadStats* gltf = nullptr);
 nlohmann::json metrics_json(const MappedMesh& mapped, const MapOptions& options);
 
+// The metrics without their "seconds" (at any depth), for the extras of a GLB: the same
+// input and options then give byte-identical files; metrics.json keeps the timings.
+nlohmann::json without_timings(nlohmann::json metrics);
+
 }  // namespace spheremap
