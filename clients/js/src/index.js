@@ -1,0 +1,140 @@
+// spheremap-client: the spheremap service from JavaScript (Node 18+, browsers, workers).
+// No dependencies: fetch, FormData and Blob are the platform's own.
+
+/** A refusal or failure from the service, as its problem+json says it (RFC 9457). */
+export class SpheremapError extends Error {
+  constructor(problem, status) {
+    super(`${problem.title ?? 'spheremap error'}: ${problem.detail ?? status}`);
+    this.name = 'SpheremapError';
+    this.status = status;
+    this.problem = problem;
+    this.type = problem.type;
+    this.fix = problem.fix;  // the job option that gets past it, when there is one
+  }
+}
+
+const TERMINAL = new Set(['succeeded', 'failed', 'cancelled']);
+
+function asBlob(data, type) {
+  if (typeof Blob !== 'undefined' && data instanceof Blob) return data;
+  return new Blob([data], { type });
+}
+
+function isGlb(bytes) {
+  const view = bytes instanceof ArrayBuffer ? new Uint8Array(bytes) : bytes;
+  return view?.length >= 4 && view[0] === 0x67 && view[1] === 0x6c && view[2] === 0x54 && view[3] === 0x46;
+}
+
+export class SpheremapClient {
+  /**
+   * @param {{endpoint: string, fetch?: typeof fetch, headers?: Record<string,string>}} options
+   */
+  constructor({ endpoint, fetch: fetchImpl = globalThis.fetch, headers = {} }) {
+    if (!endpoint) throw new TypeError('SpheremapClient needs an endpoint, e.g. http://127.0.0.1:8080');
+    this.endpoint = endpoint.replace(/\/+$/, '');
+    this.fetch = fetchImpl;
+    this.headers = headers;
+  }
+
+  async #request(path, init = {}) {
+    const response = await this.fetch(this.endpoint + path, {
+      ...init, headers: { ...this.headers, ...(init.headers ?? {}) } });
+    if (response.ok) return response;
+    let problem;
+    try { problem = await response.json(); } catch { problem = { title: response.statusText }; }
+    throw new SpheremapError(problem, response.status);
+  }
+
+  /**
+   * Submits a mesh: a GLB or .gltf (bytes or Blob). A .gltf's external files go in
+   * `resources`, by the URI the .gltf names them with. Returns the job as queued.
+   */
+  async submit(mesh, options = {}, { resources = {}, name } = {}) {
+    const form = new FormData();
+    const glb = !(typeof Blob !== 'undefined' && mesh instanceof Blob) && isGlb(mesh);
+    form.append('mesh', asBlob(mesh, glb ? 'model/gltf-binary' : 'model/gltf+json'),
+      name ?? (glb ? 'mesh.glb' : 'mesh.gltf'));
+    for (const [uri, bytes] of Object.entries(resources))
+      form.append(decodeURIComponent(uri), asBlob(bytes, 'application/octet-stream'), decodeURIComponent(uri));
+    form.append('options', new Blob([JSON.stringify(options)], { type: 'application/json' }));
+    const response = await this.#request('/v1/jobs', { method: 'POST', body: form });
+    return response.json();
+  }
+
+  /** The job as GET /v1/jobs/{id} answers it. */
+  async job(id) {
+    return (await this.#request(`/v1/jobs/${id}`)).json();
+  }
+
+  /**
+   * The job's progress as it happens: yields {event: 'progress', data} while it runs and
+   * {event: 'status', data: job} last (Server-Sent Events, read with fetch so it works
+   * where EventSource does not). Falls back to polling when the server has no stream free.
+   */
+  async *events(id, { signal } = {}) {
+    let response;
+    try {
+      response = await this.#request(`/v1/jobs/${id}/events`, { signal, headers: { Accept: 'text/event-stream' } });
+    } catch (error) {
+      if (!(error instanceof SpheremapError) || error.status !== 503) throw error;
+      for (;;) {  // too many streams: poll
+        const job = await this.job(id);
+        if (TERMINAL.has(job.status)) { yield { event: 'status', data: job }; return; }
+        yield { event: 'progress', data: { ...job.progress, status: job.status } };
+        await new Promise((resolve) => setTimeout(resolve, 500));
+      }
+    }
+    const decoder = new TextDecoder();
+    let buffer = '';
+    for await (const chunk of response.body) {
+      buffer += decoder.decode(chunk, { stream: true });
+      let end;
+      while ((end = buffer.indexOf('\n\n')) >= 0) {
+        const block = buffer.slice(0, end);
+        buffer = buffer.slice(end + 2);
+        let event = 'message', data = '';
+        for (const line of block.split('\n')) {
+          if (line.startsWith('event: ')) event = line.slice(7);
+          else if (line.startsWith('data: ')) data += line.slice(6);
+        }
+        if (!data) continue;  // a keep-alive comment
+        yield { event, data: JSON.parse(data) };
+        if (event === 'status') return;
+      }
+    }
+  }
+
+  /** Waits for the job to end; `onProgress` sees every progress event. Returns the job. */
+  async wait(id, { onProgress, signal } = {}) {
+    for await (const { event, data } of this.events(id, { signal })) {
+      if (event === 'status') return data;
+      onProgress?.(data);
+    }
+    return this.job(id);  // the stream ended early: ask
+  }
+
+  /** An artifact's bytes (sphere.glb, metrics.json, remesh.glb, geometry_image.png, uv.glb, morph.glb). */
+  async download(id, name) {
+    return new Uint8Array(await (await this.#request(`/v1/jobs/${id}/artifacts/${name}`)).arrayBuffer());
+  }
+
+  /** Cancels a queued or running job (its artifacts are dropped), or deletes a finished one. */
+  async cancel(id) {
+    await this.#request(`/v1/jobs/${id}`, { method: 'DELETE' });
+  }
+
+  /**
+   * Submit, wait, download: resolves to {job, artifacts: {name: Uint8Array}} for the
+   * artifacts asked for (options.outputs, plus sphere.glb and metrics.json); throws a
+   * SpheremapError when the job does not succeed.
+   */
+  async map(mesh, options = {}, { resources, onProgress, signal } = {}) {
+    const submitted = await this.submit(mesh, options, { resources });
+    const job = await this.wait(submitted.id, { onProgress, signal });
+    if (job.status !== 'succeeded')
+      throw new SpheremapError(job.error ?? { title: `job ${job.status}` }, job.error?.status ?? 500);
+    const artifacts = {};
+    for (const name of Object.keys(job.artifacts ?? {})) artifacts[name] = await this.download(job.id, name);
+    return { job, artifacts };
+  }
+}
