@@ -18,7 +18,7 @@ renderer.setPixelRatio(Math.min(window.devicePixelRatio, 2));
 const scene = new THREE.Scene();
 scene.background = new THREE.Color(0x20242b);
 const camera = new THREE.PerspectiveCamera(35, 1, 0.01, 100);
-camera.position.set(0, 0.5, 2.9);
+camera.position.set(0, 0.4, 2.4);
 const controls = new OrbitControls(camera, canvas);
 controls.enableDamping = true;
 scene.add(new THREE.HemisphereLight(0xffffff, 0x303040, 1.6));

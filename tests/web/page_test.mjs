@@ -67,6 +67,8 @@ try {
   await page.locator('#heat').check();
   await page.locator('#morph').fill('1');
   await page.waitForTimeout(300);
+  await page.locator('#morph').fill('0');  // the mesh again, coloured by its distortion
+  await page.waitForTimeout(300);
   if (process.env.SCREENSHOT) await page.screenshot({ path: process.env.SCREENSHOT });
   if (errors.length) fail(`console errors:\n  ${errors.join('\n  ')}`);
 } finally {
