@@ -11,6 +11,8 @@
 #include <cerrno>
 #include <cmath>
 #include <cstring>
+#include <condition_variable>
+#include <mutex>
 #include <thread>
 
 #include "server/worker_protocol.h"
@@ -260,12 +262,15 @@ int worker_process_main() {
     send(FrameType::kStatus, R"({"status":"failed"})");
     return 0;
   }
-  // Progress every 100 ms while the job runs, when it changed.
-  std::atomic<bool> running{true};
+  // Progress every 100 ms while the job runs, when it changed; woken at the end so a
+  // short job does not wait out the interval.
+  std::mutex stop_mutex;
+  std::condition_variable stop_cv;
+  bool stopping = false;
   std::thread reporter([&] {
     std::string last;
-    while (running) {
-      std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    std::unique_lock stop_lock(stop_mutex);
+    while (!stop_cv.wait_for(stop_lock, std::chrono::milliseconds(100), [&] { return stopping; })) {
       std::string now;
       {
         std::lock_guard lock(job.mutex);
@@ -275,7 +280,11 @@ int worker_process_main() {
     }
   });
   const JobStatus status = run_job(job, limits);
-  running = false;
+  {
+    std::lock_guard stop_lock(stop_mutex);
+    stopping = true;
+  }
+  stop_cv.notify_one();
   reporter.join();
   std::lock_guard lock(job.mutex);
   send(FrameType::kProgress, progress_json(job.progress));
