@@ -28,10 +28,23 @@ void send_json(httplib::Response& response, int status, const nlohmann::json& bo
                        "application/json");
 }
 
-// The job of the path's first capture, or a 404 / 410 problem.
+// Whose request this is: the API key's tenant (the pre-routing handler has already
+// refused requests without a valid key when keys are configured), else the client's
+// address, which quotas and fair scheduling then apply to.
+std::string tenant_of(const Service& service, const httplib::Request& request) {
+  if (service.api_keys().enabled())
+    return "key:" +
+           service.api_keys().tenant_for(request.get_header_value("Authorization")).value_or("");
+  return "address:" + request.remote_addr;
+}
+
+// The job of the path's first capture, or a 404 / 410 problem. With API keys another
+// tenant's job does not exist, as far as this request can tell.
 std::shared_ptr<Job> find_job(Service& service, const httplib::Request& request) {
   const std::string id = request.matches[1];
   JobStore::Lookup found = service.store().find(id);
+  if (found.job && service.api_keys().enabled() && found.job->tenant != tenant_of(service, request))
+    throw Problem(404, "job_not_found", "No such job", "no job with id " + id);
   if (found.job) return found.job;
   if (found.evicted)
     throw Problem(410, "gone", "Job results expired",
@@ -56,12 +69,17 @@ std::shared_ptr<Job> submit(Service& service, const httplib::Request& request) {
     service.metrics().rejected(p.extra.value("check", p.slug));
     throw;
   }
+  spec->tenant = tenant_of(service, request);
   std::shared_ptr<Job> job;
   switch (service.store().submit(std::move(spec), job)) {
     case JobStore::Admission::kAccepted:
       return job;
     case JobStore::Admission::kQueueFull:
       throw Problem(429, "queue_full", "Queue full", "the job queue is full; retry later");
+    case JobStore::Admission::kTenantQueueFull:
+      throw Problem(429, "tenant_quota", "Too many queued jobs",
+                    "you have " + std::to_string(service.config().tenant_max_queued) +
+                        " jobs waiting (tenant_max_queued); retry when one has started");
     case JobStore::Admission::kShuttingDown:
       throw Problem(503, "shutting_down", "Shutting down",
                     "the server is shutting down and accepts no new jobs");
@@ -249,8 +267,23 @@ void install_api(httplib::Server& http, Service& service) {
   // Without it a small response waits for the client's delayed ACK: 40 ms per request.
   http.set_tcp_nodelay(true);
 
-  http.set_pre_routing_handler([](const httplib::Request& request, httplib::Response& response) {
+  http.set_pre_routing_handler([&service](const httplib::Request& request,
+                                          httplib::Response& response) {
     request_start = Clock::now();
+    // With API keys every /v1 route but the API's own description needs a valid key,
+    // checked before any body is read. Preflights carry no credentials (CORS).
+    if (service.api_keys().enabled() && request.path.starts_with("/v1/") &&
+        request.path != "/v1/openapi.yaml" && request.method != "OPTIONS" &&
+        !service.api_keys().tenant_for(request.get_header_value("Authorization"))) {
+      response.set_header("WWW-Authenticate", "Bearer");
+      send_problem(response,
+                   Problem(401, "unauthorized", "API key required",
+                           request.has_header("Authorization")
+                               ? "the API key is not valid"
+                               : "send your API key as 'Authorization: Bearer KEY'"),
+                   request.path);
+      return httplib::Server::HandlerResponse::Handled;
+    }
     // cpp-httplib builds a multipart body in memory for every range asked for: thousands
     // of overlapping ranges turned an 8 KB GET into hundreds of MB. One range (resuming
     // a download) is served; more are refused before any handler runs.

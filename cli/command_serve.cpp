@@ -36,6 +36,12 @@ jobs (shutdown_grace_seconds) and exits 0.
                             3600 s, 1 GiB, 10000 jobs); older ones are evicted (410 Gone)
   --sync-timeout-seconds S  POST /v1/map waits at most this long, then answers 202 (30)
   --shutdown-grace-seconds S  time given to jobs on SIGTERM before they are cancelled (30)
+  --api-keys FILE           `TENANT KEY` lines: every /v1 route then needs
+                            'Authorization: Bearer KEY'; a job is seen only by its tenant
+  --tenant-max-queued N, --tenant-max-running N, --tenant-result-memory-bytes N
+                            per tenant (API key, or client address): jobs waiting (16),
+                            mapping at once (0 = no cap), results kept (256 MiB)
+  --cors-origins LIST       origins whose pages may call the API (default *)
   --worker-isolation process|thread
                             each job in a child process (default), or in the server
   --worker-memory-bytes N, --worker-cpu-seconds S

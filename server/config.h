@@ -29,6 +29,12 @@ struct ServerConfig {
   double shutdown_grace_seconds = 30;        // on SIGTERM: time for queued and running jobs
   double keep_alive_timeout_seconds = 5;
   double read_timeout_seconds = 30;  // a client that stalls while sending is dropped
+  // A file of `TENANT KEY` lines: every /v1 route then needs `Authorization: Bearer KEY`
+  // and a job is seen only by its tenant. "" = no keys (ids are the only handle).
+  std::string api_keys;
+  size_t tenant_max_queued = 16;                   // jobs waiting, per tenant (429 beyond)
+  size_t tenant_max_running = 0;                   // jobs mapping at once per tenant; 0 = no cap
+  size_t tenant_result_memory_bytes = 256u << 20;  // finished results kept per tenant
   // Origins whose pages may call the API (CORS): "*" (default), a comma-separated list, or
   // "" for none.
   std::string cors_origins = "*";

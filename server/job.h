@@ -35,6 +35,7 @@ struct JobSpec {
   size_t input_bytes = 0;
   std::string input_format;                                // "glb", "gltf"
   nlohmann::json options_echo = nlohmann::json::object();  // as the client sent them (shown)
+  std::string tenant;  // whose job: the API key's tenant, or the client's address
 };
 
 struct Artifact {
@@ -59,6 +60,7 @@ using Clock = std::chrono::steady_clock;
 
 struct Job {
   std::string id;
+  std::string tenant;  // set at submission, never changed
   Clock::time_point created = Clock::now();
   std::chrono::system_clock::time_point created_wall = std::chrono::system_clock::now();
   std::atomic<bool> cancel{false};

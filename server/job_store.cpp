@@ -52,7 +52,11 @@ JobStore::Admission JobStore::submit(std::unique_ptr<JobSpec> spec, std::shared_
     std::lock_guard lock(mutex_);
     if (!accepting_) return Admission::kShuttingDown;
     if (queue_.size() >= limits_.queue_capacity) return Admission::kQueueFull;
+    Tenant& tenant = tenants_[spec->tenant];
+    if (tenant.queued >= limits_.tenant_max_queued) return Admission::kTenantQueueFull;
+    ++tenant.queued;
     job = std::make_shared<Job>();
+    job->tenant = spec->tenant;
     do job->id = new_job_id();
     while (jobs_.count(job->id));
     job->input_vertices = spec->input.vertex_count();
@@ -69,15 +73,35 @@ JobStore::Admission JobStore::submit(std::unique_ptr<JobSpec> spec, std::shared_
   return Admission::kAccepted;
 }
 
+std::deque<std::shared_ptr<Job>>::iterator JobStore::pick_locked() {
+  auto best = queue_.end();
+  const Tenant* best_tenant = nullptr;
+  std::unordered_set<std::string> seen;  // a tenant's oldest queued job stands for it
+  for (auto it = queue_.begin(); it != queue_.end(); ++it) {
+    if (!seen.insert((*it)->tenant).second) continue;
+    const Tenant& t = tenants_[(*it)->tenant];
+    if (limits_.tenant_max_running > 0 && t.running >= limits_.tenant_max_running) continue;
+    if (!best_tenant || t.running < best_tenant->running ||
+        (t.running == best_tenant->running && t.last_start < best_tenant->last_start))
+      best = it, best_tenant = &t;
+  }
+  return best;
+}
+
 std::shared_ptr<Job> JobStore::next() {
   std::shared_ptr<Job> job;
   {
     std::unique_lock lock(mutex_);
-    queue_cv_.wait(lock, [&] { return closed_ || !queue_.empty(); });
+    auto picked = queue_.end();
+    queue_cv_.wait(lock, [&] { return closed_ || (picked = pick_locked()) != queue_.end(); });
     if (closed_) return nullptr;
-    job = queue_.front();
-    queue_.pop_front();
+    job = *picked;
+    queue_.erase(picked);
     ++running_;
+    Tenant& tenant = tenants_[job->tenant];
+    --tenant.queued;
+    ++tenant.running;
+    tenant.last_start = Clock::now();
     std::lock_guard job_lock(job->mutex);
     job->status = JobStatus::kRunning;
     job->started = Clock::now();
@@ -93,13 +117,17 @@ void JobStore::finish(const std::shared_ptr<Job>& job, JobStatus status) {
     std::lock_guard lock(mutex_);
     --running_;
     mark_terminal(*job, status);
+    Tenant& tenant = tenants_[job->tenant];
+    --tenant.running;
     {
       std::lock_guard job_lock(job->mutex);
       result_bytes_ += job->artifact_bytes();
+      tenant.result_bytes += job->artifact_bytes();
     }
     finished_.push_back(job);
     evict_locked(evicted);
   }
+  queue_cv_.notify_all();  // a tenant at its running cap may go on
   job->finished_cv.notify_all();
   idle_cv_.notify_all();
   if (observer_) observer_(job, status);
@@ -127,6 +155,7 @@ bool JobStore::cancel(const std::shared_ptr<Job>& job, const std::string& reason
     const auto queued = std::find(queue_.begin(), queue_.end(), job);
     if (queued != queue_.end()) {
       queue_.erase(queued);
+      --tenants_[job->tenant].queued;
       {
         std::lock_guard job_lock(job->mutex);
         job->cancel_reason = reason;
@@ -158,6 +187,7 @@ bool JobStore::remove(const std::string& id) {
     std::lock_guard job_lock(job->mutex);
     if (!is_terminal(job->status)) return false;
     result_bytes_ -= job->artifact_bytes();
+    tenants_[job->tenant].result_bytes -= job->artifact_bytes();
   }
   jobs_.erase(it);
   finished_.erase(std::remove(finished_.begin(), finished_.end(), job), finished_.end());
@@ -207,28 +237,53 @@ void JobStore::evict() {
   evict_locked(evicted);
 }
 
+void JobStore::evict_job_locked(std::deque<std::shared_ptr<Job>>::iterator at,
+                                std::vector<std::shared_ptr<Job>>& evicted) {
+  const std::shared_ptr<Job> job = *at;
+  size_t bytes;
+  {
+    std::lock_guard job_lock(job->mutex);
+    bytes = job->artifact_bytes();
+  }
+  result_bytes_ -= bytes;
+  tenants_[job->tenant].result_bytes -= bytes;
+  jobs_.erase(job->id);
+  remember_evicted(job->id);
+  ++evicted_total_;
+  evicted.push_back(job);  // freed outside the lock
+  finished_.erase(at);
+}
+
 void JobStore::evict_locked(std::vector<std::shared_ptr<Job>>& evicted) {
   const auto now = Clock::now();
   const auto ttl = std::chrono::duration<double>(limits_.result_ttl_seconds);
+  // A tenant over its own share loses its own oldest results first.
+  for (auto it = finished_.begin(); it != finished_.end();) {
+    if (tenants_[(*it)->tenant].result_bytes > limits_.tenant_result_memory_bytes) {
+      const auto offset = it - finished_.begin();
+      evict_job_locked(it, evicted);
+      it = finished_.begin() + offset;
+    } else {
+      ++it;
+    }
+  }
   while (!finished_.empty()) {
     const std::shared_ptr<Job>& oldest = finished_.front();
     bool expired;
-    size_t bytes;
     {
       std::lock_guard job_lock(oldest->mutex);
       expired = now - *oldest->finished > ttl;
-      bytes = oldest->artifact_bytes();
     }
     if (!expired && result_bytes_ <= limits_.result_memory_bytes &&
         finished_.size() <= limits_.max_jobs_kept)
       break;
-    result_bytes_ -= bytes;
-    jobs_.erase(oldest->id);
-    remember_evicted(oldest->id);
-    ++evicted_total_;
-    evicted.push_back(oldest);  // freed outside the lock
-    finished_.pop_front();
+    evict_job_locked(finished_.begin(), evicted);
   }
+  // Tenants with nothing left are forgotten (a client address is not kept forever).
+  for (auto it = tenants_.begin(); it != tenants_.end();)
+    it = it->second.queued == 0 && it->second.running == 0 && it->second.result_bytes == 0
+             ? tenants_.erase(it)
+             : std::next(it);
 }
 
 void JobStore::remember_evicted(const std::string& id) {

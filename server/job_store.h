@@ -20,6 +20,12 @@ struct StoreLimits {
   double result_ttl_seconds = 3600;
   size_t result_memory_bytes = 1u << 30;
   size_t max_jobs_kept = 10000;
+  // Per tenant (an API key's tenant, or a client address without keys): jobs waiting, jobs
+  // mapping at once (0 = no cap), and bytes of finished results kept (its own oldest are
+  // evicted first, never another tenant's).
+  size_t tenant_max_queued = 16;
+  size_t tenant_max_running = 0;
+  size_t tenant_result_memory_bytes = 256u << 20;
 };
 
 struct StoreCounts {
@@ -34,11 +40,14 @@ class JobStore {
 
   JobStore(StoreLimits limits, Observer observer);
 
-  enum class Admission { kAccepted, kQueueFull, kShuttingDown };
+  enum class Admission { kAccepted, kQueueFull, kTenantQueueFull, kShuttingDown };
   // Queues a job for `spec`; `job` is set when accepted.
   Admission submit(std::unique_ptr<JobSpec> spec, std::shared_ptr<Job>& job);
 
-  // Blocks until a job is queued (returned as running) or the store is closed (nullptr).
+  // Blocks until a job may run (returned as running) or the store is closed (nullptr).
+  // Tenants take turns: the next job is the oldest queued one of the tenant with the
+  // fewest jobs running (then the one that started a job longest ago), skipping tenants
+  // at tenant_max_running; one tenant's many jobs never hold back another's.
   std::shared_ptr<Job> next();
   // A worker is done with a running job: it is in a terminal state now.
   void finish(const std::shared_ptr<Job>& job, JobStatus status);
@@ -69,8 +78,16 @@ class JobStore {
   StoreCounts counts() const;
 
  private:
+  struct Tenant {
+    size_t queued = 0, running = 0, result_bytes = 0;
+    Clock::time_point last_start{};
+  };
   void evict_locked(std::vector<std::shared_ptr<Job>>& evicted);
+  void evict_job_locked(std::deque<std::shared_ptr<Job>>::iterator at,
+                        std::vector<std::shared_ptr<Job>>& evicted);
   void remember_evicted(const std::string& id);
+  // The queue position of the next job to run, or queue_.end() when none may run now.
+  std::deque<std::shared_ptr<Job>>::iterator pick_locked();
 
   const StoreLimits limits_;
   const Observer observer_;
@@ -81,6 +98,7 @@ class JobStore {
   std::deque<std::shared_ptr<Job>> finished_;  // oldest first
   std::deque<std::string> evicted_order_;
   std::unordered_set<std::string> evicted_;
+  std::unordered_map<std::string, Tenant> tenants_;
   size_t running_ = 0, result_bytes_ = 0, evicted_total_ = 0;
   bool accepting_ = true, closed_ = false;
 };

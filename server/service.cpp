@@ -16,13 +16,15 @@ double seconds_between(Clock::time_point from, Clock::time_point to) {
 }
 
 StoreLimits store_limits(const ServerConfig& c) {
-  return {c.queue_capacity, c.result_ttl_seconds, c.result_memory_bytes, c.max_jobs_kept};
+  return {c.queue_capacity,    c.result_ttl_seconds, c.result_memory_bytes,       c.max_jobs_kept,
+          c.tenant_max_queued, c.tenant_max_running, c.tenant_result_memory_bytes};
 }
 
 }  // namespace
 
 Service::Service(ServerConfig config)
     : config_(std::move(config)),
+      api_keys_(config_.api_keys.empty() ? ApiKeys() : ApiKeys::load(config_.api_keys)),
       store_(store_limits(config_),
              [this](const std::shared_ptr<Job>& job, JobStatus status) { observe(job, status); }) {
   // A worker process that dies while we write its request must not kill the server.

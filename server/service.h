@@ -7,6 +7,7 @@
 #include <thread>
 #include <vector>
 
+#include "server/api_keys.h"
 #include "server/config.h"
 #include "server/job_store.h"
 #include "server/service_metrics.h"
@@ -22,6 +23,7 @@ class Service {
 
   const ServerConfig& config() const { return config_; }
   JobStore& store() { return store_; }
+  const ApiKeys& api_keys() const { return api_keys_; }
   ServiceMetrics& metrics() { return metrics_; }
   bool ready() const { return store_.accepting(); }
 
@@ -35,6 +37,7 @@ class Service {
   void observe(const std::shared_ptr<Job>& job, JobStatus status);
 
   const ServerConfig config_;
+  const ApiKeys api_keys_;  // loaded from config_.api_keys at start (ConfigError if bad)
   ServiceMetrics metrics_;
   JobStore store_;
   std::vector<std::thread> workers_;

@@ -10,8 +10,8 @@
 
 #include <cerrno>
 #include <cmath>
-#include <cstring>
 #include <condition_variable>
+#include <cstring>
 #include <mutex>
 #include <thread>
 

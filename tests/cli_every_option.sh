@@ -25,9 +25,11 @@ declare -A value=(
   [queue-capacity]=4 [read-timeout-seconds]=5 [result-memory-bytes]=1000000
   [result-ttl-seconds]=60 [shutdown-grace-seconds]=1 [sync-timeout-seconds]=5
   [threads-per-job]=1 [workers]=1 [worker-isolation]=thread [worker-memory-bytes]=4000000000
-  [worker-cpu-seconds]=100 [geometry-image]=$tmp/gi.png)
+  [worker-cpu-seconds]=100 [api-keys]=$tmp/keys [tenant-max-queued]=4 [tenant-max-running]=1
+  [tenant-result-memory-bytes]=1000000 [cors-origins]=https://a.example [geometry-image]=$tmp/gi.png)
 flags=" draco largest-component no-centroid no-optimize quiet "
 echo '{"workers": 1}' > "$tmp/config.json"
+echo 'team-a 0123456789abcdef0123' > "$tmp/keys"
 
 options_of() { "$spheremap" "$1" --help | grep -oE -- '--[a-z0-9][a-z0-9-]*' | sort -u | sed 's/^--//'; }
 arguments_for() {  # the option as it is called: a flag, or the option and its value

@@ -259,6 +259,125 @@ TEST(Service, RepeatedMeshGets422NamingTheMeshOption) {
   EXPECT_EQ(wait_for(client, body_json(mapped)["id"])["status"], "succeeded");
 }
 
+// With API keys: no key, 401; a tenant sees, downloads and deletes only its own jobs.
+TEST(Service, ApiKeysSeparateTenants) {
+  const std::string keys = ::testing::TempDir() + "/spheremap_keys";
+  std::ofstream(keys)
+      << "# tenants\nalpha alpha-key-0123456789abcdef\nbeta  beta-key-0123456789abcdef\n";
+  server::ServerConfig config = small_config();
+  config.api_keys = keys;
+  TestServer server(config);
+  auto client = server.client();
+  const httplib::Headers alpha = {{"Authorization", "Bearer alpha-key-0123456789abcdef"}};
+  const httplib::Headers beta = {{"Authorization", "Bearer beta-key-0123456789abcdef"}};
+  const std::string glb = glb_of(testing::icosphere(2));
+
+  auto anonymous = client.Post("/v1/jobs", glb, "model/gltf-binary");
+  expect_problem(anonymous, 401, "unauthorized");
+  EXPECT_EQ(anonymous->get_header_value("WWW-Authenticate"), "Bearer");
+  expect_problem(client.Post("/v1/jobs", {{"Authorization", "Bearer alpha-key-0123456789abcdeX"}},
+                             glb, "model/gltf-binary"),
+                 401, "unauthorized");
+  EXPECT_EQ(client.Get("/v1/openapi.yaml")->status, 200);  // the description stays public
+  EXPECT_EQ(client.Get("/healthz")->status, 200);
+
+  auto submitted = client.Post("/v1/jobs", alpha, glb, "model/gltf-binary");
+  ASSERT_EQ(submitted->status, 202) << submitted->body;
+  const std::string id = body_json(submitted)["id"];
+  const std::string job = "/v1/jobs/" + id;
+  for (int i = 0; i < 600; ++i) {
+    if (body_json(client.Get(job.c_str(), alpha))["status"] == "succeeded") break;
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  // beta: the job does not exist, whatever it asks.
+  expect_problem(client.Get(job.c_str(), beta), 404, "job_not_found");
+  expect_problem(client.Get((job + "/artifacts/sphere.glb").c_str(), beta), 404, "job_not_found");
+  expect_problem(client.Get((job + "/events").c_str(), beta), 404, "job_not_found");
+  expect_problem(client.Delete(job.c_str(), beta), 404, "job_not_found");
+  expect_problem(client.Get(job.c_str()), 401, "unauthorized");
+  // alpha: its own.
+  EXPECT_EQ(client.Get((job + "/artifacts/sphere.glb").c_str(), alpha)->status, 200);
+  EXPECT_EQ(client.Delete(job.c_str(), alpha)->status, 204);
+
+  std::ofstream(keys) << "alpha short\n";
+  server::ServerConfig bad = small_config();
+  bad.api_keys = keys;
+  EXPECT_THROW(server::Service service(bad), server::ConfigError);
+}
+
+// Quotas and turns: one tenant's queue does not hold back another's jobs.
+TEST(Service, TenantsTakeTurnsAndHaveQueueQuotas) {
+  const std::string keys = ::testing::TempDir() + "/spheremap_keys_turns";
+  std::ofstream(keys) << "alpha alpha-key-0123456789abcdef\nbeta beta-key-0123456789abcdef\n";
+  server::ServerConfig config = small_config();
+  config.api_keys = keys;
+  config.workers = 1;
+  config.tenant_max_queued = 2;
+  TestServer server(config);
+  auto client = server.client();
+  const httplib::Headers alpha = {{"Authorization", "Bearer alpha-key-0123456789abcdef"}};
+  const httplib::Headers beta = {{"Authorization", "Bearer beta-key-0123456789abcdef"}};
+  const std::string slow = glb_of(testing::horseshoe());
+  auto submit = [&](const httplib::Headers& who, const std::string& body, const char* path) {
+    return client.Post(path, who, body, "model/gltf-binary");
+  };
+  auto first = submit(alpha, slow, kSlowJob);  // runs, holding the one worker
+  const std::string running = body_json(first)["id"];
+  for (int i = 0; i < 500 && body_json(client.Get(("/v1/jobs/" + running).c_str(),
+                                                  alpha))["status"] == "queued";
+       ++i)
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  auto second = submit(alpha, slow, kSlowJob);
+  auto third = submit(alpha, slow, kSlowJob);
+  ASSERT_EQ(second->status, 202);
+  ASSERT_EQ(third->status, 202);
+  expect_problem(submit(alpha, slow, kSlowJob), 429, "tenant_quota");    // alpha: 2 waiting
+  auto other = submit(beta, glb_of(testing::icosphere(2)), "/v1/jobs");  // beta is not
+  ASSERT_EQ(other->status, 202) << other->body;
+  const std::string beta_job = body_json(other)["id"];
+  // When the worker frees up, beta's job goes before alpha's two older ones.
+  EXPECT_EQ(client.Delete(("/v1/jobs/" + running).c_str(), alpha)->status, 202);
+  json beta_done;
+  for (int i = 0; i < 1000; ++i) {
+    beta_done = body_json(client.Get(("/v1/jobs/" + beta_job).c_str(), beta));
+    if (beta_done["status"] == "succeeded") break;
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  EXPECT_EQ(beta_done["status"], "succeeded");
+  const json alpha_third =
+      body_json(client.Get(("/v1/jobs/" + std::string(body_json(third)["id"])).c_str(), alpha));
+  EXPECT_EQ(alpha_third["status"], "queued") << "alpha's later job ran before beta's";
+}
+
+// A tenant over its result share loses its own oldest results, not another tenant's.
+TEST(Service, ATenantsResultsEvictOnlyItsOwn) {
+  const std::string keys = ::testing::TempDir() + "/spheremap_keys_results";
+  std::ofstream(keys) << "alpha alpha-key-0123456789abcdef\nbeta beta-key-0123456789abcdef\n";
+  server::ServerConfig config = small_config();
+  config.api_keys = keys;
+  config.workers = 1;
+  config.tenant_result_memory_bytes = 60000;  // about one sphere of icosphere(3)
+  TestServer server(config);
+  auto client = server.client();
+  const httplib::Headers alpha = {{"Authorization", "Bearer alpha-key-0123456789abcdef"}};
+  const httplib::Headers beta = {{"Authorization", "Bearer beta-key-0123456789abcdef"}};
+  const std::string glb = glb_of(testing::icosphere(3));
+  auto run = [&](const httplib::Headers& who) {
+    const std::string id = body_json(client.Post("/v1/jobs", who, glb, "model/gltf-binary"))["id"];
+    for (int i = 0; i < 1000; ++i) {
+      if (body_json(client.Get(("/v1/jobs/" + id).c_str(), who))["status"] == "succeeded") break;
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+    return "/v1/jobs/" + id;
+  };
+  const std::string beta_job = run(beta);
+  const std::string alpha_first = run(alpha);
+  const std::string alpha_second = run(alpha);
+  expect_problem(client.Get(alpha_first.c_str(), alpha), 410, "gone");  // alpha's own, oldest
+  EXPECT_EQ(client.Get(alpha_second.c_str(), alpha)->status, 200);
+  EXPECT_EQ(client.Get((beta_job + "/artifacts/sphere.glb").c_str(), beta)->status, 200);
+}
+
 // A browser on another origin may call the API: preflight, and the headers it needs.
 TEST(Service, CorsPreflightAndHeaders) {
   TestServer server(small_config());
@@ -810,7 +929,9 @@ class ServiceCorpus : public ::testing::Test {};
 
 TEST_F(ServiceCorpus, ValidMeshesSucceedBijective) {
   SKIP_WITHOUT_CORPUS("spot.glb");
-  TestServer server(small_config());
+  server::ServerConfig config = small_config();
+  config.tenant_max_queued = 64;  // all 28 submissions come from this one client
+  TestServer server(config);
   auto client = server.client();
   std::vector<std::pair<std::string, std::string>> submitted;  // file, id
   for (const char* mesh :

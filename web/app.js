@@ -10,6 +10,20 @@ import { MeshoptDecoder } from 'three/addons/libs/meshopt_decoder.module.js';
 const $ = (id) => document.getElementById(id);
 const state = { files: [], extraOptions: {}, events: null, poll: null, models: {}, view: null };
 
+// A service started with API keys wants `Authorization: Bearer KEY` on every /v1 call; the
+// key is asked for after the first 401 and kept for this tab only.
+const apiKey = () => $('api-key').value || sessionStorage.getItem('spheremap-key') || '';
+function api(path, init = {}) {
+  const headers = { ...(init.headers ?? {}) };
+  if (apiKey()) headers.Authorization = `Bearer ${apiKey()}`;
+  return fetch(path, { ...init, headers });
+}
+$('api-key').addEventListener('change', () => sessionStorage.setItem('spheremap-key', $('api-key').value));
+if (sessionStorage.getItem('spheremap-key')) {
+  $('api-key').value = sessionStorage.getItem('spheremap-key');
+  $('key-field').hidden = false;
+}
+
 // ---- viewer -------------------------------------------------------------------------
 const canvas = $('canvas');
 // preserveDrawingBuffer: the canvas can be read back (tests check it is not blank).
@@ -161,7 +175,7 @@ function applyHeat() {
 $('heat').addEventListener('change', applyHeat);
 
 async function loadGlb(url) {
-  const bytes = await (await fetch(url)).arrayBuffer();
+  const bytes = await (await api(url)).arrayBuffer();
   return (await gltfLoader().parseAsync(bytes, '')).scene;
 }
 
@@ -245,13 +259,14 @@ async function submit() {
   form.append('options', new Blob([JSON.stringify(options())], { type: 'application/json' }));
   let response, body;
   try {
-    response = await fetch('/v1/jobs', { method: 'POST', body: form });
+    response = await api('/v1/jobs', { method: 'POST', body: form });
     body = await response.json();
   } catch (error) {
     setStatus('error');
     showError(`The service did not answer: ${error.message}`);
     return;
   }
+  if (response.status === 401) $('key-field').hidden = false;
   if (response.status !== 202) {
     setStatus('rejected');
     $('progress').hidden = true;
@@ -271,6 +286,7 @@ function stopFollowing() {
 
 // Server-Sent Events while they work; polling when they cannot (too many streams, a proxy).
 function follow(id) {
+  if (apiKey()) return poll(id);  // EventSource cannot send the key
   const events = new EventSource(`/v1/jobs/${id}/events`);
   state.events = events;
   events.addEventListener('progress', (e) => {
@@ -285,15 +301,28 @@ function follow(id) {
   events.onerror = () => {
     if (state.events !== events) return;
     stopFollowing();
-    state.poll = setInterval(async () => {
-      const job = await (await fetch(`/v1/jobs/${id}`)).json();
-      showProgress({ ...job.progress, status: job.status });
-      if (!['queued', 'running'].includes(job.status)) {
-        stopFollowing();
-        finished(job);
-      }
-    }, 500);
+    poll(id);
   };
+}
+
+function poll(id) {
+  state.poll = setInterval(async () => {
+    const job = await (await api(`/v1/jobs/${id}`)).json();
+    showProgress({ ...job.progress, status: job.status });
+    if (!['queued', 'running'].includes(job.status)) {
+      stopFollowing();
+      finished(job);
+    }
+  }, 500);
+}
+
+// With a key, a plain link cannot download (it carries no header): fetch, then save.
+async function download(event, href, name) {
+  if (!apiKey()) return;
+  event.preventDefault();
+  const url = URL.createObjectURL(await (await api(href)).blob());
+  Object.assign(document.createElement('a'), { href: url, download: name }).click();
+  setTimeout(() => URL.revokeObjectURL(url), 10000);
 }
 
 const number = (x, digits = 3) => (typeof x === 'number' ? x.toFixed(digits) : '–');
@@ -331,8 +360,9 @@ async function finished(job) {
   $('metrics-json').textContent = JSON.stringify(metrics, null, 2);
   $('downloads').replaceChildren(...Object.entries(artifacts).map(([name, a]) => {
     const li = document.createElement('li');
-    li.append(Object.assign(document.createElement('a'), { href: a.href, download: name, textContent: name }),
-      ` (${(a.bytes / 1024).toFixed(1)} KiB)`);
+    const link = Object.assign(document.createElement('a'), { href: a.href, download: name, textContent: name });
+    link.addEventListener('click', (e) => download(e, a.href, name));
+    li.append(link, ` (${(a.bytes / 1024).toFixed(1)} KiB)`);
     return li;
   }));
   try {

@@ -18,7 +18,8 @@ export declare class SpheremapError extends Error {
 }
 
 export declare class SpheremapClient {
-  constructor(options: { endpoint: string; fetch?: typeof fetch; headers?: Record<string, string> });
+  constructor(options: { endpoint: string; apiKey?: string; fetch?: typeof fetch;
+                         headers?: Record<string, string> });
   endpoint: string;
   submit(mesh: Bytes, options?: JobOptions,
          extra?: { resources?: Record<string, Bytes>; name?: string }): Promise<Job>;

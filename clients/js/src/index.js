@@ -27,13 +27,14 @@ function isGlb(bytes) {
 
 export class SpheremapClient {
   /**
-   * @param {{endpoint: string, fetch?: typeof fetch, headers?: Record<string,string>}} options
+   * @param {{endpoint: string, apiKey?: string, fetch?: typeof fetch, headers?: Record<string,string>}} options
+   *   apiKey: for a service started with --api-keys (sent as Authorization: Bearer).
    */
-  constructor({ endpoint, fetch: fetchImpl = globalThis.fetch, headers = {} }) {
+  constructor({ endpoint, apiKey, fetch: fetchImpl = globalThis.fetch, headers = {} }) {
     if (!endpoint) throw new TypeError('SpheremapClient needs an endpoint, e.g. http://127.0.0.1:8080');
     this.endpoint = endpoint.replace(/\/+$/, '');
     this.fetch = fetchImpl;
-    this.headers = headers;
+    this.headers = apiKey ? { ...headers, Authorization: `Bearer ${apiKey}` } : headers;
   }
 
   async #request(path, init = {}) {

@@ -316,14 +316,17 @@ export interface components {
         };
         /**
          * @description Slugs of `type` (/v1/problems/<slug>): malformed_gltf, empty_body, missing_mesh,
-         *     invalid_options (400); not_found, job_not_found, artifact_not_found (404);
+         *     invalid_options (400); unauthorized (401, with API keys); not_found, job_not_found,
+         *     artifact_not_found (404);
          *     not_ready (409); gone (410); too_large (413); unsupported_media_type (415);
          *     not_mappable (422, with `check`: empty, non_finite, repeated_vertex,
          *     non_manifold_edge, boundary, non_manifold_vertex, orientation, components, genus,
          *     too_small, and `failures`, `topology`; `check` instancing for an
          *     EXT_mesh_gpu_instancing scene), missing_resources (422: files a .gltf names were
          *     not sent); in a failed job: not_bijective,
-         *     time_limit (422), out_of_memory (507), internal (500); queue_full (429);
+         *     time_limit (422), out_of_memory (507), worker_crashed (500, the signal named),
+         *     worker_unavailable (503), internal (500); queue_full, tenant_quota (429);
+         *     too_many_streams (503);
          *     shutting_down (503); internal (500).
          */
         Problem: {
