@@ -148,9 +148,11 @@ MapControl progress_printer(bool quiet, double& last_print) {
 PolygonMesh read_input(const Arguments& args, const PrepareOptions& prepare) {
   GltfReadStats stats;
   PolygonMesh input = read_mesh_file(args.positional()[0], gltf_options(args), &stats);
-  // A scene that draws one mesh several times cannot map as a whole; say which mesh to
-  // pick before the map is attempted (prepared twice only for such scenes).
-  if (stats.repeated_mesh >= 0) require_none(input_failures(prepare_mesh(input, prepare), &stats));
+  // A scene of several meshes (or one drawn several times) that cannot map as a whole is
+  // told which meshes it has and which to pick, before the map is attempted (prepared
+  // twice only for such scenes).
+  if (stats.repeated_mesh >= 0 || stats.drawn_meshes.size() > 1)
+    require_none(input_failures(prepare_mesh(input, prepare), &stats));
   return input;
 }
 

@@ -307,6 +307,27 @@ TEST(GltfRealWorld, ASceneDrawingOneMeshTwiceIsToldToPickIt) {
   EXPECT_NE(failures.front().fix.effect.find("draws it 2 times"), std::string::npos);
 }
 
+TEST(GltfRealWorld, ASceneOfSeveralMeshesListsThemWhenItCannotMap) {
+  Glb glb(sphere_glb());
+  glb.json["meshes"][0]["name"] = "body";
+  nlohmann::json eye = glb.json["meshes"][0];
+  eye["name"] = "eye";
+  glb.json["meshes"].push_back(eye);
+  glb.json["nodes"].push_back({{"mesh", 1}, {"translation", {5.0, 0.0, 0.0}}});
+  glb.json["scenes"][0]["nodes"].push_back(glb.json["nodes"].size() - 1);
+  GltfReadStats stats;
+  const PolygonMesh both = read_gltf(as_bytes(glb.bytes()), {}, &stats);
+  ASSERT_EQ(stats.drawn_meshes.size(), 2u);
+  const auto failures = input_failures(prepare_mesh(both, {}), &stats);
+  ASSERT_FALSE(failures.empty());
+  EXPECT_EQ(failures.front().check, "components");
+  EXPECT_EQ(failures.front().fix.option, "largest_component");
+  EXPECT_NE(failures.front().message.find("2 meshes"), std::string::npos);
+  EXPECT_NE(failures.front().message.find("0 'body' (80 triangles), 1 'eye' (80 triangles)"),
+            std::string::npos)
+      << failures.front().message;
+}
+
 // The Khronos sample models of the corpus, as shipped (gltf-samples/MANIFEST.md).
 TEST(GltfRealWorld, SampleBoxWithSpacesMapsFromItsGltfAndBin) {
   const std::string path = "gltf-samples/BoxWithSpaces-glTF/Box With Spaces.gltf";

@@ -2,6 +2,7 @@
 
 #include <draco/compression/decode.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 
@@ -207,9 +208,18 @@ class Reader {
     const auto primitives = mesh.find("primitives");
     if (primitives == mesh.end() || !primitives->is_array())
       fail("mesh " + std::to_string(mesh_index) + " has no primitives");
+    const size_t faces_before = mesh_.face_count();
     for (const auto& p : *primitives) {
       if (!p.is_object()) fail("a primitive is not an object");
       add_primitive(p, world);
+    }
+    auto& drawn = stats_.drawn_meshes;
+    const auto known = std::find_if(drawn.begin(), drawn.end(),
+                                    [&](const auto& d) { return d.index == mesh_index; });
+    if (known == drawn.end()) {
+      const auto name = mesh.find("name");
+      drawn.push_back({mesh_index, mesh_.face_count() - faces_before,
+                       name != mesh.end() && name->is_string() ? name->get<std::string>() : ""});
     }
   }
 
@@ -350,17 +360,31 @@ PolygonMesh read_gltf(std::span<const uint8_t> bytes, const GltfReadOptions& opt
   return Reader(bytes, options, stats ? *stats : local, resources).read();
 }
 
-void suggest_repeated_mesh(std::vector<ValidationFailure>& failures, const GltfReadStats& stats) {
-  if (stats.repeated_mesh < 0 || failures.empty()) return;
-  for (const ValidationFailure& f : failures)
-    if (f.check == "non_manifold_edge" || f.check == "non_manifold_vertex" ||
-        f.check == "components") {
-      const std::string m = std::to_string(stats.repeated_mesh);
-      failures.front().fix = {"mesh", m,
-                              "maps mesh " + m + " alone (the scene draws it " +
-                                  std::to_string(stats.repeated_mesh_draws) + " times)"};
-      return;
-    }
+void suggest_gltf_fixes(std::vector<ValidationFailure>& failures, const GltfReadStats& stats) {
+  const bool caused_by_parts =
+      std::any_of(failures.begin(), failures.end(), [](const ValidationFailure& f) {
+        return f.check == "non_manifold_edge" || f.check == "non_manifold_vertex" ||
+               f.check == "components";
+      });
+  if (!caused_by_parts) return;
+  if (stats.repeated_mesh >= 0) {
+    const std::string m = std::to_string(stats.repeated_mesh);
+    failures.front().fix = {"mesh", m,
+                            "maps mesh " + m + " alone (the scene draws it " +
+                                std::to_string(stats.repeated_mesh_draws) + " times)"};
+  }
+  if (stats.drawn_meshes.size() < 2) return;
+  // The meshes, so that one can be picked by index or name (at most 8, names cut at 40).
+  std::string list = "; the scene draws " + std::to_string(stats.drawn_meshes.size()) +
+                     " meshes, any one of which can be mapped alone with the mesh option:";
+  for (size_t i = 0; i < stats.drawn_meshes.size() && i < 8; ++i) {
+    const auto& d = stats.drawn_meshes[i];
+    list += (i ? ", " : " ") + std::to_string(d.index);
+    if (!d.name.empty()) list += " '" + d.name.substr(0, 40) + "'";
+    list += " (" + std::to_string(d.triangles) + " triangles)";
+  }
+  if (stats.drawn_meshes.size() > 8) list += ", ...";
+  failures.front().message += list;
 }
 
 }  // namespace spheremap

@@ -34,6 +34,12 @@ struct GltfReadStats {
   // The mesh the scene draws most often when some mesh is drawn by several nodes.
   int repeated_mesh = -1;
   size_t repeated_mesh_draws = 0;
+  // Every mesh drawn, in drawing order (first draw), with the triangles it added.
+  struct DrawnMesh {
+    size_t index = 0, triangles = 0;
+    std::string name;
+  };
+  std::vector<DrawnMesh> drawn_meshes;
 };
 
 // Every TRIANGLES (and strip/fan, converted) primitive of the default scene with node
@@ -42,9 +48,10 @@ struct GltfReadStats {
 PolygonMesh read_gltf(std::span<const uint8_t> bytes, const GltfReadOptions& options = {},
                       GltfReadStats* stats = nullptr, const GltfResources* resources = nullptr);
 
-// When the scene draws one mesh several times and the failures are what that causes
-// (non-manifold edges where copies overlap, several components where they do not), the
-// fix is to map that mesh alone (--mesh / the job option mesh).
-void suggest_repeated_mesh(std::vector<ValidationFailure>& failures, const GltfReadStats& stats);
+// Fixes that the glTF scene suggests for the topology failures that several meshes cause
+// (non-manifold edges where copies overlap, several components where they do not): a mesh
+// drawn several times is to be mapped alone (--mesh / the job option mesh); a scene of
+// several meshes gets them listed (index, name, triangles) in the first failure's message.
+void suggest_gltf_fixes(std::vector<ValidationFailure>& failures, const GltfReadStats& stats);
 
 }  // namespace spheremap

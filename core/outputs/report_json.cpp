@@ -20,7 +20,7 @@ nlohmann::json fix_json(const Fix& fix) {
 std::vector<ValidationFailure> input_failures(const PreparedMesh& prepared,
                                               const GltfReadStats* gltf) {
   std::vector<ValidationFailure> failures = mapping_failures(prepared.topology);
-  if (gltf) suggest_repeated_mesh(failures, *gltf);
+  if (gltf) suggest_gltf_fixes(failures, *gltf);
   return failures;
 }
 
