@@ -5,7 +5,9 @@ set -euo pipefail
 packages=(build-essential cmake ninja-build pkg-config nlohmann-json3-dev libgtest-dev libdraco-dev
   libcpp-httplib-dev libmeshoptimizer-dev zlib1g-dev clang-format curl
   # headless Chromium drives the web page in the tests (with npm playwright-core)
-  chromium)
+  chromium
+  # the libFuzzer targets (tests/fuzz) build with clang and its fuzzer runtime
+  clang libclang-rt-14-dev)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

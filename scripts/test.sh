@@ -2,8 +2,8 @@
 # The README's second command and what CI runs: installs what is missing, builds with
 # warnings as errors, checks formatting, and runs the whole test suite through CTest,
 # then again built with AddressSanitizer + UndefinedBehaviorSanitizer (any report fails
-# the run; SPHEREMAP_SKIP_SANITIZERS=1 skips that pass for quick local runs), then
-# the container smoke test.
+# the run; SPHEREMAP_SKIP_SANITIZERS=1 skips that pass for quick local runs), then the
+# libFuzzer targets for a minute each, then the container smoke test.
 # Corpus tests read ../shared/meshes (or $SPHEREMAP_CORPUS) and are skipped without it.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -19,6 +19,13 @@ if [ "${SPHEREMAP_SKIP_SANITIZERS:-0}" != 1 ]; then
     -DCMAKE_CXX_FLAGS="$flags" -DCMAKE_EXE_LINKER_FLAGS="-fsanitize=address,undefined" > /dev/null
   cmake --build build-asan -j "$(nproc)"
   (cd build-asan && ASAN_OPTIONS=detect_leaks=1 ctest --output-on-failure -j "$(nproc)")
+fi
+# libFuzzer (clang, ASan + UBSan) for a fixed time from seeds: the glTF reader, and the
+# whole request path (content type, query, body, multipart parts) with inputs up to 4 MB.
+# A crash fails the run; its input is in build-fuzz/crashes/ (SPHEREMAP_SKIP_FUZZ=1 skips).
+if [ "${SPHEREMAP_SKIP_FUZZ:-0}" != 1 ]; then
+  tests/fuzz/run.sh "${SPHEREMAP_FUZZ_SECONDS:-60}" request_fuzzer
+  tests/fuzz/run.sh "${SPHEREMAP_FUZZ_SECONDS:-60}" gltf_fuzzer
 fi
 # The container: build the image, map a mesh in it, SIGTERM (docker/smoke-test.sh;
 # SPHEREMAP_SKIP_CONTAINER=1 skips it).

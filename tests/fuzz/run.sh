@@ -18,7 +18,14 @@ seeds=build-fuzz/seeds/$target
 mkdir -p "$seeds" build-fuzz/crashes
 pattern='*.glb'
 [ "$target" = mesh_text_fuzzer ] && pattern='*.obj'
-if [ "$target" = options_fuzzer ]; then  # the options the tests and the README use
+if [ "$target" = request_fuzzer ]; then  # submissions as the tests send them
+  glb=$(find "$corpus" -maxdepth 1 -name '*.glb' -size -40k 2> /dev/null | head -1)
+  { printf '\000draco=true&layout=welded\n'; [ -n "$glb" ] && cat "$glb"; } > "$seeds/glb"
+  { printf '\002outputs=remesh\n'; [ -n "$glb" ] && cat "$glb";
+    printf '\n--\n{"quality": "fast", "largest_component": true}'; } > "$seeds/multipart"
+  printf '\002mesh=0\n{"asset":{"version":"2.0"},"buffers":[{"uri":"a%%20b.bin","byteLength":4}]}\n--\na b.bin\nABCD' > "$seeds/gltf_parts"
+  printf '\001\n{"asset":{"version":"2.0"},"extensionsRequired":["EXT_meshopt_compression"],"buffers":[{"byteLength":8,"extensions":{"EXT_meshopt_compression":{"fallback":true}}}]}' > "$seeds/meshopt"
+elif [ "$target" = options_fuzzer ]; then  # the options the tests and the README use
   printf '%s' '{"draco": true, "draco_position_bits": 16, "layout": "welded"}' > "$seeds/a.json"
   printf '%s' '{"method": "paper", "max_iterations": 200, "time_limit_seconds": 0.5}' > "$seeds/b.json"
   printf '%s' '{"outputs": ["remesh", "uv", "morph"], "resolution": 64, "mesh": "cow"}' > "$seeds/c.json"
