@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <atomic>
 #include <charconv>
+#include <cmath>
+#include <regex>
 
 #include "api/job_events.h"
 #include "api/job_request.h"
@@ -55,13 +57,17 @@ std::shared_ptr<Job> find_job(Service& service, const httplib::Request& request)
 
 // Reads, checks and queues a submission; throws Problems for every refusal.
 std::shared_ptr<Job> submit(Service& service, const httplib::Request& request) {
-  if (!service.ready())
+  if (!service.ready()) {
+    service.metrics().rejected("shutting_down");
     throw Problem(503, "shutting_down", "Shutting down",
                   "the server is shutting down and accepts no new jobs");
-  if (service.store().queued() >= service.config().queue_capacity)
+  }
+  if (service.store().queued() >= service.config().queue_capacity) {
+    service.metrics().rejected("queue_full");
     throw Problem(429, "queue_full", "Queue full",
                   "the job queue is full (" + std::to_string(service.config().queue_capacity) +
                       " jobs waiting); retry later");
+  }
   std::unique_ptr<server::JobSpec> spec;
   try {
     spec = read_job_request(request, service.config());
@@ -75,12 +81,15 @@ std::shared_ptr<Job> submit(Service& service, const httplib::Request& request) {
     case JobStore::Admission::kAccepted:
       return job;
     case JobStore::Admission::kQueueFull:
+      service.metrics().rejected("queue_full");
       throw Problem(429, "queue_full", "Queue full", "the job queue is full; retry later");
     case JobStore::Admission::kTenantQueueFull:
+      service.metrics().rejected("tenant_quota");
       throw Problem(429, "tenant_quota", "Too many queued jobs",
                     "you have " + std::to_string(service.config().tenant_max_queued) +
                         " jobs waiting (tenant_max_queued); retry when one has started");
     case JobStore::Admission::kShuttingDown:
+      service.metrics().rejected("shutting_down");
       throw Problem(503, "shutting_down", "Shutting down",
                     "the server is shutting down and accepts no new jobs");
   }
@@ -102,6 +111,7 @@ double sync_wait_seconds(const httplib::Request& request, double configured) {
   double wait = configured;
   const char* begin = prefer.data() + at + 5;
   std::from_chars(begin, prefer.data() + prefer.size(), wait);
+  if (!std::isfinite(wait)) return configured;  // "wait=nan", "wait=inf"
   return std::clamp(wait, 0.0, configured);
 }
 
@@ -215,6 +225,20 @@ httplib::Server::Handler guarded(Body body) {
 }
 
 thread_local Clock::time_point request_start;
+
+// The methods a known path answers, for 405 + Allow ("" for a path we do not serve).
+std::string allowed_methods(const std::string& path) {
+  static const std::pair<std::regex, const char*> kRoutes[] = {
+      {std::regex("/v1/jobs"), "POST, OPTIONS"},
+      {std::regex("/v1/map"), "POST, OPTIONS"},
+      {std::regex("/v1/jobs/[0-9a-f]{32}"), "GET, DELETE, OPTIONS"},
+      {std::regex("/v1/jobs/[0-9a-f]{32}/(events|artifacts/[A-Za-z0-9_.-]+)"), "GET, OPTIONS"},
+      {std::regex("/|/healthz|/readyz|/metrics|/v1/openapi.yaml|/web/[A-Za-z0-9_./-]+"),
+       "GET, OPTIONS"}};
+  for (const auto& [pattern, methods] : kRoutes)
+    if (std::regex_match(path, pattern)) return methods;
+  return "";
+}
 
 // CORS: browsers on other origins may call the API when `cors_origins` allows them ("*",
 // the default, or a comma-separated list of origins echoed back one at a time).
@@ -371,9 +395,16 @@ void install_api(httplib::Server& http, Service& service) {
     if (!response.body.empty()) return httplib::Server::HandlerResponse::Unhandled;
     std::string detail = status_title(response.status);
     std::string slug = "http_" + std::to_string(response.status);
-    if (response.status == 404) {
+    if (response.status == 404 && !allowed_methods(request.path).empty()) {
+      response.status = 405;
+      response.set_header("Allow", allowed_methods(request.path));
+      slug = "method_not_allowed";
+      detail = request.method + " is not allowed on " + request.path.substr(0, 200) + "; use " +
+               allowed_methods(request.path);
+    } else if (response.status == 404) {
       slug = "not_found";
-      detail = "no route for " + request.method + " " + request.path + "; see /v1/openapi.yaml";
+      detail = "no route for " + request.method + " " + request.path.substr(0, 200) +
+               "; see /v1/openapi.yaml";
     } else if (response.status == 413 && request.get_header_value("Content-Type")
                                              .starts_with("application/x-www-form-urlencoded")) {
       // httplib refuses form bodies over 8 KB itself; the real mistake is the type.

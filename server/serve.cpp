@@ -3,7 +3,9 @@
 #include <httplib.h>
 #include <signal.h>
 
+#include <atomic>
 #include <cstring>
+#include <ctime>
 #include <thread>
 
 #include "api/routes.h"
@@ -45,7 +47,23 @@ int serve(const ServerConfig& config) {
   int received = 0;
   sigwait(&stop_signals, &received);
   log_event({{"event", "signal"}, {"signal", received == SIGTERM ? "SIGTERM" : "SIGINT"}});
+  // A second signal during the grace period means "now": every job is cancelled at once
+  // (an operator pressing Ctrl-C twice, or an orchestrator's second TERM).
+  std::atomic<bool> drained{false};
+  std::thread impatience([&] {
+    const timespec tick{0, 100'000'000};
+    while (!drained) {
+      int again = sigtimedwait(&stop_signals, nullptr, &tick);
+      if (again < 0) continue;
+      log_event({{"event", "signal"},
+                 {"signal", again == SIGTERM ? "SIGTERM" : "SIGINT"},
+                 {"action", "cancelling every job now"}});
+      service.store().cancel_all("the server was told to stop at once (a second signal)");
+    }
+  });
   service.drain(config.shutdown_grace_seconds);
+  drained = true;
+  impatience.join();
   http.stop();
   listener.join();
   log_event({{"event", "stopped"}});

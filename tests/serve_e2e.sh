@@ -66,4 +66,22 @@ done
 grep "\"job\":\"${ids[0]}\"" "$work/server.log" | grep -q '"status":"cancelled"' ||
   fail "the running job was not cancelled at the end of the grace period"
 grep -q '"event":"stopped"' "$work/server.log" || fail "no stopped line"
-echo "serve e2e: session ok, ${#ids[@]} jobs drained, exit 0"
+# A second SIGTERM during a long grace period cancels at once: the process is gone in
+# seconds, not after the 60 s of grace.
+"$spheremap" serve --port 0 --workers 1 --shutdown-grace-seconds 60 2> "$work/server2.log" &
+server=$!
+for _ in $(seq 100); do grep -q '"event":"listening"' "$work/server2.log" && break; sleep 0.1; done
+url=$(grep -o '"url":"[^"]*"' "$work/server2.log" | head -1 | cut -d'"' -f4)
+slow=$(submit "$work/horseshoe.glb" model/gltf-binary \
+  '/v1/jobs?method=paper&max_iterations=1000000&time_limit_seconds=60')
+[ -n "$slow" ] || fail "slow job not accepted"
+sleep 0.3
+kill -TERM $server
+sleep 0.3
+start=$(date +%s)
+kill -TERM $server
+wait $server || fail "exit code $? after two SIGTERMs"
+[ $(( $(date +%s) - start )) -le 5 ] || fail "a second SIGTERM did not cut the grace short"
+grep "\"job\":\"$slow\"" "$work/server2.log" | grep -q '"status":"cancelled"' ||
+  fail "the running job was not cancelled by the second SIGTERM"
+echo "serve e2e: session ok, ${#ids[@]} jobs drained, exit 0; a second SIGTERM cancels at once"

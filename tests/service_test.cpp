@@ -378,6 +378,27 @@ TEST(Service, ATenantsResultsEvictOnlyItsOwn) {
   EXPECT_EQ(client.Get((beta_job + "/artifacts/sphere.glb").c_str(), beta)->status, 200);
 }
 
+// A known path with the wrong method is 405 with Allow; odd Prefer values are ignored.
+TEST(Service, WrongMethodsGet405AndOddPreferIsIgnored) {
+  TestServer server(small_config());
+  auto client = server.client();
+  auto wrong = client.Delete("/v1/jobs");
+  expect_problem(wrong, 405, "method_not_allowed");
+  EXPECT_EQ(wrong->get_header_value("Allow"), "POST, OPTIONS");
+  auto get_map = client.Get("/v1/map");
+  expect_problem(get_map, 405, "method_not_allowed");
+  expect_problem(client.Get("/v1/nowhere"), 404, "not_found");
+  for (const char* prefer : {"wait=nan", "wait=inf", "wait=-5", "wait=abc"}) {
+    auto answer = client.Post("/v1/map", {{"Prefer", prefer}}, glb_of(testing::icosphere(1)),
+                              "model/gltf-binary");
+    ASSERT_TRUE(answer) << prefer;
+    EXPECT_TRUE(answer->status == 200 || answer->status == 202) << prefer << ": " << answer->status;
+  }
+  auto metrics = client.Get("/metrics")->body;
+  EXPECT_NE(metrics.find("spheremap_http_responses_total{code=\"405\"} 2"), std::string::npos)
+      << metrics;
+}
+
 // A browser on another origin may call the API: preflight, and the headers it needs.
 TEST(Service, CorsPreflightAndHeaders) {
   TestServer server(small_config());
