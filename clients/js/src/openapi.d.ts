@@ -317,7 +317,7 @@ export interface components {
         /**
          * @description Slugs of `type` (/v1/problems/<slug>): malformed_gltf, empty_body, missing_mesh,
          *     invalid_options (400); unauthorized (401, with API keys); not_found, job_not_found,
-         *     artifact_not_found (404);
+         *     artifact_not_found (404); method_not_allowed (405, with Allow);
          *     not_ready (409); gone (410); too_large (413); unsupported_media_type (415);
          *     not_mappable (422, with `check`: empty, non_finite, repeated_vertex,
          *     non_manifold_edge, boundary, non_manifold_vertex, orientation, components, genus,
