@@ -78,7 +78,7 @@ done
 echo "start to ready: $(echo "$(date +%s.%N) - $start" | bc) s"
 $engine exec "$name" /usr/local/bin/spheremap health || fail "HEALTHCHECK command"
 curl -sf "http://127.0.0.1:$port/" | grep -q '<input id="file" type="file"' || fail "GET / is not the page"
-[ "$($engine exec "$name" id -u)" != 0 ] || fail "runs as root"
+[ "$($engine inspect "$name" --format '{{.Config.User}}')" = 10001:10001 ] || fail "runs as root"
 
 if [ ! -f "$mesh" ]; then  # a fresh clone without the corpus: a generated mesh
   build/tests/make_test_meshes "$work" 2> /dev/null || fail "no mesh: build the project first"

@@ -259,17 +259,26 @@ TEST(Service, RepeatedMeshGets422NamingTheMeshOption) {
   EXPECT_EQ(wait_for(client, body_json(mapped)["id"])["status"], "succeeded");
 }
 
-// With API keys: no key, 401; a tenant sees, downloads and deletes only its own jobs.
-TEST(Service, ApiKeysSeparateTenants) {
-  const std::string keys = ::testing::TempDir() + "/spheremap_keys";
+// Two tenants, alpha and beta, with their keys in a file named after the test.
+const httplib::Headers kAlpha = {{"Authorization", "Bearer alpha-key-0123456789abcdef"}};
+const httplib::Headers kBeta = {{"Authorization", "Bearer beta-key-0123456789abcdef"}};
+server::ServerConfig two_tenants_config() {
+  const std::string keys = ::testing::TempDir() + "/spheremap_keys_" +
+                           ::testing::UnitTest::GetInstance()->current_test_info()->name();
   std::ofstream(keys)
       << "# tenants\nalpha alpha-key-0123456789abcdef\nbeta  beta-key-0123456789abcdef\n";
   server::ServerConfig config = small_config();
   config.api_keys = keys;
+  return config;
+}
+
+// With API keys: no key, 401; a tenant sees, downloads and deletes only its own jobs.
+TEST(Service, ApiKeysSeparateTenants) {
+  const server::ServerConfig config = two_tenants_config();
   TestServer server(config);
   auto client = server.client();
-  const httplib::Headers alpha = {{"Authorization", "Bearer alpha-key-0123456789abcdef"}};
-  const httplib::Headers beta = {{"Authorization", "Bearer beta-key-0123456789abcdef"}};
+  const httplib::Headers& alpha = kAlpha;
+  const httplib::Headers& beta = kBeta;
   const std::string glb = glb_of(testing::icosphere(2));
 
   auto anonymous = client.Post("/v1/jobs", glb, "model/gltf-binary");
@@ -299,24 +308,21 @@ TEST(Service, ApiKeysSeparateTenants) {
   EXPECT_EQ(client.Get((job + "/artifacts/sphere.glb").c_str(), alpha)->status, 200);
   EXPECT_EQ(client.Delete(job.c_str(), alpha)->status, 204);
 
-  std::ofstream(keys) << "alpha short\n";
+  std::ofstream(config.api_keys) << "alpha short\n";
   server::ServerConfig bad = small_config();
-  bad.api_keys = keys;
+  bad.api_keys = config.api_keys;
   EXPECT_THROW(server::Service service(bad), server::ConfigError);
 }
 
 // Quotas and turns: one tenant's queue does not hold back another's jobs.
 TEST(Service, TenantsTakeTurnsAndHaveQueueQuotas) {
-  const std::string keys = ::testing::TempDir() + "/spheremap_keys_turns";
-  std::ofstream(keys) << "alpha alpha-key-0123456789abcdef\nbeta beta-key-0123456789abcdef\n";
-  server::ServerConfig config = small_config();
-  config.api_keys = keys;
+  server::ServerConfig config = two_tenants_config();
   config.workers = 1;
   config.tenant_max_queued = 2;
   TestServer server(config);
   auto client = server.client();
-  const httplib::Headers alpha = {{"Authorization", "Bearer alpha-key-0123456789abcdef"}};
-  const httplib::Headers beta = {{"Authorization", "Bearer beta-key-0123456789abcdef"}};
+  const httplib::Headers& alpha = kAlpha;
+  const httplib::Headers& beta = kBeta;
   const std::string slow = glb_of(testing::horseshoe());
   auto submit = [&](const httplib::Headers& who, const std::string& body, const char* path) {
     return client.Post(path, who, body, "model/gltf-binary");
@@ -351,16 +357,13 @@ TEST(Service, TenantsTakeTurnsAndHaveQueueQuotas) {
 
 // A tenant over its result share loses its own oldest results, not another tenant's.
 TEST(Service, ATenantsResultsEvictOnlyItsOwn) {
-  const std::string keys = ::testing::TempDir() + "/spheremap_keys_results";
-  std::ofstream(keys) << "alpha alpha-key-0123456789abcdef\nbeta beta-key-0123456789abcdef\n";
-  server::ServerConfig config = small_config();
-  config.api_keys = keys;
+  server::ServerConfig config = two_tenants_config();
   config.workers = 1;
   config.tenant_result_memory_bytes = 60000;  // about one sphere of icosphere(3)
   TestServer server(config);
   auto client = server.client();
-  const httplib::Headers alpha = {{"Authorization", "Bearer alpha-key-0123456789abcdef"}};
-  const httplib::Headers beta = {{"Authorization", "Bearer beta-key-0123456789abcdef"}};
+  const httplib::Headers& alpha = kAlpha;
+  const httplib::Headers& beta = kBeta;
   const std::string glb = glb_of(testing::icosphere(3));
   auto run = [&](const httplib::Headers& who) {
     const std::string id = body_json(client.Post("/v1/jobs", who, glb, "model/gltf-binary"))["id"];

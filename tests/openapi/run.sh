@@ -7,6 +7,7 @@ set -uo pipefail
 spheremap=$1 make_meshes=$2
 here=$(cd "$(dirname "$0")" && pwd)
 root=$(cd "$here/../.." && pwd)
+. "$here/../start_server.sh"
 fail() { echo "FAIL: $*"; exit 1; }
 command -v npm > /dev/null || { echo "npm not found: skipped"; exit 77; }
 if [ ! -x "$here/node_modules/.bin/redocly" ]; then
@@ -20,16 +21,9 @@ grep -E '^\s+[0-9]+:[0-9]+\s+warning' "$work/lint.txt" || true
 "$here/node_modules/.bin/redocly" bundle "$root/api/openapi.yaml" --ext json -o "$work/openapi.json" > /dev/null 2>&1 ||
   fail "redocly bundle"
 
-"$spheremap" serve --port 0 --workers 1 2> "$work/server.log" &
-server=$!
-port=
-for _ in $(seq 100); do
-  grep -q '"listening"' "$work/server.log" && port=$(grep -o '"port":[0-9]*' "$work/server.log" | tail -1 | cut -d: -f2) && break
-  sleep 0.05
-done
-[ -n "$port" ] || fail "the server did not start"
+start_server "$work/server.log" --workers 1
 "$make_meshes" "$work" > /dev/null || fail "make_test_meshes"
-python3 - "$work/openapi.json" "$root/api/routes.cpp" "http://127.0.0.1:$port" "$work/icosphere2.glb" <<'PY' || exit 1
+python3 - "$work/openapi.json" "$root/api/routes.cpp" "$url" "$work/icosphere2.glb" <<'PY' || exit 1
 import json, re, sys, time, urllib.request, urllib.error
 doc, routes_cpp, base, mesh = sys.argv[1:]
 spec = json.load(open(doc))

@@ -6,6 +6,7 @@
 set -uo pipefail
 spheremap=$1 make_meshes=$2 corpus=$3
 here=$(cd "$(dirname "$0")" && pwd)
+. "$here/../start_server.sh"
 fail() { echo "FAIL: $*"; [ -f "$work/server.log" ] && tail -5 "$work/server.log"; exit 1; }
 command -v npm > /dev/null || { echo "npm not found: skipped"; exit 77; }
 chromium=${CHROMIUM:-/usr/bin/chromium}
@@ -15,16 +16,8 @@ if [ ! -d "$here/node_modules/playwright-core" ]; then
 fi
 work=$(mktemp -d)
 trap 'kill $server 2> /dev/null; wait $server 2> /dev/null; rm -rf "$work"' EXIT
-"$spheremap" serve --port 0 --workers 1 2> "$work/server.log" &
-server=$!
-port=
-for _ in $(seq 100); do
-  port=$(grep -o '"port":[0-9]*' "$work/server.log" | tail -1 | cut -d: -f2)
-  [ -n "$port" ] && [ "$port" != 0 ] && grep -q '"listening"' "$work/server.log" && break
-  sleep 0.05
-done
-[ -n "$port" ] || fail "the server did not start"
-url=http://127.0.0.1:$port/
+start_server "$work/server.log" --workers 1
+url=$url/
 mesh=$corpus/spot.glb
 if [ ! -f "$mesh" ]; then
   "$make_meshes" "$work" > /dev/null || fail "make_test_meshes"

@@ -5,6 +5,7 @@
 set -uo pipefail
 spheremap=$1 make_meshes=$2
 here=$(cd "$(dirname "$0")/.." && pwd)
+. "$here/../../tests/start_server.sh"
 fail() { echo "FAIL: $*"; exit 1; }
 command -v npm > /dev/null || { echo "npm not found: skipped"; exit 77; }
 if [ ! -d "$here/node_modules/@gltf-transform/functions" ]; then
@@ -13,28 +14,21 @@ fi
 work=$(mktemp -d)
 trap 'kill $server 2> /dev/null; wait $server 2> /dev/null; rm -rf "$work"' EXIT
 "$make_meshes" "$work" > /dev/null || fail "make_test_meshes"
-"$spheremap" serve --port 0 --workers 2 2> "$work/server.log" &
-server=$!
-port=
-for _ in $(seq 200); do
-  grep -q '"listening"' "$work/server.log" && port=$(grep -o '"port":[0-9]*' "$work/server.log" | tail -1 | cut -d: -f2) && break
-  sleep 0.05
-done
-[ -n "$port" ] || fail "the server did not start"
+start_server "$work/server.log" --workers 2
 # The types are made from api/openapi.yaml: the committed ones must be up to date.
 (cd "$here" && npx --no-install openapi-typescript ../../api/openapi.yaml -o "$work/openapi.d.ts" > /dev/null 2>&1) ||
   fail "openapi-typescript"
 cmp -s "$work/openapi.d.ts" "$here/src/openapi.d.ts" || fail "src/openapi.d.ts is stale: npm run types"
 (cd "$here" && npx --no-install tsc --noEmit --strict --module nodenext --moduleResolution nodenext \
   src/index.d.ts src/gltf-transform.d.ts) || fail "the type declarations do not check"
-(cd "$here" && SPHEREMAP_URL=http://127.0.0.1:$port SPHEREMAP_MESH=$work/icosphere4.glb \
+(cd "$here" && SPHEREMAP_URL=$url SPHEREMAP_MESH=$work/icosphere4.glb \
   SPHEREMAP_SLOW_MESH=$work/horseshoe.glb node --test test/) || fail "client tests"
 
 # npm pack gives a package that installs and imports elsewhere.
 (cd "$here" && npm pack --pack-destination "$work" --loglevel=error > /dev/null) || fail "npm pack"
 mkdir -p "$work/consumer" && cd "$work/consumer" && echo '{"type":"module","private":true}' > package.json
 npm install --no-audit --no-fund --loglevel=error "$work"/spheremap-client-*.tgz > /dev/null || fail "install the tarball"
-SPHEREMAP_URL=http://127.0.0.1:$port node --input-type=module -e "
+SPHEREMAP_URL=$url node --input-type=module -e "
   import { readFileSync } from 'node:fs';
   const { SpheremapClient } = await import('spheremap-client');
   const job = await new SpheremapClient({ endpoint: process.env.SPHEREMAP_URL }).submit(readFileSync('$work/icosphere2.glb'));
