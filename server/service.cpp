@@ -41,9 +41,12 @@ void Service::work() {
   const WorkerLimits worker{config_.worker_executable, config_.effective_worker_memory_bytes(),
                             config_.effective_worker_cpu_seconds(),
                             std::max<size_t>(config_.result_memory_bytes, size_t{1} << 30)};
-  const bool isolated = config_.worker_isolation != "thread";
-  while (std::shared_ptr<Job> job = store_.next())
-    store_.finish(job, isolated ? run_job_in_worker(*job, limits, worker) : run_job(*job, limits));
+  if (config_.worker_isolation == "thread") {
+    while (std::shared_ptr<Job> job = store_.next()) store_.finish(job, run_job(*job, limits));
+    return;
+  }
+  WorkerProcess process(worker);
+  while (std::shared_ptr<Job> job = store_.next()) store_.finish(job, process.run(*job, limits));
 }
 
 void Service::observe(const std::shared_ptr<Job>& job, JobStatus status) {

@@ -12,7 +12,9 @@
 #include <cmath>
 #include <condition_variable>
 #include <cstring>
+#include <fstream>
 #include <mutex>
+#include <sstream>
 #include <thread>
 
 #include "server/worker_protocol.h"
@@ -96,6 +98,23 @@ std::string signal_text(int signal) {
          ")";
 }
 
+// CPU time (user + system) a running process has used, from /proc/PID/stat.
+double cpu_seconds_of(pid_t pid) {
+  std::ifstream stat("/proc/" + std::to_string(pid) + "/stat");
+  std::string line;
+  std::getline(stat, line);
+  const size_t close = line.rfind(')');  // the command name may hold spaces
+  if (close == std::string::npos) return 0;
+  std::istringstream fields(line.substr(close + 2));
+  std::string field;
+  unsigned long long utime = 0, stime = 0;
+  for (int i = 3; i <= 15 && fields >> field; ++i) {
+    if (i == 14) utime = std::stoull(field);
+    if (i == 15) stime = std::stoull(field);
+  }
+  return static_cast<double>(utime + stime) / static_cast<double>(sysconf(_SC_CLK_TCK));
+}
+
 // Applies one frame from the child to the job; returns the status once the child sent it.
 std::optional<JobStatus> apply(Job& job, const FrameReader::Frame& frame) {
   std::lock_guard lock(job.mutex);
@@ -130,7 +149,38 @@ std::optional<JobStatus> apply(Job& job, const FrameReader::Frame& frame) {
 
 }  // namespace
 
-JobStatus run_job_in_worker(Job& job, const RunLimits& limits, const WorkerLimits& worker) {
+WorkerProcess::WorkerProcess(WorkerLimits limits) : limits_(std::move(limits)) {
+  start();  // warm: the first job does not pay for the start
+}
+
+WorkerProcess::~WorkerProcess() {
+  stop(false);
+}
+
+bool WorkerProcess::start() {
+  if (pid_ > 0) return true;
+  const Child child = spawn(limits_);
+  if (child.pid < 0) return false;
+  pid_ = child.pid, in_ = child.in, out_ = child.out;
+  jobs_ = 0;
+  return true;
+}
+
+// Ends the child: at once (SIGKILL), or by closing its stdin (it exits between jobs).
+// Returns its wait status.
+int WorkerProcess::stop(bool kill_now) {
+  if (pid_ <= 0) return 0;
+  if (kill_now) kill(pid_, SIGKILL);
+  if (in_ >= 0) close(in_);
+  if (out_ >= 0) close(out_);
+  int wait_status = 0;
+  while (waitpid(pid_, &wait_status, 0) < 0 && errno == EINTR) {
+  }
+  pid_ = -1, in_ = out_ = -1;
+  return wait_status;
+}
+
+JobStatus WorkerProcess::run(Job& job, const RunLimits& limits) {
   std::string request;
   double time_limit = limits.time_limit_seconds;
   {
@@ -139,16 +189,18 @@ JobStatus run_job_in_worker(Job& job, const RunLimits& limits, const WorkerLimit
       time_limit = std::min(time_limit, job.spec->map.time_limit_seconds);
     request = encode_request(*job.spec, limits.time_limit_seconds, limits.threads);
   }
-  const Child child = spawn(worker);
-  if (child.pid < 0) {
+  if (!start()) {
     fail_job(job, 503, "worker_unavailable", "No worker process",
              std::string("could not start a worker process: ") + std::strerror(errno));
     return JobStatus::kFailed;
   }
-  // The child reads its whole request before it writes anything: no deadlock. A child
-  // that dies first makes the write fail (EPIPE; SIGPIPE is ignored by the service).
-  write_all(child.in, request.data(), request.size());
-  close(child.in);
+  ++jobs_;
+  // Length first, then the request. The child reads all of it before it writes anything,
+  // so the two never wait on each other. A child that has died makes the write fail
+  // (EPIPE; SIGPIPE is ignored by the service) and the read below sees it.
+  const uint64_t length = request.size();
+  const bool sent = write_all(in_, reinterpret_cast<const char*>(&length), sizeof length) &&
+                    write_all(in_, request.data(), request.size());
   request = std::string();
 
   // The engine stops itself at the time limit; the output stages after it are not
@@ -160,35 +212,41 @@ JobStatus run_job_in_worker(Job& job, const RunLimits& limits, const WorkerLimit
   std::optional<JobStatus> status;
   bool killed_for_cancel = false, killed_for_time = false, protocol_error = false;
   std::vector<char> chunk(1 << 16);
-  for (;;) {
-    pollfd p{child.out, POLLIN, 0};
+  while (sent && !status) {
+    pollfd p{out_, POLLIN, 0};
     const int ready = poll(&p, 1, 100);
     if (ready < 0 && errno != EINTR) break;
     if (job.cancel && !killed_for_cancel) {
-      kill(child.pid, SIGKILL);
+      kill(pid_, SIGKILL);
       killed_for_cancel = true;
     }
     if (Clock::now() > deadline && !killed_for_time && !killed_for_cancel) {
-      kill(child.pid, SIGKILL);
+      kill(pid_, SIGKILL);
       killed_for_time = true;
     }
     if (ready <= 0) continue;
-    const ssize_t n = read(child.out, chunk.data(), chunk.size());
+    const ssize_t n = read(out_, chunk.data(), chunk.size());
     if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) break;  // end of the child's output
+    if (n <= 0) break;  // the child is gone
     frames.append(chunk.data(), static_cast<size_t>(n));
     try {
-      while (auto frame = frames.next(worker.max_artifact_bytes))
+      while (auto frame = frames.next(limits_.max_artifact_bytes))
         if (auto s = apply(job, *frame)) status = s;
     } catch (const std::exception&) {
       protocol_error = true;
-      kill(child.pid, SIGKILL);
+      kill(pid_, SIGKILL);
+      break;
     }
   }
-  close(child.out);
-  int wait_status = 0;
-  while (waitpid(child.pid, &wait_status, 0) < 0 && errno == EINTR) {
+  // A child that answered stays for the next job, unless it has served its share (memory
+  // fragmentation and the CPU-time limit both grow with a process's age).
+  if (status && !killed_for_cancel && !killed_for_time && !protocol_error) {
+    if (jobs_ >= kJobsPerProcess ||
+        (limits_.cpu_seconds > 0 && cpu_seconds_of(pid_) > limits_.cpu_seconds / 2))
+      stop(false);  // the next job gets a fresh process and its whole CPU-time limit
+    return *status;
   }
+  const int wait_status = stop(true);
 
   if (killed_for_cancel || job.cancel) {
     std::lock_guard lock(job.mutex);
@@ -205,40 +263,43 @@ JobStatus run_job_in_worker(Job& job, const RunLimits& limits, const WorkerLimit
     fail_job(job, 500, "internal", "Internal error", "the worker process sent a malformed answer");
     return JobStatus::kFailed;
   }
-  if (WIFSIGNALED(wait_status)) {
+  if (WIFSIGNALED(wait_status) && WTERMSIG(wait_status) != SIGKILL) {
     const int signal = WTERMSIG(wait_status);
-    std::string why = signal == SIGXCPU ? " (over its CPU-time limit, worker_cpu_seconds)"
-                      : signal == SIGKILL
-                          ? " (by the kernel's out-of-memory killer, an operator, or over its "
-                            "CPU-time limit)"
-                          : "";
     fail_job(job, 500, "worker_crashed", "Worker crashed",
-             "the worker process mapping this job was killed by " + signal_text(signal) + why +
+             "the worker process mapping this job was killed by " + signal_text(signal) +
+                 (signal == SIGXCPU ? " (over its CPU-time limit, worker_cpu_seconds)" : "") +
                  "; the server and the other jobs are unaffected");
     return JobStatus::kFailed;
   }
-  if (!status || !WIFEXITED(wait_status) || WEXITSTATUS(wait_status) != 0) {
-    fail_job(job, 500, "worker_crashed", "Worker crashed",
-             "the worker process exited with code " +
-                 std::to_string(WIFEXITED(wait_status) ? WEXITSTATUS(wait_status) : -1) +
-                 " before it answered" +
-                 (WIFEXITED(wait_status) && WEXITSTATUS(wait_status) == 127
-                      ? " (the worker executable could not be started)"
-                      : ""));
-    return JobStatus::kFailed;
-  }
-  return *status;
+  fail_job(job, 500, "worker_crashed", "Worker crashed",
+           "the worker process mapping this job " +
+               std::string(WIFSIGNALED(wait_status)
+                               ? "was killed by SIGKILL (Killed) (by the kernel's out-of-memory "
+                                 "killer, an operator, or over its CPU-time limit)"
+                               : "exited with code " + std::to_string(WEXITSTATUS(wait_status)) +
+                                     " before it answered" +
+                                     (WEXITSTATUS(wait_status) == 127
+                                          ? " (the worker executable could not be started)"
+                                          : "")) +
+               "; the server and the other jobs are unaffected");
+  return JobStatus::kFailed;
 }
 
-int worker_process_main() {
-  std::string request;
-  std::vector<char> chunk(1 << 16);
-  for (;;) {
-    const ssize_t n = read(STDIN_FILENO, chunk.data(), chunk.size());
+namespace {
+
+bool read_exactly(int fd, char* data, size_t size) {
+  while (size > 0) {
+    const ssize_t n = ::read(fd, data, size);
     if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) break;
-    request.append(chunk.data(), static_cast<size_t>(n));
+    if (n <= 0) return false;
+    data += n, size -= static_cast<size_t>(n);
   }
+  return true;
+}
+
+// One job in the child: decode, run with progress every 100 ms (woken at the end so a
+// short job does not wait out the interval), answer.
+void serve_one(const std::string& request) {
   std::mutex out_mutex;
   auto send = [&](FrameType type, const std::string& payload) {
     const std::string frame = encode_frame(type, payload);
@@ -249,7 +310,6 @@ int worker_process_main() {
   RunLimits limits;
   try {
     WorkerRequest decoded = decode_request(request);
-    request = std::string();
     limits.time_limit_seconds = decoded.time_limit_seconds;
     limits.threads = decoded.threads;
     job.spec = std::make_unique<JobSpec>(std::move(decoded.spec));
@@ -260,10 +320,8 @@ int worker_process_main() {
                                            {"detail", e.what()}}
                                 .dump());
     send(FrameType::kStatus, R"({"status":"failed"})");
-    return 0;
+    return;
   }
-  // Progress every 100 ms while the job runs, when it changed; woken at the end so a
-  // short job does not wait out the interval.
   std::mutex stop_mutex;
   std::condition_variable stop_cv;
   bool stopping = false;
@@ -300,7 +358,20 @@ int worker_process_main() {
                                            {"detail", job.error->detail}}
                                 .dump());
   send(FrameType::kStatus, nlohmann::json{{"status", to_string(status)}}.dump());
-  return 0;
+}
+
+}  // namespace
+
+int worker_process_main() {
+  // Requests until the server closes our stdin: each a uint64 length and the request.
+  for (;;) {
+    uint64_t length = 0;
+    if (!read_exactly(STDIN_FILENO, reinterpret_cast<char*>(&length), sizeof length)) return 0;
+    if (length > (uint64_t{1} << 40)) return 2;  // not our server
+    std::string request(static_cast<size_t>(length), '\0');
+    if (!read_exactly(STDIN_FILENO, request.data(), request.size())) return 0;
+    serve_one(request);
+  }
 }
 
 }  // namespace spheremap::server

@@ -1,15 +1,18 @@
 // Jobs in worker processes: a mesh that crashes the engine, exhausts its memory or spins
 // past its CPU time takes down one child process, never the server.
 //
-// For each job the supervising worker thread forks and re-executes the server's own
-// binary as `spheremap worker-process` (worker_protocol.h says what they exchange), with
-// the address space and CPU time limited by setrlimit and SIGKILL on the server's death
-// (PR_SET_PDEATHSIG), so that no orphan keeps mapping. The thread streams the child's
-// progress and artifacts into the Job as they arrive, kills the child within 100 ms of a
+// Each worker thread keeps one child: the server's own binary re-executed as `spheremap
+// worker-process` (worker_protocol.h says what they exchange), with the address space and
+// CPU time limited by setrlimit and SIGKILL on the server's death (PR_SET_PDEATHSIG), so
+// that no orphan keeps mapping. The child maps one job after another; the thread streams
+// its progress and artifacts into the Job as they arrive, kills it within 100 ms of a
 // cancel (dropping whatever it had sent), and turns a death by signal into the job's
-// `worker_crashed` problem with the signal's name. A new child is started for the next
-// job, so one that crashed leaves nothing behind.
+// `worker_crashed` problem with the signal's name. A fresh child replaces one that
+// crashed or was killed, and one that has served kJobsPerProcess jobs (memory
+// fragmentation and the CPU-time limit grow with a process's age).
 #pragma once
+
+#include <sys/types.h>
 
 #include <string>
 
@@ -25,9 +28,31 @@ struct WorkerLimits {
   size_t max_artifact_bytes;  // a larger frame from the child is a bug: the job fails
 };
 
-// Runs `job` in a child process; same contract as run_job (never throws, returns the
-// terminal status, the job holds results or the error).
-JobStatus run_job_in_worker(Job& job, const RunLimits& limits, const WorkerLimits& worker);
+// One worker process, kept for job after job by the worker thread that owns it: started
+// at once (warm), restarted after a crash, a kill (cancel, time) or kJobsPerProcess jobs.
+class WorkerProcess {
+ public:
+  static constexpr size_t kJobsPerProcess = 200;
+
+  explicit WorkerProcess(WorkerLimits limits);
+  ~WorkerProcess();  // closes the child's stdin: it exits between jobs
+  WorkerProcess(const WorkerProcess&) = delete;
+  WorkerProcess& operator=(const WorkerProcess&) = delete;
+
+  // Runs `job` in the child; same contract as run_job (never throws, returns the terminal
+  // status, the job holds results or the error).
+  JobStatus run(Job& job, const RunLimits& limits);
+  pid_t pid() const { return pid_; }
+
+ private:
+  bool start();
+  int stop(bool kill_now);
+
+  const WorkerLimits limits_;
+  pid_t pid_ = -1;
+  int in_ = -1, out_ = -1;
+  size_t jobs_ = 0;
+};
 
 // The child's side: reads the request on stdin, runs the job, answers on stdout.
 // Returns the process exit code.

@@ -770,8 +770,18 @@ std::vector<pid_t> worker_processes() {
   return out;
 }
 
+// Waits until the job is running (in its worker process).
+void wait_running(httplib::Client& client, const std::string& id) {
+  for (int i = 0; i < 500; ++i) {
+    if (body_json(client.Get(("/v1/jobs/" + id).c_str()))["status"] == "running") return;
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  ADD_FAILURE() << "job " << id << " did not start";
+}
+
 // A worker process killed mid-job (a crash, the OOM killer, an operator) fails only its
-// job, as worker_crashed with the signal; the server, in this very process, goes on.
+// job, as worker_crashed with the signal; the server, in this very process, goes on with
+// a fresh worker process.
 TEST(Service, AKilledWorkerProcessFailsOnlyItsJob) {
   server::ServerConfig config = small_config();
   config.workers = 1;
@@ -780,11 +790,8 @@ TEST(Service, AKilledWorkerProcessFailsOnlyItsJob) {
   auto slow = client.Post(kSlowJob, glb_of(testing::horseshoe()), "model/gltf-binary");
   ASSERT_EQ(slow->status, 202);
   const std::string id = body_json(slow)["id"];
-  std::vector<pid_t> workers;
-  for (int i = 0; i < 500 && workers.empty(); ++i) {
-    workers = worker_processes();
-    std::this_thread::sleep_for(std::chrono::milliseconds(10));
-  }
+  wait_running(client, id);
+  const std::vector<pid_t> workers = worker_processes();
   ASSERT_EQ(workers.size(), 1u) << "the job does not run in a worker process";
   ASSERT_EQ(kill(workers[0], SIGKILL), 0);
   const json failed = wait_for(client, id);
@@ -794,7 +801,45 @@ TEST(Service, AKilledWorkerProcessFailsOnlyItsJob) {
   EXPECT_EQ(client.Get("/readyz")->status, 200);
   auto next = post_glb(client, glb_of(testing::icosphere(2)));
   EXPECT_EQ(wait_for(client, body_json(next)["id"])["status"], "succeeded");
-  EXPECT_TRUE(worker_processes().empty());  // reaped, none left behind
+  const std::vector<pid_t> now = worker_processes();  // the dead one reaped, one fresh
+  ASSERT_EQ(now.size(), 1u);
+  EXPECT_NE(now[0], workers[0]);
+}
+
+// Jobs reuse the worker process (no start-up per job) until it crashes or is killed.
+TEST(Service, WorkerProcessesServeJobAfterJob) {
+  server::ServerConfig config = small_config();
+  config.workers = 1;
+  TestServer server(config);
+  auto client = server.client();
+  std::set<pid_t> seen;
+  for (int i = 0; i < 3; ++i) {
+    auto job = post_glb(client, glb_of(testing::icosphere(2)));
+    EXPECT_EQ(wait_for(client, body_json(job)["id"])["status"], "succeeded");
+    for (pid_t pid : worker_processes()) seen.insert(pid);
+  }
+  EXPECT_EQ(seen.size(), 1u);
+}
+
+// Cancel reaches the worker process: it is gone within a second, and so are the artifacts.
+TEST(Service, CancelKillsTheWorkerProcessWithinASecond) {
+  server::ServerConfig config = small_config();
+  config.workers = 1;
+  TestServer server(config);
+  auto client = server.client();
+  auto slow = client.Post(kSlowJob, glb_of(testing::horseshoe()), "model/gltf-binary");
+  const std::string id = body_json(slow)["id"];
+  wait_running(client, id);
+  ASSERT_FALSE(worker_processes().empty());
+  const auto start = std::chrono::steady_clock::now();
+  EXPECT_EQ(client.Delete(("/v1/jobs/" + id).c_str())->status, 202);
+  while (!worker_processes().empty() &&
+         std::chrono::steady_clock::now() - start < std::chrono::seconds(5))
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(1));
+  const json cancelled = wait_for(client, id);
+  EXPECT_EQ(cancelled["status"], "cancelled");
+  EXPECT_FALSE(cancelled.contains("artifacts")) << cancelled.dump(2);
 }
 
 // A job over the worker's memory limit fails as out of memory; the server goes on.
@@ -813,28 +858,6 @@ TEST(Service, AWorkerOverItsMemoryLimitFailsItsJobOnly) {
   EXPECT_EQ(failed["status"], "failed");
   EXPECT_EQ(failed["error"]["type"], "/v1/problems/out_of_memory") << failed.dump(2);
   EXPECT_EQ(client.Get("/readyz")->status, 200);
-}
-
-// Cancel reaches the worker process: it is gone within a second, and so are the artifacts.
-TEST(Service, CancelKillsTheWorkerProcessWithinASecond) {
-  server::ServerConfig config = small_config();
-  config.workers = 1;
-  TestServer server(config);
-  auto client = server.client();
-  auto slow = client.Post(kSlowJob, glb_of(testing::horseshoe()), "model/gltf-binary");
-  const std::string id = body_json(slow)["id"];
-  for (int i = 0; i < 500 && worker_processes().empty(); ++i)
-    std::this_thread::sleep_for(std::chrono::milliseconds(10));
-  ASSERT_FALSE(worker_processes().empty());
-  const auto start = std::chrono::steady_clock::now();
-  EXPECT_EQ(client.Delete(("/v1/jobs/" + id).c_str())->status, 202);
-  while (!worker_processes().empty() &&
-         std::chrono::steady_clock::now() - start < std::chrono::seconds(5))
-    std::this_thread::sleep_for(std::chrono::milliseconds(10));
-  EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(1));
-  const json cancelled = wait_for(client, id);
-  EXPECT_EQ(cancelled["status"], "cancelled");
-  EXPECT_FALSE(cancelled.contains("artifacts")) << cancelled.dump(2);
 }
 
 TEST(Service, AJobOverItsTimeLimitFailsAndTheWorkerGoesOn) {
