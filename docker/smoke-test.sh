@@ -66,6 +66,7 @@ $engine build "${network[@]}" -q -f docker/Dockerfile -t $image . > /dev/null
 echo "built $image in $(( $(date +%s) - build_start )) s"
 size=$($engine image inspect $image --format '{{.Size}}')
 echo "image size: $(( size / 1024 / 1024 )) MiB"
+[ "$size" -lt $(( 150 * 1024 * 1024 )) ] || fail "the image is over 150 MiB"
 
 start=$(date +%s.%N)
 $engine run -d --name "$name" -p 127.0.0.1:$port:8080 -e SPHEREMAP_WORKERS=2 $image > /dev/null
