@@ -76,13 +76,16 @@ for option in $(options_of serve); do
   extra=($(arguments_for serve "$option" ""))
   port=(--port 0)
   [ "$option" = port ] && port=()
-  "$spheremap" serve "${port[@]}" "${extra[@]}" 2> "$tmp/serve.log" &
+  # A log of its own per start: a "listening" line left by the previous server must not
+  # be taken for this one's (the TERM would then reach the shell before it runs serve).
+  log=$tmp/serve_$option.log
+  "$spheremap" serve "${port[@]}" "${extra[@]}" 2> "$log" &
   pid=$!
-  for _ in $(seq 400); do grep -q '"listening"' "$tmp/serve.log" && break; sleep 0.05; done
+  for _ in $(seq 400); do grep -q '"listening"' "$log" 2> /dev/null && break; sleep 0.05; done
   kill -TERM $pid 2> /dev/null
   wait $pid
-  usage_error "$(cat "$tmp/serve.log")" && fail "serve ${extra[*]}: $(cat "$tmp/serve.log")"
-  grep -q '"listening"' "$tmp/serve.log" || fail "serve ${extra[*]} did not start: $(cat "$tmp/serve.log")"
+  usage_error "$(cat "$log")" && fail "serve ${extra[*]}: $(cat "$log")"
+  grep -q '"listening"' "$log" || fail "serve ${extra[*]} did not start: $(cat "$log")"
   count=$((count + 1))
 done
 echo "every documented option accepted: $count calls"
