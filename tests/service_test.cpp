@@ -770,13 +770,16 @@ std::vector<pid_t> worker_processes() {
   return out;
 }
 
-// Waits until the job is running (in its worker process).
+// Waits until the job is running and its worker process has started the spheremap
+// binary (a loaded machine may take a while between fork and exec).
 void wait_running(httplib::Client& client, const std::string& id) {
-  for (int i = 0; i < 500; ++i) {
-    if (body_json(client.Get(("/v1/jobs/" + id).c_str()))["status"] == "running") return;
+  for (int i = 0; i < 1000; ++i) {
+    if (body_json(client.Get(("/v1/jobs/" + id).c_str()))["status"] == "running" &&
+        !worker_processes().empty())
+      return;
     std::this_thread::sleep_for(std::chrono::milliseconds(10));
   }
-  ADD_FAILURE() << "job " << id << " did not start";
+  ADD_FAILURE() << "job " << id << " did not start in a worker process";
 }
 
 // A worker process killed mid-job (a crash, the OOM killer, an operator) fails only its
