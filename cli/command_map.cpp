@@ -68,10 +68,11 @@ int run_map(int argc, char** argv) {
       args.flag("draco") ? static_cast<int>(args.integer("draco-position-bits", 14, 8, 20)) : 0;
   if (draco_bits && !glb) throw UsageError("--draco needs a .glb output");
 
-  const PolygonMesh input = read_input(args, prepare);
   double last_print = 0;
-  const MappedMesh mapped =
-      map_mesh(input, prepare, options, progress_printer(args.flag("quiet"), last_print));
+  const MappedInput run =
+      map_input(args, prepare, options, progress_printer(args.flag("quiet"), last_print));
+  const PolygonMesh& input = run.input;
+  const MappedMesh& mapped = run.mapped;
   const SphereLayout sphere_layout =
       layout == "welded" ? SphereLayout::kWelded : SphereLayout::kOriginal;
   nlohmann::json metrics;

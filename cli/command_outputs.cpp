@@ -88,10 +88,10 @@ int run_output(int argc, char** argv, Output kind) {
   MapOptions options;
   read_map_options(args, prepare, options);
 
-  const PolygonMesh input = read_input(args, prepare);
   double last_print = 0;
-  const MappedMesh mapped =
-      map_mesh(input, prepare, options, progress_printer(args.flag("quiet"), last_print));
+  const MappedInput run =
+      map_input(args, prepare, options, progress_printer(args.flag("quiet"), last_print));
+  const MappedMesh& mapped = run.mapped;
   if (const Certification verdict = certify(mapped, mapped.float32_check); !verdict.certified) {
     std::fprintf(stderr, "spheremap: %s: %s\n", verdict.problem.c_str(), verdict.detail.c_str());
     return kExitNotBijective;

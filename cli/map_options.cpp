@@ -1,6 +1,7 @@
 #include "cli/map_options.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cstdio>
 
 #include "core/io/mesh_file.h"
@@ -145,15 +146,21 @@ MapControl progress_printer(bool quiet, double& last_print) {
   return control;
 }
 
-PolygonMesh read_input(const Arguments& args, const PrepareOptions& prepare) {
+MappedInput map_input(const Arguments& args, const PrepareOptions& prepare,
+                      const MapOptions& options, const MapControl& control) {
   GltfReadStats stats;
-  PolygonMesh input = read_mesh_file(args.positional()[0], gltf_options(args), &stats);
-  // A scene of several meshes (or one drawn several times) that cannot map as a whole is
-  // told which meshes it has and which to pick, before the map is attempted (prepared
-  // twice only for such scenes).
-  if (stats.repeated_mesh >= 0 || stats.drawn_meshes.size() > 1)
-    require_none(input_failures(prepare_mesh(input, prepare), &stats));
-  return input;
+  MappedInput out;
+  out.input = read_mesh_file(args.positional()[0], gltf_options(args), &stats);
+  // Prepared once; the refusal carries what the glTF scene says (which meshes it draws,
+  // which option maps one), which map_mesh alone could not know.
+  const auto start = std::chrono::steady_clock::now();
+  PreparedMesh prepared = prepare_mesh(out.input, prepare);
+  const double prepare_seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  require_none(input_failures(prepared, &stats));
+  out.mapped = map_prepared(std::move(prepared), options, control);
+  out.mapped.prepare_seconds = prepare_seconds;
+  return out;
 }
 
 std::string fix_hint(const Fix& fix) {

@@ -23,9 +23,15 @@ MapControl progress_printer(bool quiet, double& last_print);
 // --mesh INDEX|NAME: which glTF mesh to read (default: the whole default scene).
 GltfReadOptions gltf_options(const Arguments& args);
 
-// The INPUT file (first positional argument) as read with gltf_options; a glTF scene that
-// draws one mesh several times is refused here with the --mesh that maps it.
-PolygonMesh read_input(const Arguments& args, const PrepareOptions& prepare);
+// The INPUT file (first positional argument) read with gltf_options and mapped. A mesh
+// that cannot map is refused with the failed check and, for a glTF scene, the meshes it
+// draws and the option that maps one (InputError).
+struct MappedInput {
+  PolygonMesh input;
+  MappedMesh mapped;
+};
+MappedInput map_input(const Arguments& args, const PrepareOptions& prepare,
+                      const MapOptions& options, const MapControl& control);
 
 // A fix as the command line spells it: "--largest-component maps only ...".
 std::string fix_hint(const Fix& fix);

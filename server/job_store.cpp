@@ -257,8 +257,12 @@ void JobStore::evict_job_locked(std::deque<std::shared_ptr<Job>>::iterator at,
 void JobStore::evict_locked(std::vector<std::shared_ptr<Job>>& evicted) {
   const auto now = Clock::now();
   const auto ttl = std::chrono::duration<double>(limits_.result_ttl_seconds);
-  // A tenant over its own share loses its own oldest results first.
-  for (auto it = finished_.begin(); it != finished_.end();) {
+  // A tenant over its own share loses its own oldest results first. The scan of the
+  // finished jobs runs only then: eviction runs on every lookup.
+  const bool over_share = std::any_of(tenants_.begin(), tenants_.end(), [&](const auto& t) {
+    return t.second.result_bytes > limits_.tenant_result_memory_bytes;
+  });
+  for (auto it = finished_.begin(); over_share && it != finished_.end();) {
     if (tenants_[(*it)->tenant].result_bytes > limits_.tenant_result_memory_bytes) {
       const auto offset = it - finished_.begin();
       evict_job_locked(it, evicted);
