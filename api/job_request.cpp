@@ -116,7 +116,7 @@ std::unique_ptr<server::JobSpec> read_job_request(const httplib::Request& reques
   try {
     const MemoryResources resources(std::move(body.resources), kHowToSendResources);
     spec->input = read_gltf({reinterpret_cast<const uint8_t*>(body.mesh.data()), body.mesh.size()},
-                            options.gltf, &stats, &resources);
+                            options.gltf, &stats, &resources, &spec->look);
   } catch (const InputError& e) {
     nlohmann::json extra = {{"check", e.check()}};
     if (!e.fix().empty()) extra["fix"] = fix_json(e.fix());

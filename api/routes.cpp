@@ -9,6 +9,7 @@
 #include "api/job_request.h"
 #include "api/job_view.h"
 #include "api/problem.h"
+#include "core/io/glb_writer.h"
 #include "server/log.h"
 #include "web/web_assets.h"
 
@@ -156,11 +157,17 @@ void post_map(Service& service, std::atomic<int>& waiting, const httplib::Reques
 void get_artifact(Service& service, const httplib::Request& request, httplib::Response& response) {
   const std::shared_ptr<Job> job = find_job(service, request);
   const std::string name = request.matches[2];
+  // Every .glb artifact is also served as .gltf (JSON, the buffer embedded as base64).
+  const bool as_gltf = name.ends_with(".gltf");
+  const std::string stored = as_gltf ? name.substr(0, name.size() - 5) + ".glb" : name;
   std::lock_guard lock(job->mutex);
   for (const server::Artifact& a : job->artifacts)
-    if (a.name == name) {
-      response.set_content(a.bytes, a.content_type);
-      if (name.ends_with(".glb"))
+    if (a.name == stored) {
+      if (as_gltf)
+        response.set_content(glb_to_gltf(a.bytes), "model/gltf+json");
+      else
+        response.set_content(a.bytes, a.content_type);
+      if (name.ends_with(".glb") || as_gltf)
         response.set_header("Content-Disposition", "attachment; filename=\"" + name + "\"");
       return;
     }

@@ -4,6 +4,7 @@
 #include "cli/arguments.h"
 #include "cli/commands.h"
 #include "cli/map_options.h"
+#include "core/io/glb_writer.h"
 #include "core/io/mesh_file.h"
 #include "core/map/certification.h"
 #include "core/mesh/input_error.h"
@@ -21,10 +22,14 @@ input's faces, every vertex moved to its point on the sphere (vertices with equa
 positions share one point). A glTF input is every triangle primitive of its default
 scene in world space, unless --mesh picks one mesh.
 
-  -o, --output FILE         the spherical mesh: .obj, or .glb (triangles, normals = positions,
-                            the metrics in the mesh's extras); required
+  -o, --output FILE         the spherical mesh: .obj, or .glb / .gltf (buffers embedded):
+                            triangles, normals = positions, the metrics in the first mesh's
+                            extras; a glTF input keeps its materials, textures, TEXCOORD_n,
+                            COLOR_0, names, nodes and transforms (layout original, no Draco);
+                            required
   --mesh INDEX|NAME         glTF: map only this mesh (by index or name)
-  --draco                   .glb: compress with Draco (KHR_draco_mesh_compression, required)
+  --draco                   .glb/.gltf: compress with Draco (KHR_draco_mesh_compression,
+                            required; positions and normals only)
   --draco-position-bits N   quantization of Draco positions (default 14)
   --layout L                original (default): the input's own vertices, so attributes such as
                             UVs stay aligned with the input file; welded: one vertex per surface
@@ -61,12 +66,14 @@ int run_map(int argc, char** argv) {
     throw UsageError("--layout must be original or welded, got '" + layout + "'");
 
   const std::string output = args.text("output", "");
-  const bool glb = output.size() > 4 && output.substr(output.size() - 4) == ".glb";
-  const bool obj = output.size() > 4 && output.substr(output.size() - 4) == ".obj";
-  if (!glb && !obj) throw UsageError("-o must name a .glb or .obj file, got '" + output + "'");
+  const bool gltf_text = output.size() > 5 && output.ends_with(".gltf");
+  const bool glb = gltf_text || (output.size() > 4 && output.ends_with(".glb"));
+  const bool obj = output.size() > 4 && output.ends_with(".obj");
+  if (!glb && !obj)
+    throw UsageError("-o must name a .glb, .gltf or .obj file, got '" + output + "'");
   const int draco_bits =
       args.flag("draco") ? static_cast<int>(args.integer("draco-position-bits", 14, 8, 20)) : 0;
-  if (draco_bits && !glb) throw UsageError("--draco needs a .glb output");
+  if (draco_bits && !glb) throw UsageError("--draco needs a .glb or .gltf output");
 
   double last_print = 0;
   const MappedInput run =
@@ -78,10 +85,11 @@ int run_map(int argc, char** argv) {
   nlohmann::json metrics;
   MapCheck written = mapped.map.check;  // OBJ keeps every double digit
   if (glb) {
-    const SphereAsset asset = sphere_asset(input, mapped, options, sphere_layout, draco_bits);
+    const SphereAsset asset =
+        sphere_asset(input, mapped, options, sphere_layout, draco_bits, &run.look);
     written = asset.written;
     metrics = asset.metrics;
-    write_binary_file(output, asset.glb);
+    write_binary_file(output, gltf_text ? glb_to_gltf(asset.glb) : asset.glb);
   } else {
     metrics = metrics_json(mapped, options);
     metrics["bijective_as_written"] = clean(written);

@@ -5,6 +5,7 @@
 #include "cli/arguments.h"
 #include "cli/commands.h"
 #include "cli/map_options.h"
+#include "core/io/glb_writer.h"
 #include "core/io/mesh_file.h"
 #include "core/map/certification.h"
 #include "core/outputs/map_outputs.h"
@@ -14,7 +15,7 @@ namespace spheremap::cli {
 namespace {
 
 const char* const kRemeshUsage =
-    R"(Usage: spheremap remesh INPUT -o OUT.glb [--resolution N] [options]
+    R"(Usage: spheremap remesh INPUT -o OUT.glb|OUT.gltf [--resolution N] [options]
 
 Maps INPUT onto the sphere, then resamples the ORIGINAL surface on a regular grid of the
 octahedral square (Praun & Hoppe 2003): N x N quads, (N+1)^2 samples, each located in
@@ -22,7 +23,7 @@ the spherical map and interpolated on the surface there. The grid's border is st
 the unfolding identifies it, so the remesh is closed and genus 0 (checked; the metrics
 say so). TEXCOORD_0 holds the grid coordinates.
 
-  -o, --output FILE         the remesh as .glb; required
+  -o, --output FILE         the remesh as .glb or .gltf (buffers embedded); required
   --resolution N            quads per side, even, 2..4096 (default 256)
   --geometry-image FILE     also write the sampled positions as a 16-bit RGB PNG,
                             (N+1) x (N+1), scaled as the metrics' geometry_image says
@@ -33,7 +34,7 @@ say so). TEXCOORD_0 holds the grid coordinates.
 
 )";
 
-const char* const kUvUsage = R"(Usage: spheremap uv INPUT -o OUT.glb [options]
+const char* const kUvUsage = R"(Usage: spheremap uv INPUT -o OUT.glb|OUT.gltf [options]
 
 Maps INPUT onto the sphere and gives every vertex of the (welded) surface texture
 coordinates from the octahedral square. Triangles that reach across the unfolding's cuts
@@ -41,21 +42,23 @@ are split there, with a vertex per side, so no triangle's UVs span a cut. The GL
 TEXCOORD_0, normals and a material with an embedded checker texture (red grows with u,
 green with v) to show the mapping at a glance.
 
-  -o, --output FILE         the textured mesh as .glb; required
+  -o, --output FILE         the textured mesh as .glb or .gltf (buffers embedded); required
   --metrics FILE            the map's metrics with the UV map's: split triangles, seam
                             vertices, flipped and degenerate UV triangles, stretch
   --mesh INDEX|NAME, --quiet  as for map
 
 )";
 
-const char* const kMorphUsage = R"(Usage: spheremap morph INPUT -o OUT.glb [--seconds S] [options]
+const char* const kMorphUsage =
+    R"(Usage: spheremap morph INPUT -o OUT.glb|OUT.gltf [--seconds S] [options]
 
 Maps INPUT onto the sphere and writes the (welded) surface with one morph target moving
 every vertex to its sphere position (a sphere of the surface's area about its centroid),
 normals too, and an animation that plays mesh -> sphere -> mesh: any glTF viewer shows
-the mesh becoming its sphere.
+the mesh becoming its sphere. A glTF input keeps its own vertices, materials, textures,
+TEXCOORD_n, COLOR_0, names, nodes and transforms.
 
-  -o, --output FILE         the morph as .glb; required
+  -o, --output FILE         the morph as .glb or .gltf (buffers embedded); required
   --seconds S               length of the animation (default 4)
   --metrics FILE            the map's metrics with the morph's
   --mesh INDEX|NAME, --quiet  as for map
@@ -80,8 +83,9 @@ int run_output(int argc, char** argv, Output kind) {
   }
   if (args.positional().size() != 1) throw UsageError("takes exactly one INPUT file");
   const std::string output = args.text("output", "");
-  if (output.size() < 5 || output.substr(output.size() - 4) != ".glb")
-    throw UsageError("needs -o OUTPUT.glb");
+  const bool gltf_text = output.size() > 5 && output.ends_with(".gltf");
+  if (!gltf_text && (output.size() < 5 || !output.ends_with(".glb")))
+    throw UsageError("needs -o OUTPUT.glb or OUTPUT.gltf, got '" + output + "'");
   const int resolution = static_cast<int>(args.integer("resolution", 256, 2, 4096));
   if (resolution % 2) throw UsageError("--resolution must be even");
   PrepareOptions prepare;
@@ -99,7 +103,8 @@ int run_output(int argc, char** argv, Output kind) {
   nlohmann::json metrics = {{"map", metrics_json(mapped, options)}};
   std::string glb;
   if (kind == Output::kRemesh) {
-    const RemeshAsset asset = remesh_asset(mapped, resolution, options.smoothing.threads);
+    const RemeshAsset asset =
+        remesh_asset(mapped, resolution, options.smoothing.threads, &run.input, &run.look);
     glb = asset.glb;
     metrics["remesh"] = asset.metrics;
     if (args.has("geometry-image"))
@@ -111,11 +116,12 @@ int run_output(int argc, char** argv, Output kind) {
     glb = asset.glb;
     metrics["uv"] = asset.metrics;
   } else {
-    const MorphAsset asset = morph_asset(mapped, args.number("seconds", 4, 0.1, 3600));
+    const MorphAsset asset =
+        morph_asset(mapped, args.number("seconds", 4, 0.1, 3600), &run.input, &run.look);
     glb = asset.glb;
     metrics["morph"] = asset.metrics;
   }
-  write_binary_file(output, glb);
+  write_binary_file(output, gltf_text ? glb_to_gltf(glb) : glb);
   if (args.has("metrics")) write_binary_file(args.text("metrics", ""), metrics.dump(2) + "\n");
   return kExitOk;
 }

@@ -150,7 +150,7 @@ MappedInput map_input(const Arguments& args, const PrepareOptions& prepare,
                       const MapOptions& options, const MapControl& control) {
   GltfReadStats stats;
   MappedInput out;
-  out.input = read_mesh_file(args.positional()[0], gltf_options(args), &stats);
+  out.input = read_mesh_file(args.positional()[0], gltf_options(args), &stats, &out.look);
   // Prepared once; the refusal carries what the glTF scene says (which meshes it draws,
   // which option maps one), which map_mesh alone could not know.
   const auto start = std::chrono::steady_clock::now();

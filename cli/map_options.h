@@ -28,6 +28,7 @@ GltfReadOptions gltf_options(const Arguments& args);
 // draws and the option that maps one (InputError).
 struct MappedInput {
   PolygonMesh input;
+  GltfAppearance look;  // a glTF input's materials, attributes and nodes (else empty)
   MappedMesh mapped;
 };
 MappedInput map_input(const Arguments& args, const PrepareOptions& prepare,

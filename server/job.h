@@ -26,6 +26,7 @@ inline bool is_terminal(JobStatus s) {
 // prepared (welded, validated), so a job that is accepted can be mapped.
 struct JobSpec {
   PolygonMesh input;
+  GltfAppearance look;  // the input's materials, textures, attributes, nodes (outputs keep them)
   PreparedMesh prepared;
   MapOptions map;
   SphereLayout layout = SphereLayout::kOriginal;

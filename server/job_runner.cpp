@@ -27,7 +27,7 @@ void set_stage(Job& job, const char* stage) {
 // marked "bijective": false, so the best map reached can still be downloaded.
 Certification make_artifacts(Job& job, const JobSpec& spec, const MappedMesh& mapped, int threads) {
   SphereAsset sphere =
-      sphere_asset(spec.input, mapped, spec.map, spec.layout, spec.draco_position_bits);
+      sphere_asset(spec.input, mapped, spec.map, spec.layout, spec.draco_position_bits, &spec.look);
   const Certification verdict = certify(mapped, sphere.written);
   nlohmann::json metrics = std::move(sphere.metrics);
   add_artifact(job, "sphere.glb", "model/gltf-binary", std::move(sphere.glb));
@@ -37,7 +37,8 @@ Certification make_artifacts(Job& job, const JobSpec& spec, const MappedMesh& ma
   };
   if (wanted("remesh") && !job.cancel) {
     set_stage(job, "remesh");
-    RemeshAsset remesh = remesh_asset(mapped, spec.remesh_resolution, threads);
+    RemeshAsset remesh =
+        remesh_asset(mapped, spec.remesh_resolution, threads, &spec.input, &spec.look);
     metrics["remesh"] = std::move(remesh.metrics);
     add_artifact(job, "remesh.glb", "model/gltf-binary", std::move(remesh.glb));
     add_artifact(job, "geometry_image.png", "image/png", std::move(remesh.geometry_image_png));
@@ -50,7 +51,7 @@ Certification make_artifacts(Job& job, const JobSpec& spec, const MappedMesh& ma
   }
   if (wanted("morph") && !job.cancel) {
     set_stage(job, "morph");
-    MorphAsset morph = morph_asset(mapped);
+    MorphAsset morph = morph_asset(mapped, 4, &spec.input, &spec.look);
     metrics["morph"] = std::move(morph.metrics);
     add_artifact(job, "morph.glb", "model/gltf-binary", std::move(morph.glb));
   }

@@ -33,6 +33,32 @@ class Writer {
     put_vector(mesh.offsets);
     put_vector(mesh.indices);
   }
+  void put_look(const GltfAppearance& look) {
+    nlohmann::json primitives = nlohmann::json::array();
+    for (const auto& p : look.primitives)
+      primitives.push_back({p.node, p.material, p.mesh_name, p.first_vertex, p.vertex_count,
+                            p.first_face, p.face_count, p.world, p.mirrored, p.attributes});
+    const nlohmann::json json = {{"materials", look.materials},
+                                 {"textures", look.textures},
+                                 {"samplers", look.samplers},
+                                 {"cameras", look.cameras},
+                                 {"images", look.images},
+                                 {"used", look.extensions_used},
+                                 {"required", look.extensions_required},
+                                 {"nodes", look.nodes},
+                                 {"scene_nodes", look.scene_nodes},
+                                 {"scene_name", look.scene_name},
+                                 {"primitives", primitives}};
+    put_string(json.dump());
+    put<uint64_t>(look.image_bytes.size());
+    for (const std::string& bytes : look.image_bytes) put_string(bytes);
+    put<uint64_t>(look.attributes.size());
+    for (const auto& a : look.attributes) {
+      put_string(a.name);
+      put<int32_t>(a.components);
+      put_vector(a.values);
+    }
+  }
   std::string take() { return std::move(out_); }
 
  private:
@@ -67,6 +93,38 @@ class Reader {
     mesh.indices = get_vector<uint32_t>();
     return mesh;
   }
+  GltfAppearance get_look() {
+    GltfAppearance look;
+    const nlohmann::json json = nlohmann::json::parse(get_string());
+    look.materials = json.at("materials");
+    look.textures = json.at("textures");
+    look.samplers = json.at("samplers");
+    look.cameras = json.at("cameras");
+    look.images = json.at("images");
+    look.extensions_used = json.at("used").get<std::vector<std::string>>();
+    look.extensions_required = json.at("required").get<std::vector<std::string>>();
+    look.nodes = json.at("nodes");
+    look.scene_nodes = json.at("scene_nodes").get<std::vector<size_t>>();
+    look.scene_name = json.at("scene_name").get<std::string>();
+    for (const auto& p : json.at("primitives"))
+      look.primitives.push_back({p[0].get<int64_t>(), p[1].get<int64_t>(), p[2].get<std::string>(),
+                                 p[3].get<uint32_t>(), p[4].get<uint32_t>(), p[5].get<uint32_t>(),
+                                 p[6].get<uint32_t>(), p[7].get<Matrix4>(), p[8].get<bool>(),
+                                 p[9].get<std::vector<std::string>>()});
+    const uint64_t images = get<uint64_t>();
+    if (images > json.at("images").size()) throw std::runtime_error("bad image count");
+    for (uint64_t i = 0; i < images; ++i) look.image_bytes.push_back(get_string());
+    const uint64_t attributes = get<uint64_t>();
+    if (attributes > 16) throw std::runtime_error("bad attribute count");
+    for (uint64_t i = 0; i < attributes; ++i) {
+      GltfAppearance::Attribute a;
+      a.name = get_string();
+      a.components = get<int32_t>();
+      a.values = get_vector<float>();
+      look.attributes.push_back(std::move(a));
+    }
+    return look;
+  }
   bool done() const { return at_ == bytes_.size(); }
 
  private:
@@ -94,6 +152,7 @@ std::string encode_request(const JobSpec& spec, double time_limit_seconds, int t
   w.put<uint64_t>(spec.outputs.size());
   for (const std::string& output : spec.outputs) w.put_string(output);
   w.put_mesh(spec.input);
+  w.put_look(spec.look);
   w.put_mesh(spec.prepared.welded.mesh);
   w.put_vector(spec.prepared.welded.input_to_welded);
   w.put<uint64_t>(spec.prepared.welded.unreferenced_vertices);
@@ -119,6 +178,7 @@ WorkerRequest decode_request(const std::string& bytes) {
   spec.outputs.clear();
   for (uint64_t i = 0; i < outputs; ++i) spec.outputs.push_back(r.get_string());
   spec.input = r.get_mesh();
+  spec.look = r.get_look();
   spec.prepared.welded.mesh = r.get_mesh();
   spec.prepared.welded.input_to_welded = r.get_vector<uint32_t>();
   spec.prepared.welded.unreferenced_vertices = r.get<uint64_t>();

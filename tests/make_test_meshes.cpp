@@ -1,6 +1,6 @@
 // Writes the generated test meshes as GLB files for the shell tests and the load bench
 // (no corpus needed): make_test_meshes OUTDIR -> OUTDIR/{icosphere2,icosphere4,horseshoe,
-// torus}.glb; with --stress [--million], the stress set as OBJ (bench/quality).
+// torus,textured_horseshoe}.glb; with --stress [--million], the stress set as OBJ (bench/quality).
 #include <cstdio>
 #include <string>
 
@@ -32,5 +32,7 @@ int main(int argc, char** argv) {
   write("icosphere4", testing::icosphere(4));  // 5,120 triangles
   write("horseshoe", testing::horseshoe());    // 744 triangles, the paper's loop never unfolds it
   write("torus", testing::torus(16, 12));      // genus 1: refused with 422
+  // Seams on every edge, TEXCOORD_0 and an embedded texture: outputs must keep them.
+  write_binary_file(dir + "/textured_horseshoe.glb", testing::textured_glb(testing::horseshoe()));
   return 0;
 }

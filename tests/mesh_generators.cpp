@@ -6,7 +6,46 @@
 #include <tuple>
 #include <vector>
 
+#include "core/io/glb_writer.h"
+#include "core/io/png_writer.h"
+
 namespace spheremap::testing {
+
+std::array<int, 3> textured_glb_color(double u, double v) {
+  const int x = std::clamp(static_cast<int>(u * 16), 0, 15) / 4;
+  const int y = std::clamp(static_cast<int>(v * 16), 0, 15) / 4;
+  static const std::array<int, 3> kColors[4] = {
+      {255, 0, 0}, {0, 255, 0}, {0, 0, 255}, {255, 255, 255}};
+  return kColors[(x + 2 * y) % 4];
+}
+
+std::string textured_glb(const PolygonMesh& mesh) {
+  Vec3 lo = mesh.positions[0], hi = lo;
+  for (const Vec3& p : mesh.positions) {
+    lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
+    hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
+  }
+  const double extent = std::max(hi.x - lo.x, hi.y - lo.y);
+  GlbMesh glb;
+  for (const Triangle& t : fan_triangulate(mesh).triangles) {
+    const uint32_t base = static_cast<uint32_t>(glb.positions.size());
+    for (uint32_t v : t) {
+      const Vec3& p = mesh.positions[v];
+      glb.positions.push_back(p);
+      glb.texcoords.push_back(
+          {static_cast<float>((p.x - lo.x) / extent), static_cast<float>((p.y - lo.y) / extent)});
+    }
+    glb.triangles.push_back({base, base + 1, base + 2});
+  }
+  std::vector<uint16_t> rgb;
+  for (int y = 0; y < 16; ++y)
+    for (int x = 0; x < 16; ++x)
+      for (int c : textured_glb_color((x + 0.5) / 16, (y + 0.5) / 16))
+        rgb.push_back(static_cast<uint16_t>(c));
+  glb.base_color_png = encode_png(16, 16, 8, rgb);
+  glb.material_name = "test squares";
+  return format_glb(glb);
+}
 
 PolygonMesh icosphere(int levels) {
   const double t = (1.0 + std::sqrt(5.0)) / 2.0;

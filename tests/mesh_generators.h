@@ -3,6 +3,7 @@
 // polygon faces) and invalid ones (torus, holes, two components, a pinched vertex).
 #pragma once
 
+#include <array>
 #include <span>
 #include <string>
 #include <vector>
@@ -57,5 +58,13 @@ PolygonMesh pinched_tetrahedra();
 PolygonMesh reversed(PolygonMesh mesh);
 // The mesh without face f (a hole).
 PolygonMesh without_face(const PolygonMesh& mesh, size_t f);
+
+// A textured GLB of `mesh` (fan-triangulated) as exporters write one: every triangle's
+// corners are vertices of their own (seams everywhere), TEXCOORD_0 is the planar
+// projection (x, y) scaled to [0, 1], and a material holds an embedded 16 x 16 PNG of
+// 4 x 4 squares in red, green, blue and white.
+std::string textured_glb(const PolygonMesh& mesh);
+// That texture's colour at (u, v) (nearest texel, clamped), 8-bit RGB.
+std::array<int, 3> textured_glb_color(double u, double v);
 
 }  // namespace spheremap::testing

@@ -1,5 +1,7 @@
 #include "core/io/glb_writer.h"
 
+#include "core/io/glb_builder.h"
+
 #include <draco/compression/encode.h>
 #include <draco/mesh/mesh.h>
 
@@ -17,20 +19,6 @@ void append_bytes(std::string& out, const void* data, size_t size) {
 
 void append_u32(std::string& out, uint32_t v) {
   append_bytes(out, &v, 4);
-}
-
-// Appends float32 xyz triples; returns {min, max} per axis of what was written.
-std::pair<std::array<float, 3>, std::array<float, 3>> append_vec3(std::string& bin,
-                                                                  const std::vector<Vec3>& v) {
-  std::array<float, 3> lo, hi;
-  lo.fill(std::numeric_limits<float>::max());
-  hi.fill(std::numeric_limits<float>::lowest());
-  for (const Vec3& p : v) {
-    const float f[3] = {static_cast<float>(p.x), static_cast<float>(p.y), static_cast<float>(p.z)};
-    append_bytes(bin, f, sizeof f);
-    for (int k = 0; k < 3; ++k) lo[k] = std::min(lo[k], f[k]), hi[k] = std::max(hi[k], f[k]);
-  }
-  return {lo, hi};
 }
 
 // Adds a float32 xyz attribute with one value per point; returns its unique id.
@@ -79,115 +67,69 @@ GlbParts build_glb(const GlbMesh& mesh) {
       (!mesh.texcoords.empty() || !mesh.morph_positions.empty() || !mesh.base_color_png.empty()))
     throw std::invalid_argument("build_glb: Draco output carries positions and normals only");
   const size_t n = mesh.positions.size();
-  std::string bin;
-  nlohmann::json views = nlohmann::json::array(), accessors = nlohmann::json::array();
+  GlbBuilder b;
   // With Draco, accessors describe the decoded data and have no bufferView.
-  auto add_view = [&](const std::string& data, int target) {
-    nlohmann::json view = {{"buffer", 0}, {"byteOffset", bin.size()}, {"byteLength", data.size()}};
-    if (target) view["target"] = target;
-    views.push_back(std::move(view));
-    bin += data;
-    while (bin.size() % 4) bin.push_back('\0');
-    return views.size() - 1;
+  auto vec3 = [&](const std::vector<Vec3>& values, bool bounds) {
+    if (!draco) return b.add_vec3(values, bounds);
+    nlohmann::json accessor = {{"componentType", 5126}, {"count", n}, {"type", "VEC3"}};
+    if (bounds) {
+      GlbBuilder scratch;  // the bounds as the plain accessor has them
+      accessor = scratch.accessors()[scratch.add_vec3(values, true)];
+      accessor.erase("bufferView");
+    }
+    return b.add_accessor(std::move(accessor));
   };
-  auto add_accessor = [&](nlohmann::json accessor, const std::string& data, int target) {
-    if (!draco) accessor["bufferView"] = add_view(data, target);
-    accessors.push_back(std::move(accessor));
-    return accessors.size() - 1;
-  };
-  std::string data;
-  const auto [lo, hi] = append_vec3(data, mesh.positions);
   nlohmann::json attributes;
-  attributes["POSITION"] = add_accessor(
-      {{"componentType", 5126}, {"count", n}, {"type", "VEC3"}, {"min", lo}, {"max", hi}}, data,
-      34962);
-  if (!mesh.normals.empty()) {
-    data.clear();
-    append_vec3(data, mesh.normals);
-    attributes["NORMAL"] =
-        add_accessor({{"componentType", 5126}, {"count", n}, {"type", "VEC3"}}, data, 34962);
-  }
-  if (!mesh.texcoords.empty()) {
-    data.clear();
-    for (const auto& uv : mesh.texcoords) append_bytes(data, uv.data(), 8);
-    attributes["TEXCOORD_0"] =
-        add_accessor({{"componentType", 5126}, {"count", n}, {"type", "VEC2"}}, data, 34962);
-  }
+  attributes["POSITION"] = vec3(mesh.positions, true);
+  if (!mesh.normals.empty()) attributes["NORMAL"] = vec3(mesh.normals, false);
+  if (!mesh.texcoords.empty())
+    attributes["TEXCOORD_0"] = b.add_floats({mesh.texcoords.data()->data(), 2 * n}, 2);
   nlohmann::json targets = nlohmann::json::array();
   if (!mesh.morph_positions.empty()) {
-    data.clear();
-    const auto [dlo, dhi] = append_vec3(data, mesh.morph_positions);
     nlohmann::json target;
-    target["POSITION"] = add_accessor(
-        {{"componentType", 5126}, {"count", n}, {"type", "VEC3"}, {"min", dlo}, {"max", dhi}}, data,
-        34962);
-    if (!mesh.morph_normals.empty()) {
-      data.clear();
-      append_vec3(data, mesh.morph_normals);
-      target["NORMAL"] =
-          add_accessor({{"componentType", 5126}, {"count", n}, {"type", "VEC3"}}, data, 34962);
-    }
+    target["POSITION"] = b.add_vec3(mesh.morph_positions, true);
+    if (!mesh.morph_normals.empty()) target["NORMAL"] = b.add_vec3(mesh.morph_normals, false);
     targets.push_back(target);
   }
-  data.clear();
-  for (const Triangle& t : mesh.triangles) append_bytes(data, t.data(), 12);
-  const size_t indices = add_accessor(
-      {{"componentType", 5125}, {"count", 3 * mesh.triangles.size()}, {"type", "SCALAR"}}, data,
-      34963);
+  const size_t indices =
+      draco
+          ? b.add_accessor(
+                {{"componentType", 5125}, {"count", 3 * mesh.triangles.size()}, {"type", "SCALAR"}})
+          : b.add_indices(mesh.triangles);
   nlohmann::json primitive = {{"attributes", attributes}, {"indices", indices}, {"mode", 4}};
   if (!targets.empty()) primitive["targets"] = targets;
   nlohmann::json extra_members = nlohmann::json::object();
   if (!mesh.base_color_png.empty()) {
     primitive["material"] = 0;
     extra_members["images"] = {
-        {{"bufferView", add_view(mesh.base_color_png, 0)}, {"mimeType", "image/png"}}};
+        {{"bufferView", b.add_view(mesh.base_color_png)}, {"mimeType", "image/png"}}};
     // Linear magnification, trilinear minification, clamped: the square has no wrap.
     extra_members["samplers"] = {
         {{"magFilter", 9729}, {"minFilter", 9987}, {"wrapS", 33071}, {"wrapT", 33071}}};
     extra_members["textures"] = {{{"source", 0}, {"sampler", 0}}};
-    extra_members["materials"] = {{{"name", "checker"},
+    extra_members["materials"] = {{{"name", mesh.material_name},
                                    {"pbrMetallicRoughness",
                                     {{"baseColorTexture", {{"index", 0}}},
                                      {"metallicFactor", 0.0},
                                      {"roughnessFactor", 0.9}}}}};
   }
-  if (!targets.empty() && mesh.morph_seconds > 0) {
-    const float half = static_cast<float>(mesh.morph_seconds / 2);
-    const float times[] = {0, half, 2 * half}, weights[] = {0, 1, 0};
-    std::string time_data, weight_data;
-    append_bytes(time_data, times, sizeof times);
-    append_bytes(weight_data, weights, sizeof weights);
-    const size_t input = add_accessor({{"componentType", 5126},
-                                       {"count", 3},
-                                       {"type", "SCALAR"},
-                                       {"min", {0.0}},
-                                       {"max", {2 * half}}},
-                                      time_data, 0);
-    const size_t output =
-        add_accessor({{"componentType", 5126}, {"count", 3}, {"type", "SCALAR"}}, weight_data, 0);
-    extra_members["animations"] = {
-        {{"name", "mesh to sphere"},
-         {"samplers", {{{"input", input}, {"output", output}, {"interpolation", "LINEAR"}}}},
-         {"channels", {{{"sampler", 0}, {"target", {{"node", 0}, {"path", "weights"}}}}}}}};
-  }
+  if (!targets.empty() && mesh.morph_seconds > 0)
+    extra_members["animations"] = {morph_animation(b, mesh.morph_seconds, {0})};
   if (draco) {
     nlohmann::json ids;
     const std::string stream = encode_draco(mesh, ids);
-    views.push_back({{"buffer", 0}, {"byteOffset", bin.size()}, {"byteLength", stream.size()}});
-    bin += stream;
     primitive["extensions"] = {
-        {"KHR_draco_mesh_compression", {{"bufferView", views.size() - 1}, {"attributes", ids}}}};
+        {"KHR_draco_mesh_compression", {{"bufferView", b.add_view(stream)}, {"attributes", ids}}}};
   }
-  while (bin.size() % 4) bin.push_back('\0');
   nlohmann::json json = {
       {"asset", {{"version", "2.0"}, {"generator", "spheremap"}}},
       {"scene", 0},
       {"scenes", {{{"nodes", {0}}}}},
       {"nodes", {{{"mesh", 0}}}},
       {"meshes", {{{"primitives", {primitive}}, {"extras", mesh.extras}}}},
-      {"accessors", accessors},
-      {"bufferViews", views},
-      {"buffers", {{{"byteLength", bin.size()}}}},
+      {"accessors", b.accessors()},
+      {"bufferViews", b.views()},
+      {"buffers", {{{"byteLength", b.bin().size()}}}},
   };
   for (const auto& [key, value] : extra_members.items()) json[key] = value;
   if (!targets.empty()) json["meshes"][0]["weights"] = {0.0};
@@ -195,7 +137,25 @@ GlbParts build_glb(const GlbMesh& mesh) {
     json["extensionsUsed"] = {"KHR_draco_mesh_compression"};
     json["extensionsRequired"] = {"KHR_draco_mesh_compression"};
   }
-  return {std::move(json), std::move(bin)};
+  return {std::move(json), std::move(b.bin())};
+}
+
+nlohmann::json morph_animation(GlbBuilder& b, double seconds, const std::vector<size_t>& nodes) {
+  const float half = static_cast<float>(seconds / 2);
+  const float times[] = {0, half, 2 * half}, weights[] = {0, 1, 0};
+  const size_t input = b.add_accessor({{"componentType", 5126},
+                                       {"count", 3},
+                                       {"type", "SCALAR"},
+                                       {"min", {0.0}},
+                                       {"max", {2 * half}}},
+                                      std::string(reinterpret_cast<const char*>(times), 12));
+  const size_t output = b.add_floats(weights, 1, 0);
+  nlohmann::json channels = nlohmann::json::array();
+  for (size_t node : nodes)
+    channels.push_back({{"sampler", 0}, {"target", {{"node", node}, {"path", "weights"}}}});
+  return {{"name", "mesh to sphere"},
+          {"samplers", {{{"input", input}, {"output", output}, {"interpolation", "LINEAR"}}}},
+          {"channels", channels}};
 }
 
 std::string serialize_glb(const GlbParts& parts) {
@@ -213,6 +173,43 @@ std::string serialize_glb(const GlbParts& parts) {
   append_u32(out, 0x004E4942);
   out += parts.bin;
   return out;
+}
+
+std::string base64(std::string_view bytes) {
+  static const char kDigits[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::string out;
+  out.reserve((bytes.size() + 2) / 3 * 4);
+  for (size_t i = 0; i < bytes.size(); i += 3) {
+    const size_t n = std::min<size_t>(3, bytes.size() - i);
+    uint32_t v = 0;
+    for (size_t k = 0; k < 3; ++k) v = v << 8 | (k < n ? static_cast<uint8_t>(bytes[i + k]) : 0u);
+    for (size_t k = 0; k < 4; ++k) out.push_back(k <= n ? kDigits[(v >> (18 - 6 * k)) & 63] : '=');
+  }
+  return out;
+}
+
+std::string serialize_gltf(const GlbParts& parts) {
+  nlohmann::json json = parts.json;
+  if (json.contains("buffers") && !json["buffers"].empty())
+    json["buffers"][0]["uri"] = "data:application/octet-stream;base64," + base64(parts.bin);
+  return json.dump() + "\n";
+}
+
+std::string glb_to_gltf(std::string_view glb) {
+  auto u32 = [&](size_t at) {
+    uint32_t v;
+    std::memcpy(&v, glb.data() + at, 4);
+    return v;
+  };
+  if (glb.size() < 20 || u32(0) != 0x46546C67 || u32(16) != 0x4E4F534A || u32(12) > glb.size() - 20)
+    throw std::invalid_argument("not a GLB");
+  GlbParts parts;
+  const size_t json_end = 20 + u32(12);
+  parts.json = nlohmann::json::parse(glb.substr(20, u32(12)));
+  if (glb.size() >= json_end + 8 && u32(json_end + 4) == 0x004E4942 &&
+      u32(json_end) <= glb.size() - json_end - 8)
+    parts.bin = std::string(glb.substr(json_end + 8, u32(json_end)));
+  return serialize_gltf(parts);
 }
 
 }  // namespace spheremap

@@ -7,6 +7,7 @@
 #include <array>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "core/mesh/mesh.h"
@@ -25,6 +26,7 @@ struct GlbMesh {
 
   std::vector<std::array<float, 2>> texcoords;  // TEXCOORD_0: empty, or one per position
   std::string base_color_png;                   // non-empty: a material with this texture
+  std::string material_name = "checker";
   // One morph target: a displacement per position (and per normal, when given), the mesh's
   // weight 0; with morph_seconds > 0, an animation plays the weight 0 -> 1 -> 0 over it.
   std::vector<Vec3> morph_positions, morph_normals;
@@ -42,5 +44,16 @@ std::string serialize_glb(const GlbParts& parts);
 inline std::string format_glb(const GlbMesh& mesh) {
   return serialize_glb(build_glb(mesh));
 }
+
+// The same asset as glTF JSON text, its buffer embedded as a base64 data: URI. The JSON
+// and binary chunks are the ones serialize_glb writes (a GLB of another writer may have
+// others, which are dropped). Throws std::invalid_argument when `glb` is not a GLB.
+std::string serialize_gltf(const GlbParts& parts);
+std::string glb_to_gltf(std::string_view glb);
+
+class GlbBuilder;
+// The animation "mesh to sphere": each node's morph weight 0 -> 1 -> 0 over `seconds`.
+nlohmann::json morph_animation(GlbBuilder& builder, double seconds,
+                               const std::vector<size_t>& nodes);
 
 }  // namespace spheremap

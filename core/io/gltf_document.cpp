@@ -110,7 +110,7 @@ size_t index_field(const nlohmann::json& object, const char* key, size_t limit, 
 
 Document::Document(std::span<const uint8_t> bytes, const GltfResources* resources,
                    size_t max_decoded_bytes)
-    : decode_budget_(max_decoded_bytes) {
+    : resources_(resources), decode_budget_(max_decoded_bytes) {
   std::span<const uint8_t> json_text = bytes, bin;
   bool has_bin = false;
   if (bytes.size() >= 4 && read_u32(bytes, 0) == kGlbMagic) {
@@ -323,6 +323,52 @@ Document::AccessorView Document::accessor(size_t index) const {
   return v;
 }
 
+// One component of an accessor element as a double: FLOAT as it is, normalized integers
+// to [-1, 1] or [0, 1] (signed ones clamped at -1), other integers as they are.
+static double component_value(const uint8_t* p, int component_type, bool normalized) {
+  switch (component_type) {
+    case 5120: {
+      const double x = static_cast<int8_t>(p[0]);
+      return normalized ? std::max(x / 127.0, -1.0) : x;
+    }
+    case 5121:
+      return normalized ? p[0] / 255.0 : p[0];
+    case 5122: {
+      int16_t x;
+      std::memcpy(&x, p, 2);
+      return normalized ? std::max(x / 32767.0, -1.0) : x;
+    }
+    case 5123: {
+      uint16_t x;
+      std::memcpy(&x, p, 2);
+      return normalized ? x / 65535.0 : x;
+    }
+    case 5125: {
+      uint32_t x;
+      std::memcpy(&x, p, 4);
+      return normalized ? x / 4294967295.0 : x;
+    }
+    default: {
+      float f;
+      std::memcpy(&f, p, 4);
+      return f;
+    }
+  }
+}
+
+std::vector<double> Document::read_numbers(const AccessorView& v, size_t index) const {
+  const nlohmann::json& a = element("accessors", index);
+  const bool normalized = a.contains("normalized") && a["normalized"] == true;
+  const size_t size = component_size(v.component_type);
+  const size_t components = static_cast<size_t>(v.components);
+  std::vector<double> out(v.count * components);
+  for (size_t i = 0; i < v.count; ++i)
+    for (size_t c = 0; c < components; ++c)
+      out[i * components + c] =
+          component_value(v.bytes.data() + i * v.stride + size * c, v.component_type, normalized);
+  return out;
+}
+
 std::vector<double> Document::read_positions(size_t index) const {
   const AccessorView v = accessor(index);
   const std::string name = "POSITION accessor " + std::to_string(index);
@@ -336,40 +382,36 @@ std::vector<double> Document::read_positions(size_t index) const {
     fail(name +
          " stores integers, which needs KHR_mesh_quantization, and the file does not "
          "list that extension in extensionsUsed");
-  const nlohmann::json& a = element("accessors", index);
-  const bool normalized = a.contains("normalized") && a["normalized"] == true;
-  // KHR_mesh_quantization: normalized integers map to [-1, 1] or [0, 1] (signed ones
-  // clamped at -1); unnormalized ones are taken as they are, the node transform scales them.
-  auto value = [&](const uint8_t* p) -> double {
-    switch (v.component_type) {
-      case 5120: {
-        const double x = static_cast<int8_t>(p[0]);
-        return normalized ? std::max(x / 127.0, -1.0) : x;
-      }
-      case 5121:
-        return normalized ? p[0] / 255.0 : p[0];
-      case 5122: {
-        int16_t x;
-        std::memcpy(&x, p, 2);
-        return normalized ? std::max(x / 32767.0, -1.0) : x;
-      }
-      case 5123: {
-        uint16_t x;
-        std::memcpy(&x, p, 2);
-        return normalized ? x / 65535.0 : x;
-      }
-      default: {
-        float f;
-        std::memcpy(&f, p, 4);
-        return f;
-      }
-    }
-  };
-  const size_t size = component_size(v.component_type);
-  std::vector<double> out(v.count * 3);
-  for (size_t i = 0; i < v.count; ++i)
-    for (size_t c = 0; c < 3; ++c) out[i * 3 + c] = value(v.bytes.data() + i * v.stride + size * c);
-  return out;
+  // KHR_mesh_quantization: unnormalized integers are taken as they are; the node
+  // transform scales them.
+  return read_numbers(v, index);
+}
+
+std::vector<double> Document::read_attribute(size_t index, int* components) const {
+  const AccessorView v = accessor(index);
+  *components = v.components;
+  return read_numbers(v, index);
+}
+
+std::optional<std::string> Document::image_bytes(size_t index) const {
+  const nlohmann::json& image = element("images", index);
+  if (const size_t view = index_field(image, "bufferView", SIZE_MAX, "image.bufferView");
+      view != SIZE_MAX) {
+    const std::span<const uint8_t> bytes = buffer_view(view);
+    return std::string(reinterpret_cast<const char*>(bytes.data()), bytes.size());
+  }
+  const auto uri = image.find("uri");
+  if (uri == image.end() || !uri->is_string()) return std::nullopt;
+  const std::string& text = uri->get_ref<const std::string&>();
+  if (text.rfind("data:", 0) == 0) {
+    const size_t comma = text.find(',');
+    if (comma == std::string::npos || text.substr(0, comma).find(";base64") == std::string::npos)
+      return std::nullopt;
+    const std::vector<uint8_t> data = decode_base64(std::string_view(text).substr(comma + 1));
+    return std::string(data.begin(), data.end());
+  }
+  if (!resources_) return std::nullopt;
+  return resources_->fetch(checked_resource_path(text), kMaxResourceBytes);
 }
 
 std::vector<uint32_t> Document::read_indices(size_t index, size_t vertex_count) const {

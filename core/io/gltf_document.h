@@ -4,6 +4,7 @@
 
 #include <map>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -30,6 +31,12 @@ class Document {
   // KHR_mesh_quantization, normalized or not) or indices, checked against its view.
   std::vector<double> read_positions(size_t index) const;
   std::vector<uint32_t> read_indices(size_t index, size_t vertex_count) const;
+  // Any accessor as doubles (normalized integers scaled to [0, 1] or [-1, 1]), `components`
+  // per element, which is set.
+  std::vector<double> read_attribute(size_t index, int* components) const;
+  // The encoded bytes of image `index` (its bufferView, data: URI or file from the
+  // resources), or nothing when they are not available.
+  std::optional<std::string> image_bytes(size_t index) const;
 
   // Array element `index` of json()[key], or fail naming the reference.
   const nlohmann::json& element(const char* key, size_t index) const;
@@ -41,6 +48,7 @@ class Document {
     int component_type, components;
   };
   AccessorView accessor(size_t index) const;
+  std::vector<double> read_numbers(const AccessorView& view, size_t index) const;
   void check_required_extensions() const;
   void load_buffers(std::span<const uint8_t> bin_chunk, bool has_bin,
                     const GltfResources* resources);
@@ -49,6 +57,7 @@ class Document {
   bool uses_extension(const char* name) const;
 
   nlohmann::json json_;
+  const GltfResources* resources_;  // lives as long as the Document (read_gltf's caller)
   std::vector<std::vector<uint8_t>> buffers_;
   // Buffers that only stand in for EXT_meshopt_compression data ("fallback": true, no uri).
   std::vector<char> placeholder_;

@@ -5,8 +5,10 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <optional>
 
 #include "core/io/gltf_document.h"
+#include "core/io/gltf_look.h"
 #include "core/mesh/input_error.h"
 
 namespace spheremap {
@@ -75,10 +77,20 @@ Matrix local_transform(const nlohmann::json& node) {
 }
 
 class Reader {
+  // A primitive's attribute (other than POSITION) before it joins the appearance.
+  struct LookAttribute {
+    std::string name;
+    int components;
+    std::vector<double> values;
+  };
+
  public:
   Reader(std::span<const uint8_t> bytes, const GltfReadOptions& options, GltfReadStats& stats,
-         const GltfResources* resources)
-      : doc_(bytes, resources, decode_budget(options)), options_(options), stats_(stats) {}
+         const GltfResources* resources, GltfAppearance* look)
+      : doc_(bytes, resources, decode_budget(options)),
+        options_(options),
+        stats_(stats),
+        look_(look) {}
 
   PolygonMesh read() {
     const nlohmann::json& json = doc_.json();
@@ -93,12 +105,13 @@ class Reader {
       // transform), or as stored when no node does.
       chosen_ = chosen_mesh(mesh_count);
       if (has_scene) walk_scene();
-      if (!chosen_drawn_) add_mesh(chosen_, kIdentity);
+      if (!chosen_drawn_) add_mesh(chosen_, kIdentity, -1);
     } else if (has_scene) {
       walk_scene();
     } else {
-      for (size_t m = 0; m < mesh_count; ++m) add_mesh(m, kIdentity);
+      for (size_t m = 0; m < mesh_count; ++m) add_mesh(m, kIdentity, -1);
     }
+    if (look_) copy_look(*look_);
     for (size_t m = 0; m < mesh_count; ++m)
       if (draws_[m] > 1 && (stats_.repeated_mesh < 0 || draws_[m] > stats_.repeated_mesh_draws))
         stats_.repeated_mesh = static_cast<int>(m), stats_.repeated_mesh_draws = draws_[m];
@@ -123,7 +136,10 @@ class Reader {
       for (const auto& n : *nodes) {
         if (!n.is_number_unsigned()) fail("a scene node reference is not an index");
         visit(n.get<size_t>(), kIdentity, 0);
+        scene_roots_.push_back(n.get<size_t>());
       }
+    if (const auto name = s.find("name"); name != s.end() && name->is_string())
+      scene_name_ = name->get<std::string>();
   }
 
   size_t chosen_mesh(size_t mesh_count) {
@@ -174,10 +190,11 @@ class Reader {
                            "closed surface",
                        {"mesh", m, "maps mesh " + m + " once"});
     }
-    if (chosen_ == SIZE_MAX) return add_mesh(mesh, world);
+    const auto node_id = static_cast<int64_t>(node_index);
+    if (chosen_ == SIZE_MAX) return add_mesh(mesh, world, node_id);
     if (mesh == chosen_ && !chosen_drawn_) {
       chosen_drawn_ = true;
-      add_mesh(mesh, world);
+      add_mesh(mesh, world, node_id);
     }
   }
 
@@ -203,7 +220,7 @@ class Reader {
   size_t chosen_ = SIZE_MAX;   // --mesh: the one mesh to read
   bool chosen_drawn_ = false;
 
-  void add_mesh(size_t mesh_index, const Matrix& world) {
+  void add_mesh(size_t mesh_index, const Matrix& world, int64_t node) {
     const nlohmann::json& mesh = doc_.element("meshes", mesh_index);
     const auto primitives = mesh.find("primitives");
     if (primitives == mesh.end() || !primitives->is_array())
@@ -211,7 +228,7 @@ class Reader {
     const size_t faces_before = mesh_.face_count();
     for (const auto& p : *primitives) {
       if (!p.is_object()) fail("a primitive is not an object");
-      add_primitive(p, world);
+      add_primitive(p, world, node, mesh);
     }
     auto& drawn = stats_.drawn_meshes;
     const auto known = std::find_if(drawn.begin(), drawn.end(),
@@ -223,7 +240,8 @@ class Reader {
     }
   }
 
-  void add_primitive(const nlohmann::json& p, const Matrix& world) {
+  void add_primitive(const nlohmann::json& p, const Matrix& world, int64_t node,
+                     const nlohmann::json& mesh) {
     const size_t mode = index_field(p, "mode", 7, "primitive mode", 4);
     if (mode < 4) {
       ++stats_.skipped_primitives;
@@ -232,9 +250,11 @@ class Reader {
     ++stats_.primitives;
     std::vector<double> positions;
     std::vector<uint32_t> indices;
+    std::vector<LookAttribute> carried;
     const auto ext = p.find("extensions");
     if (ext != p.end() && ext->is_object() && ext->contains("KHR_draco_mesh_compression")) {
-      decode_draco((*ext)["KHR_draco_mesh_compression"], positions, indices);
+      decode_draco((*ext)["KHR_draco_mesh_compression"], positions, indices,
+                   look_ ? &carried : nullptr);
       ++stats_.draco_primitives;
     } else {
       const auto attributes = p.find("attributes");
@@ -252,8 +272,32 @@ class Reader {
         indices.resize(vertex_count);
         for (uint32_t i = 0; i < vertex_count; ++i) indices[i] = i;
       }
+      if (look_) carried = look_attributes(*attributes, vertex_count);
     }
-    append(positions, triangles_of(indices, mode), world);
+    const size_t first_vertex = mesh_.vertex_count(), first_face = mesh_.face_count();
+    const bool mirrored = append(positions, triangles_of(indices, mode), world);
+    if (!look_) return;
+    GltfAppearance::Primitive record;
+    record.node = node;
+    const size_t materials =
+        doc_.json().contains("materials") && doc_.json()["materials"].is_array()
+            ? doc_.json()["materials"].size()
+            : 0;
+    const size_t material = index_field(p, "material", materials, "primitive material");
+    record.material = material == SIZE_MAX ? -1 : static_cast<int64_t>(material);
+    if (const auto name = mesh.find("name"); name != mesh.end() && name->is_string())
+      record.mesh_name = name->get<std::string>();
+    record.first_vertex = static_cast<uint32_t>(first_vertex);
+    record.vertex_count = static_cast<uint32_t>(mesh_.vertex_count() - first_vertex);
+    record.first_face = static_cast<uint32_t>(first_face);
+    record.face_count = static_cast<uint32_t>(mesh_.face_count() - first_face);
+    record.world = world;
+    record.mirrored = mirrored;
+    for (const LookAttribute& a : carried) {
+      record.attributes.push_back(a.name);
+      store_attribute(a, first_vertex, record.vertex_count);
+    }
+    look_->primitives.push_back(std::move(record));
   }
 
   static std::vector<uint32_t> triangles_of(const std::vector<uint32_t>& idx, size_t mode) {
@@ -275,7 +319,7 @@ class Reader {
   }
 
   void decode_draco(const nlohmann::json& draco_ext, std::vector<double>& positions,
-                    std::vector<uint32_t>& indices) {
+                    std::vector<uint32_t>& indices, std::vector<LookAttribute>* look) {
     if (!draco_ext.is_object()) fail("KHR_draco_mesh_compression is not an object");
     const size_t view = index_field(draco_ext, "bufferView", SIZE_MAX, "Draco bufferView");
     if (view == SIZE_MAX) fail("KHR_draco_mesh_compression has no bufferView");
@@ -309,6 +353,7 @@ class Reader {
         fail("a Draco position does not convert to float");
       for (int c = 0; c < 3; ++c) positions[3 * i + c] = v[static_cast<size_t>(c)];
     }
+    if (look) *look = draco_look_attributes(mesh, *attributes);
     indices.resize(static_cast<size_t>(mesh.num_faces()) * 3);
     for (uint32_t f = 0; f < mesh.num_faces(); ++f)
       for (int c = 0; c < 3; ++c) {
@@ -318,7 +363,8 @@ class Reader {
       }
   }
 
-  void append(const std::vector<double>& positions, const std::vector<uint32_t>& tris,
+  // Returns whether the transform mirrors (its faces were flipped to keep them outward).
+  bool append(const std::vector<double>& positions, const std::vector<uint32_t>& tris,
               const Matrix& m) {
     const uint32_t base = static_cast<uint32_t>(mesh_.vertex_count());
     const size_t count = positions.size() / 3;
@@ -344,20 +390,116 @@ class Reader {
                              base + (det < 0 ? tris[t + 1] : tris[t + 2])};
       mesh_.add_face(f);
     }
+    return det < 0;
   }
 
   gltf::Document doc_;
   const GltfReadOptions& options_;
   GltfReadStats& stats_;
   PolygonMesh mesh_;
+
+  // The look, read only when asked for (read_gltf's `appearance`).
+  GltfAppearance* look_;
+  std::vector<size_t> scene_roots_;
+  std::string scene_name_;
+
+  static bool carried_attribute(const std::string& name) {
+    return name == "NORMAL" || name == "COLOR_0" ||
+           (name.rfind("TEXCOORD_", 0) == 0 && name.size() == 10 && name[9] >= '0' &&
+            name[9] <= '3');
+  }
+  static int carried_components(const std::string& name) {
+    return name == "NORMAL" ? 3 : name == "COLOR_0" ? 4 : 2;
+  }
+
+  // The carried attributes of a plain primitive. One that does not fit (wrong count or
+  // type) is left out: the look is a courtesy, never a reason to refuse a mappable mesh.
+  std::vector<LookAttribute> look_attributes(const nlohmann::json& attributes,
+                                             size_t vertex_count) const {
+    std::vector<LookAttribute> out;
+    const size_t accessors =
+        doc_.json().contains("accessors") ? doc_.json()["accessors"].size() : 0;
+    for (const auto& [name, value] : attributes.items()) {
+      if (!carried_attribute(name)) continue;
+      const size_t index = index_field(attributes, name.c_str(), accessors, "attribute accessor");
+      int components = 0;
+      std::vector<double> values = doc_.read_attribute(index, &components);
+      if (values.size() != vertex_count * static_cast<size_t>(components)) continue;
+      if (auto fitted = fitted_attribute(name, components, std::move(values)))
+        out.push_back(std::move(*fitted));
+    }
+    return out;
+  }
+
+  std::vector<LookAttribute> draco_look_attributes(const draco::Mesh& mesh,
+                                                   const nlohmann::json& ids) const {
+    std::vector<LookAttribute> out;
+    for (const auto& [name, id] : ids.items()) {
+      if (!carried_attribute(name) || !id.is_number_unsigned() || id.get<uint64_t>() > UINT32_MAX)
+        continue;
+      const draco::PointAttribute* attribute =
+          mesh.GetAttributeByUniqueId(static_cast<uint32_t>(id.get<uint64_t>()));
+      if (!attribute || attribute->num_components() < 1 || attribute->num_components() > 4)
+        continue;
+      const int components = attribute->num_components();
+      std::vector<double> values(static_cast<size_t>(mesh.num_points()) * components);
+      std::array<float, 4> v{};
+      for (uint32_t i = 0; i < mesh.num_points(); ++i) {
+        if (!attribute->ConvertValue<float>(attribute->mapped_index(draco::PointIndex(i)),
+                                            static_cast<int8_t>(components), v.data()))
+          break;
+        for (int c = 0; c < components; ++c)
+          values[static_cast<size_t>(i) * components + c] = v[static_cast<size_t>(c)];
+      }
+      if (auto fitted = fitted_attribute(name, components, std::move(values)))
+        out.push_back(std::move(*fitted));
+    }
+    return out;
+  }
+
+  // The attribute with the components the writer uses (COLOR_0 RGB gets alpha 1), or
+  // nothing when its component count is not one glTF allows for it.
+  static std::optional<LookAttribute> fitted_attribute(const std::string& name, int components,
+                                                       std::vector<double> values) {
+    const int wanted = carried_components(name);
+    if (components == wanted) return LookAttribute{name, components, std::move(values)};
+    if (name != "COLOR_0" || components != 3) return std::nullopt;
+    const size_t count = values.size() / 3;
+    std::vector<double> rgba(count * 4, 1.0);
+    for (size_t i = 0; i < count; ++i)
+      for (size_t c = 0; c < 3; ++c) rgba[i * 4 + c] = values[i * 3 + c];
+    return LookAttribute{name, 4, std::move(rgba)};
+  }
+
+  void store_attribute(const LookAttribute& a, size_t first_vertex, size_t count) {
+    auto& list = look_->attributes;
+    auto it = std::find_if(list.begin(), list.end(),
+                           [&](const GltfAppearance::Attribute& x) { return x.name == a.name; });
+    if (it == list.end()) {
+      list.push_back({a.name, a.components, {}});
+      it = list.end() - 1;
+    }
+    const size_t stride = static_cast<size_t>(a.components);
+    it->values.resize(mesh_.vertex_count() * stride, 0.0f);
+    for (size_t i = 0; i < count * stride; ++i)
+      it->values[first_vertex * stride + i] = static_cast<float>(a.values[i]);
+  }
+
+  void copy_look(GltfAppearance& look) const {
+    for (GltfAppearance::Attribute& a : look.attributes)
+      a.values.resize(mesh_.vertex_count() * static_cast<size_t>(a.components), 0.0f);
+    gltf::copy_scene_look(doc_, scene_roots_, scene_name_, visited_, look);
+  }
 };
 
 }  // namespace
 
 PolygonMesh read_gltf(std::span<const uint8_t> bytes, const GltfReadOptions& options,
-                      GltfReadStats* stats, const GltfResources* resources) {
+                      GltfReadStats* stats, const GltfResources* resources,
+                      GltfAppearance* appearance) {
   GltfReadStats local;
-  return Reader(bytes, options, stats ? *stats : local, resources).read();
+  if (appearance) *appearance = {};
+  return Reader(bytes, options, stats ? *stats : local, resources, appearance).read();
 }
 
 void suggest_gltf_fixes(std::vector<ValidationFailure>& failures, const GltfReadStats& stats) {

@@ -12,6 +12,7 @@
 #include <span>
 #include <string>
 
+#include "core/io/gltf_appearance.h"
 #include "core/io/gltf_resources.h"
 #include "core/mesh/mesh.h"
 #include "core/mesh/topology.h"
@@ -44,9 +45,11 @@ struct GltfReadStats {
 
 // Every TRIANGLES (and strip/fan, converted) primitive of the default scene with node
 // transforms applied (world space), or of the chosen mesh. Vertices are not welded:
-// glTF splits them along seams; weld() joins them.
+// glTF splits them along seams; weld() joins them. With `appearance`, also what the
+// outputs carry over (materials, textures, attributes, nodes), aligned with the mesh.
 PolygonMesh read_gltf(std::span<const uint8_t> bytes, const GltfReadOptions& options = {},
-                      GltfReadStats* stats = nullptr, const GltfResources* resources = nullptr);
+                      GltfReadStats* stats = nullptr, const GltfResources* resources = nullptr,
+                      GltfAppearance* appearance = nullptr);
 
 // Fixes that the glTF scene suggests for the topology failures that several meshes cause
 // (non-manifold edges where copies overlap, several components where they do not): a mesh

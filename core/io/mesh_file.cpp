@@ -24,7 +24,7 @@ std::string lowercase_extension(const std::string& path) {
 }  // namespace
 
 PolygonMesh read_mesh_file(const std::string& path, const GltfReadOptions& gltf,
-                           GltfReadStats* stats) {
+                           GltfReadStats* stats, GltfAppearance* appearance) {
   const std::string ext = lowercase_extension(path);
   if (ext != "obj" && ext != "off" && ext != "glb" && ext != "gltf")
     throw InputError(
@@ -35,7 +35,7 @@ PolygonMesh read_mesh_file(const std::string& path, const GltfReadOptions& gltf,
     const size_t slash = path.find_last_of('/');
     const FolderResources folder(slash == std::string::npos ? "." : path.substr(0, slash + 1));
     return read_gltf({reinterpret_cast<const uint8_t*>(text.data()), text.size()}, gltf, stats,
-                     &folder);
+                     &folder, appearance);
   }
   return ext == "obj" ? parse_obj(text) : parse_off(text);
 }

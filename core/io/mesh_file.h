@@ -12,7 +12,7 @@ namespace spheremap {
 // InputError("parse") for malformed content. A .gltf's buffers named by relative URI are
 // read from the .gltf's own folder (see gltf_resources.h); `stats` as read_gltf's.
 PolygonMesh read_mesh_file(const std::string& path, const GltfReadOptions& gltf = {},
-                           GltfReadStats* stats = nullptr);
+                           GltfReadStats* stats = nullptr, GltfAppearance* appearance = nullptr);
 // OBJ only (GLB output goes through sphere_glb, which checks the file it writes).
 void write_mesh_file(const std::string& path, const PolygonMesh& mesh);
 

@@ -2,13 +2,17 @@
 
 #include "core/outputs/report_json.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 
 #include "core/io/glb_writer.h"
 #include "core/io/png_writer.h"
+#include "core/io/scene_glb.h"
 #include "core/mesh/topology.h"
+#include "core/outputs/base_color_bake.h"
 #include "core/outputs/remesh.h"
+#include "core/outputs/sphere_asset.h"
 #include "core/outputs/surface_distance.h"
 #include "core/outputs/texcoords.h"
 
@@ -62,9 +66,36 @@ std::string geometry_image(const OctahedralRemesh& remesh, nlohmann::json& descr
   return encode_png(side, side, 16, rgb);
 }
 
+// The morph on the input's own vertices (glTF seams kept), for the input's scene: the
+// input's normals where every primitive has them, else the welded surface's.
+SceneGeometry scene_morph(const PolygonMesh& input, const GltfAppearance& look,
+                          const MappedMesh& mapped, const std::vector<Vec3>& welded_normals,
+                          const Vec3& centroid, double radius, double seconds) {
+  const auto& to_welded = mapped.prepared.welded.input_to_welded;
+  SceneGeometry g;
+  g.input = &input;
+  g.positions = input.positions;
+  g.skip_face = dropped_faces(input, mapped);
+  const bool all_have_normals =
+      std::all_of(look.primitives.begin(), look.primitives.end(), [](const auto& p) {
+        return std::find(p.attributes.begin(), p.attributes.end(), "NORMAL") != p.attributes.end();
+      });
+  for (size_t v = 0; v < input.vertex_count(); ++v) {
+    const uint32_t w = to_welded[v];
+    const Vec3 s = w == kUnreferenced ? Vec3{0, 0, 1} : mapped.map.sphere[w];
+    g.morph_positions.push_back(w == kUnreferenced ? input.positions[v] : centroid + s * radius);
+    g.morph_normals.push_back(s);
+    if (!all_have_normals)
+      g.normals.push_back(w == kUnreferenced ? Vec3{0, 0, 1} : welded_normals[w]);
+  }
+  g.morph_seconds = seconds;
+  return g;
+}
+
 }  // namespace
 
-RemeshAsset remesh_asset(const MappedMesh& mapped, int resolution, int threads) {
+RemeshAsset remesh_asset(const MappedMesh& mapped, int resolution, int threads,
+                         const PolygonMesh* input, const GltfAppearance* appearance) {
   const auto start = std::chrono::steady_clock::now();
   const PolygonMesh& mesh = mapped.prepared.welded.mesh;
   const OrientedTriangles oriented = oriented_triangles(mesh);
@@ -122,6 +153,19 @@ RemeshAsset remesh_asset(const MappedMesh& mapped, int resolution, int threads) 
   glb.triangles = remesh.triangles;
   glb.extras = {{"spheremap_remesh", without_timings(asset.metrics)}};
   glb.texcoords = std::move(texcoords);
+  if (input && appearance) {
+    // Twice the grid's resolution (a texel per half quad), within 256..2048.
+    const int size = std::clamp(2 * resolution, 256, 2048);
+    if (auto baked = bake_base_color(*input, *appearance, mapped, size, threads)) {
+      glb.base_color_png = std::move(baked->png);
+      glb.material_name = "base colour of the input";
+      asset.metrics["texture"] = {{"size", baked->size},
+                                  {"images_decoded", baked->images_decoded},
+                                  {"unlocated_texels", baked->unlocated_texels}};
+      glb.extras["spheremap_remesh"]["texture"] = asset.metrics["texture"];
+    }
+  }
+  asset.metrics["seconds"]["total"] = seconds_since(start);
   asset.glb = format_glb(glb);
   return asset;
 }
@@ -157,7 +201,8 @@ UvAsset uv_asset(const MappedMesh& mapped) {
   return asset;
 }
 
-MorphAsset morph_asset(const MappedMesh& mapped, double seconds) {
+MorphAsset morph_asset(const MappedMesh& mapped, double seconds, const PolygonMesh* input,
+                       const GltfAppearance* appearance) {
   const auto start = std::chrono::steady_clock::now();
   const PolygonMesh& mesh = mapped.prepared.welded.mesh;
   const OrientedTriangles oriented = oriented_triangles(mesh);
@@ -191,7 +236,15 @@ MorphAsset morph_asset(const MappedMesh& mapped, double seconds) {
                    {"sphere_radius", radius},
                    {"animation_seconds", seconds}};
   glb.extras = {{"spheremap_morph", without_timings(asset.metrics)}};
-  asset.glb = format_glb(glb);
+  if (input && appearance && !appearance->empty()) {
+    asset.metrics["kept_appearance"] = true;
+    glb.extras["spheremap_morph"]["kept_appearance"] = true;
+    asset.glb = serialize_glb(build_scene_glb(
+        *appearance, scene_morph(*input, *appearance, mapped, normals, centroid, radius, seconds),
+        glb.extras));
+  } else {
+    asset.glb = format_glb(glb);
+  }
   asset.metrics["seconds"] = seconds_since(start);
   return asset;
 }

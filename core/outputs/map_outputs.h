@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "core/io/gltf_appearance.h"
 #include "core/map/pipeline.h"
 
 namespace spheremap {
@@ -18,7 +19,11 @@ struct RemeshAsset {
 };
 
 // Precondition: mapped.map.check.bijective. resolution: quads per side, even, >= 2.
-RemeshAsset remesh_asset(const MappedMesh& mapped, int resolution, int threads = 0);
+// With the `appearance` read beside `input` (a glTF with materials or vertex colours),
+// the GLB's material carries the input's base colour resampled onto the grid.
+RemeshAsset remesh_asset(const MappedMesh& mapped, int resolution, int threads = 0,
+                         const PolygonMesh* input = nullptr,
+                         const GltfAppearance* appearance = nullptr);
 
 struct UvAsset {
   std::string glb;
@@ -34,8 +39,12 @@ struct MorphAsset {
 };
 
 // The welded surface with one morph target onto a sphere of the same area about its
-// centroid, and an animation of `seconds` playing mesh -> sphere -> mesh.
-MorphAsset morph_asset(const MappedMesh& mapped, double seconds = 4);
+// centroid, and an animation of `seconds` playing mesh -> sphere -> mesh. With the
+// `appearance` read beside `input` (a glTF), the input's own vertices, materials,
+// textures, attributes and nodes instead of the welded surface.
+MorphAsset morph_asset(const MappedMesh& mapped, double seconds = 4,
+                       const PolygonMesh* input = nullptr,
+                       const GltfAppearance* appearance = nullptr);
 
 // A checker of 8 x 8 squares coloured by position (red grows with u, green with v),
 // `size` pixels square, as an 8-bit PNG.

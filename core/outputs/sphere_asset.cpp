@@ -10,10 +10,23 @@ PolygonMesh sphere_mesh(const PolygonMesh& input, const MappedMesh& mapped, Sphe
   return layout == SphereLayout::kWelded ? sphere_welded(mapped) : sphere_on_input(input, mapped);
 }
 
+std::vector<char> dropped_faces(const PolygonMesh& input, const MappedMesh& mapped) {
+  const auto& to_welded = mapped.prepared.welded.input_to_welded;
+  std::vector<char> dropped(input.face_count(), 0);
+  for (size_t f = 0; f < input.face_count(); ++f)
+    dropped[f] = to_welded[input.face(f)[0]] == kUnreferenced;
+  return dropped;
+}
+
 SphereAsset sphere_asset(const PolygonMesh& input, const MappedMesh& mapped,
-                         const MapOptions& options, SphereLayout layout, int draco_position_bits) {
+                         const MapOptions& options, SphereLayout layout, int draco_position_bits,
+                         const GltfAppearance* appearance) {
+  SphereLook look;
+  if (appearance && !appearance->empty() && layout == SphereLayout::kOriginal &&
+      draco_position_bits == 0)
+    look = {appearance, &input, dropped_faces(input, mapped)};
   WrittenGlb file =
-      sphere_glb(sphere_mesh(input, mapped, layout), mapped.map.inward, draco_position_bits);
+      sphere_glb(sphere_mesh(input, mapped, layout), mapped.map.inward, draco_position_bits, look);
   SphereAsset asset;
   asset.written = file.check;
   asset.metrics = metrics_json(mapped, options);

@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "core/io/gltf_appearance.h"
 #include "core/map/pipeline.h"
 
 namespace spheremap {
@@ -21,9 +22,15 @@ struct SphereAsset {
   MapCheck written;        // the file decoded again (float32, Draco-quantized) and checked
 };
 
-// The spherical mesh of `mapped` in `layout`; Draco when draco_position_bits > 0.
+// The spherical mesh of `mapped` in `layout`; Draco when draco_position_bits > 0. With
+// the `appearance` read beside `input` (a glTF), layout kOriginal and no Draco, the file
+// keeps the input's materials, textures, attributes, names and nodes.
 SphereAsset sphere_asset(const PolygonMesh& input, const MappedMesh& mapped,
-                         const MapOptions& options, SphereLayout layout, int draco_position_bits);
+                         const MapOptions& options, SphereLayout layout, int draco_position_bits,
+                         const GltfAppearance* appearance = nullptr);
+
+// Per input face, whether mapping left it out (a component dropped before mapping).
+std::vector<char> dropped_faces(const PolygonMesh& input, const MappedMesh& mapped);
 
 // The spherical mesh of `mapped` in `layout`, in double precision.
 PolygonMesh sphere_mesh(const PolygonMesh& input, const MappedMesh& mapped, SphereLayout layout);

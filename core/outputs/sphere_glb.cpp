@@ -1,18 +1,27 @@
 #include "core/outputs/sphere_glb.h"
 
 #include "core/io/gltf_reader.h"
+#include "core/io/scene_glb.h"
 #include "core/mesh/sphere_geometry.h"
 
 namespace spheremap {
 
-WrittenGlb sphere_glb(const PolygonMesh& sphere, bool inward, int draco_position_bits) {
+WrittenGlb sphere_glb(const PolygonMesh& sphere, bool inward, int draco_position_bits,
+                      const SphereLook& look) {
   WrittenGlb out;
-  const std::vector<Triangle> triangles = fan_triangulate(sphere).triangles;
-  GlbMesh mesh;
-  mesh.positions = mesh.normals = sphere.positions;
-  mesh.triangles = triangles;
-  mesh.draco_position_bits = draco_position_bits;
-  out.glb = build_glb(mesh);
+  if (look.appearance) {
+    SceneGeometry geometry;
+    geometry.input = look.input;
+    geometry.positions = geometry.normals = sphere.positions;
+    geometry.skip_face = look.skip_face;
+    out.glb = build_scene_glb(*look.appearance, geometry, nlohmann::json::object());
+  } else {
+    GlbMesh mesh;
+    mesh.positions = mesh.normals = sphere.positions;
+    mesh.triangles = fan_triangulate(sphere).triangles;
+    mesh.draco_position_bits = draco_position_bits;
+    out.glb = build_glb(mesh);
+  }
   const std::string bytes = serialize_glb(out.glb);
   const PolygonMesh decoded =
       read_gltf({reinterpret_cast<const uint8_t*>(bytes.data()), bytes.size()});
@@ -25,7 +34,9 @@ WrittenGlb sphere_glb(const PolygonMesh& sphere, bool inward, int draco_position
   for (size_t v = 0; v < directions.size(); ++v)
     directions[v] = normalized_or(decoded.positions[v], Vec3{});
   out.check = check_map(directions, oriented);
-  if (decoded.vertex_count() != sphere.vertex_count()) out.check.bijective = false;
+  // Every face written (the scene's vertices may come in another number: a primitive
+  // whose faces were all dropped is not written).
+  if (oriented.size() != fan_triangulate(sphere).triangles.size()) out.check.bijective = false;
   return out;
 }
 

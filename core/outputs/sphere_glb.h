@@ -2,6 +2,7 @@
 #pragma once
 
 #include "core/io/glb_writer.h"
+#include "core/io/gltf_appearance.h"
 #include "core/map/map_check.h"
 #include "core/mesh/mesh.h"
 
@@ -15,6 +16,14 @@ struct WrittenGlb {
   GlbParts glb;
   MapCheck check;
 };
-WrittenGlb sphere_glb(const PolygonMesh& sphere, bool inward, int draco_position_bits);
+// The input's look to keep (a glTF input in its own layout, without Draco): the sphere is
+// then written as the input's scene (materials, attributes, nodes) with sphere positions.
+struct SphereLook {
+  const GltfAppearance* appearance = nullptr;  // null: a plain GLB
+  const PolygonMesh* input = nullptr;          // the mesh read with `appearance`
+  std::vector<char> skip_face;                 // input faces not in `sphere` (empty: none)
+};
+WrittenGlb sphere_glb(const PolygonMesh& sphere, bool inward, int draco_position_bits,
+                      const SphereLook& look = {});
 
 }  // namespace spheremap

@@ -109,11 +109,18 @@ export interface paths {
             header?: never;
             path: {
                 id: string;
-                name: "sphere.glb" | "metrics.json" | "remesh.glb" | "geometry_image.png" | "uv.glb" | "morph.glb";
+                name: "sphere.glb" | "sphere.gltf" | "metrics.json" | "remesh.glb" | "remesh.gltf" | "geometry_image.png" | "uv.glb" | "uv.gltf" | "morph.glb" | "morph.gltf";
             };
             cookie?: never;
         };
-        /** Download an artifact of a succeeded job */
+        /**
+         * Download an artifact of a succeeded job
+         * @description Every `.glb` artifact is also served as `.gltf` (JSON with its buffer embedded as a
+         *     base64 data URI). For a glTF input, `sphere.glb` (layout `original`, no Draco) and
+         *     `morph.glb` keep the input's materials, textures, images, TEXCOORD_n, COLOR_0,
+         *     names, node hierarchy and transforms; `remesh.glb` carries the input's base colour
+         *     resampled onto its octahedral grid as a texture.
+         */
         get: operations["getArtifact"];
         put?: never;
         post?: never;
@@ -585,7 +592,7 @@ export interface operations {
             header?: never;
             path: {
                 id: string;
-                name: "sphere.glb" | "metrics.json" | "remesh.glb" | "geometry_image.png" | "uv.glb" | "morph.glb";
+                name: "sphere.glb" | "sphere.gltf" | "metrics.json" | "remesh.glb" | "remesh.gltf" | "geometry_image.png" | "uv.glb" | "uv.gltf" | "morph.glb" | "morph.gltf";
             };
             cookie?: never;
         };
@@ -598,6 +605,7 @@ export interface operations {
                 };
                 content: {
                     "model/gltf-binary": string;
+                    "model/gltf+json": Record<string, never>;
                     "application/json": Record<string, never>;
                     "image/png": string;
                 };

@@ -1,0 +1,59 @@
+#include "core/io/glb_builder.h"
+
+#include <algorithm>
+#include <limits>
+
+namespace spheremap {
+
+size_t GlbBuilder::add_view(const std::string& data, int target) {
+  nlohmann::json view = {{"buffer", 0}, {"byteOffset", bin_.size()}, {"byteLength", data.size()}};
+  if (target) view["target"] = target;
+  views_.push_back(std::move(view));
+  bin_ += data;
+  while (bin_.size() % 4) bin_.push_back('\0');
+  return views_.size() - 1;
+}
+
+size_t GlbBuilder::add_accessor(nlohmann::json accessor, const std::string& data, int target) {
+  accessor["bufferView"] = add_view(data, target);
+  return add_accessor(std::move(accessor));
+}
+
+size_t GlbBuilder::add_accessor(nlohmann::json accessor) {
+  accessors_.push_back(std::move(accessor));
+  return accessors_.size() - 1;
+}
+
+size_t GlbBuilder::add_vec3(std::span<const Vec3> values, bool with_bounds, int target) {
+  std::array<float, 3> lo, hi;
+  lo.fill(std::numeric_limits<float>::max());
+  hi.fill(std::numeric_limits<float>::lowest());
+  std::string data;
+  data.reserve(values.size() * 12);
+  for (const Vec3& p : values) {
+    const float f[3] = {static_cast<float>(p.x), static_cast<float>(p.y), static_cast<float>(p.z)};
+    data.append(reinterpret_cast<const char*>(f), sizeof f);
+    for (int k = 0; k < 3; ++k) lo[k] = std::min(lo[k], f[k]), hi[k] = std::max(hi[k], f[k]);
+  }
+  nlohmann::json accessor = {{"componentType", 5126}, {"count", values.size()}, {"type", "VEC3"}};
+  if (with_bounds) accessor["min"] = lo, accessor["max"] = hi;
+  return add_accessor(std::move(accessor), data, target);
+}
+
+size_t GlbBuilder::add_floats(std::span<const float> values, int components, int target) {
+  static const char* const kTypes[] = {"", "SCALAR", "VEC2", "VEC3", "VEC4"};
+  const std::string data(reinterpret_cast<const char*>(values.data()), values.size() * 4);
+  return add_accessor({{"componentType", 5126},
+                       {"count", values.size() / static_cast<size_t>(components)},
+                       {"type", kTypes[components]}},
+                      data, target);
+}
+
+size_t GlbBuilder::add_indices(std::span<const std::array<uint32_t, 3>> triangles) {
+  const std::string data(reinterpret_cast<const char*>(triangles.data()), triangles.size() * 12);
+  return add_accessor(
+      {{"componentType", 5125}, {"count", 3 * triangles.size()}, {"type", "SCALAR"}}, data,
+      kElementArrayBuffer);
+}
+
+}  // namespace spheremap

@@ -1,0 +1,139 @@
+#include "core/io/gltf_look.h"
+
+#include "core/mesh/input_error.h"
+
+namespace spheremap::gltf {
+namespace {
+
+size_t array_size(const nlohmann::json& json, const char* key) {
+  const auto it = json.find(key);
+  return it != json.end() && it->is_array() ? it->size() : 0;
+}
+
+nlohmann::json array_of(const nlohmann::json& json, const char* key) {
+  const auto it = json.find(key);
+  return it != json.end() && it->is_array() ? *it : nlohmann::json::array();
+}
+
+bool index_below(const nlohmann::json& value, size_t limit) {
+  return value.is_number_unsigned() && value.get<uint64_t>() < limit;
+}
+
+// Every texture reference in a material ({"index": i} under a key ending in "Texture",
+// at any depth: the core material and its extensions) points at an existing texture.
+bool texture_references_resolve(const nlohmann::json& value, size_t textures, int depth = 0) {
+  if (depth > 16) return false;
+  if (value.is_array()) {
+    for (const auto& v : value)
+      if (!texture_references_resolve(v, textures, depth + 1)) return false;
+    return true;
+  }
+  if (!value.is_object()) return true;
+  for (const auto& [key, member] : value.items()) {
+    const bool texture_info = key.size() > 7 && key.compare(key.size() - 7, 7, "Texture") == 0;
+    if (texture_info && (!member.is_object() || !member.contains("index") ||
+                         !index_below(member["index"], textures)))
+      return false;
+    if (!texture_references_resolve(member, textures, depth + 1)) return false;
+  }
+  return true;
+}
+
+// A texture's image and sampler (also an image extension's "source") exist.
+bool texture_resolves(const nlohmann::json& texture, size_t images, size_t samplers) {
+  if (!texture.is_object()) return false;
+  if (texture.contains("source") && !index_below(texture["source"], images)) return false;
+  if (texture.contains("sampler") && !index_below(texture["sampler"], samplers)) return false;
+  if (const auto ext = texture.find("extensions"); ext != texture.end()) {
+    if (!ext->is_object()) return false;
+    for (const auto& [name, e] : ext->items())
+      if (e.is_object() && e.contains("source") && !index_below(e["source"], images)) return false;
+  }
+  return true;
+}
+
+bool appearance_extension(const std::string& name) {
+  return name.rfind("KHR_materials_", 0) == 0 || name == "KHR_texture_transform" ||
+         name == "KHR_texture_basisu" || name == "EXT_texture_webp" || name == "EXT_texture_avif";
+}
+
+std::vector<std::string> appearance_extensions(const nlohmann::json& json, const char* key) {
+  std::vector<std::string> out;
+  for (const auto& e : array_of(json, key))
+    if (e.is_string() && appearance_extension(e.get<std::string>()))
+      out.push_back(e.get<std::string>());
+  return out;
+}
+
+// A node with what the writer keeps: name, children, camera, transform.
+nlohmann::json copied_node(const nlohmann::json& node, size_t cameras) {
+  nlohmann::json out = nlohmann::json::object();
+  for (const char* key : {"name", "children", "matrix", "translation", "rotation", "scale"})
+    if (node.contains(key)) out[key] = node[key];
+  if (node.contains("camera") && index_below(node["camera"], cameras))
+    out["camera"] = node["camera"];
+  return out;
+}
+
+}  // namespace
+
+std::string sniff_image_type(const std::string& bytes) {
+  if (bytes.rfind("\x89PNG\r\n\x1a\n", 0) == 0) return "image/png";
+  if (bytes.size() >= 3 && bytes.compare(0, 3, "\xff\xd8\xff") == 0) return "image/jpeg";
+  if (bytes.size() >= 12 && bytes.compare(0, 4, "RIFF") == 0 && bytes.compare(8, 4, "WEBP") == 0)
+    return "image/webp";
+  if (bytes.size() >= 12 && bytes.compare(0, 12, "\xabKTX 20\xbb\r\n\x1a\n") == 0)
+    return "image/ktx2";
+  return "";
+}
+
+void copy_scene_look(const Document& doc, const std::vector<size_t>& roots,
+                     const std::string& scene_name, const std::vector<char>& visited,
+                     GltfAppearance& look) {
+  const nlohmann::json& json = doc.json();
+  const size_t images = array_size(json, "images"), samplers = array_size(json, "samplers");
+  look.cameras = array_of(json, "cameras");
+  look.samplers = array_of(json, "samplers");
+  look.textures = array_of(json, "textures");
+  look.materials = array_of(json, "materials");
+  bool resolves = true;
+  for (const auto& t : look.textures) resolves = resolves && texture_resolves(t, images, samplers);
+  for (const auto& m : look.materials)
+    resolves = resolves && m.is_object() && texture_references_resolve(m, look.textures.size());
+  for (const auto& s : look.samplers) resolves = resolves && s.is_object();
+  if (!resolves) {
+    // Broken references would make every output invalid; the geometry still maps.
+    look.materials = look.textures = look.samplers = nlohmann::json::array();
+    for (auto& p : look.primitives) p.material = -1;
+  } else {
+    for (size_t i = 0; i < images; ++i) {
+      const nlohmann::json& image = json["images"][i];
+      std::string bytes;
+      try {
+        if (image.is_object()) bytes = doc.image_bytes(i).value_or("");
+      } catch (const InputError&) {
+        bytes.clear();  // an image we cannot read is replaced, not a reason to refuse
+      }
+      nlohmann::json copy = nlohmann::json::object();
+      if (image.is_object() && image.contains("name") && image["name"].is_string())
+        copy["name"] = image["name"];
+      const std::string type = sniff_image_type(bytes);
+      if (type.empty()) bytes.clear();
+      copy["mimeType"] = type.empty() ? "image/png" : type;
+      look.images.push_back(std::move(copy));
+      look.image_bytes.push_back(std::move(bytes));
+    }
+    look.extensions_used = appearance_extensions(json, "extensionsUsed");
+    look.extensions_required = appearance_extensions(json, "extensionsRequired");
+  }
+  if (!roots.empty()) {
+    const size_t cameras = look.cameras.size();
+    for (size_t n = 0; n < array_size(json, "nodes"); ++n)
+      look.nodes.push_back(n < visited.size() && visited[n] ? copied_node(json["nodes"][n], cameras)
+                                                            : nlohmann::json::object());
+    look.scene_nodes = roots;
+    look.scene_name = scene_name;
+  }
+}
+
+}  // namespace spheremap::gltf

@@ -1,0 +1,22 @@
+// Decoding the PNG and JPEG images a glTF carries (libpng, libjpeg-turbo), to 8-bit RGBA.
+// Input is untrusted: the size is read from the header and checked against a pixel cap
+// before any pixel is decoded.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string_view>
+#include <vector>
+
+namespace spheremap {
+
+struct RgbaImage {
+  int width = 0, height = 0;
+  std::vector<uint8_t> rgba;  // row-major, top row first, 4 bytes a pixel
+};
+
+// The image, or nothing when it is not a PNG or JPEG that decodes, or has more than
+// `max_pixels` pixels.
+std::optional<RgbaImage> decode_image(std::string_view bytes, size_t max_pixels);
+
+}  // namespace spheremap

@@ -1,0 +1,184 @@
+#include "core/outputs/base_color_bake.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+
+#include "core/io/image_reader.h"
+#include "core/io/png_writer.h"
+#include "core/mesh/parallel.h"
+#include "core/outputs/octahedral.h"
+#include "core/outputs/sphere_asset.h"
+#include "core/outputs/sphere_locator.h"
+
+namespace spheremap {
+namespace {
+
+constexpr size_t kMaxImagePixels = size_t{1} << 24;  // 4096 x 4096
+constexpr int kRepeat = 10497, kClamp = 33071, kMirror = 33648;
+
+using Rgba = std::array<double, 4>;  // linear colour
+
+double srgb_to_linear(double c) {
+  return c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4);
+}
+double linear_to_srgb(double c) {
+  c = std::clamp(c, 0.0, 1.0);
+  return c <= 0.0031308 ? c * 12.92 : 1.055 * std::pow(c, 1 / 2.4) - 0.055;
+}
+
+// A material's base colour: factor x texture (as its sampler wraps it).
+struct BaseColor {
+  Rgba factor{1, 1, 1, 1};
+  const RgbaImage* image = nullptr;
+  std::string texcoord = "TEXCOORD_0";
+  int wrap_s = kRepeat, wrap_t = kRepeat;
+};
+
+int wrapped(long long x, int n, int mode) {
+  if (mode == kClamp) return static_cast<int>(std::clamp<long long>(x, 0, n - 1));
+  if (mode == kMirror) {
+    const long long m = ((x % (2LL * n)) + 2LL * n) % (2LL * n);
+    return static_cast<int>(m < n ? m : 2LL * n - 1 - m);
+  }
+  return static_cast<int>(((x % n) + n) % n);
+}
+
+// Bilinear sample, linear colour (glTF base colour textures are sRGB-encoded).
+Rgba sample(const BaseColor& c, double u, double v) {
+  const RgbaImage& im = *c.image;
+  if (!std::isfinite(u) || !std::isfinite(v)) u = v = 0;
+  const double x = std::clamp(u, -1e6, 1e6) * im.width - 0.5;
+  const double y = std::clamp(v, -1e6, 1e6) * im.height - 0.5;
+  const long long x0 = static_cast<long long>(std::floor(x)),
+                  y0 = static_cast<long long>(std::floor(y));
+  const double fx = x - static_cast<double>(x0), fy = y - static_cast<double>(y0);
+  Rgba out{};
+  for (int dy = 0; dy < 2; ++dy)
+    for (int dx = 0; dx < 2; ++dx) {
+      const int px = wrapped(x0 + dx, im.width, c.wrap_s);
+      const int py = wrapped(y0 + dy, im.height, c.wrap_t);
+      const double w = (dx ? fx : 1 - fx) * (dy ? fy : 1 - fy);
+      const uint8_t* p = &im.rgba[(static_cast<size_t>(py) * im.width + px) * 4];
+      for (int k = 0; k < 3; ++k) out[k] += w * srgb_to_linear(p[k] / 255.0);
+      out[3] += w * p[3] / 255.0;
+    }
+  return out;
+}
+
+// The base colour of every material, decoding each image it uses once.
+std::vector<BaseColor> base_colors(const GltfAppearance& look, std::map<size_t, RgbaImage>& images,
+                                   size_t& decoded) {
+  std::vector<BaseColor> out(look.materials.size());
+  for (size_t m = 0; m < look.materials.size(); ++m) {
+    const nlohmann::json pbr =
+        look.materials[m].value("pbrMetallicRoughness", nlohmann::json::object());
+    if (!pbr.is_object()) continue;
+    if (const auto f = pbr.find("baseColorFactor");
+        f != pbr.end() && f->is_array() && f->size() == 4)
+      for (size_t k = 0; k < 4; ++k)
+        if ((*f)[k].is_number()) out[m].factor[k] = (*f)[k].get<double>();
+    const auto info = pbr.find("baseColorTexture");
+    if (info == pbr.end() || !info->is_object()) continue;
+    const size_t texture = info->value("index", size_t{0});
+    const size_t set = info->value("texCoord", size_t{0});
+    out[m].texcoord = "TEXCOORD_" + std::to_string(std::min<size_t>(set, 9));
+    const nlohmann::json& t = look.textures.at(texture);  // checked when the look was read
+    if (!t.contains("source") || !t["source"].is_number_unsigned()) continue;
+    const size_t source = t["source"].get<size_t>();
+    if (t.contains("sampler") && t["sampler"].is_number_unsigned()) {
+      const nlohmann::json& s = look.samplers.at(t["sampler"].get<size_t>());
+      out[m].wrap_s = s.value("wrapS", kRepeat);
+      out[m].wrap_t = s.value("wrapT", kRepeat);
+    }
+    if (!images.count(source) && source < look.image_bytes.size())
+      if (auto image = decode_image(look.image_bytes[source], kMaxImagePixels)) {
+        images.emplace(source, std::move(*image));
+        ++decoded;
+      }
+    if (const auto it = images.find(source); it != images.end()) out[m].image = &it->second;
+  }
+  return out;
+}
+
+bool has(const GltfAppearance::Primitive& p, const std::string& attribute) {
+  return std::find(p.attributes.begin(), p.attributes.end(), attribute) != p.attributes.end();
+}
+
+}  // namespace
+
+std::optional<BakedBaseColor> bake_base_color(const PolygonMesh& input, const GltfAppearance& look,
+                                              const MappedMesh& mapped, int size, int threads) {
+  const bool coloured = std::any_of(look.primitives.begin(), look.primitives.end(),
+                                    [](auto& p) { return p.material >= 0 || has(p, "COLOR_0"); });
+  if (look.empty() || !coloured || size <= 0) return std::nullopt;
+  BakedBaseColor baked;
+  std::map<size_t, RgbaImage> images;
+  const std::vector<BaseColor> colors = base_colors(look, images, baked.images_decoded);
+
+  // Welded faces are the input's faces in order, less dropped components: face t of the
+  // map is input face input_face[t], its corners matched by welded vertex.
+  const PolygonMesh& welded = mapped.prepared.welded.mesh;
+  const auto& to_welded = mapped.prepared.welded.input_to_welded;
+  const std::vector<char> dropped = dropped_faces(input, mapped);
+  std::vector<uint32_t> input_face, primitive_of(input.face_count(), 0);
+  for (uint32_t p = 0; p < look.primitives.size(); ++p)
+    for (uint32_t f = 0; f < look.primitives[p].face_count; ++f)
+      primitive_of[look.primitives[p].first_face + f] = p;
+  for (uint32_t f = 0; f < input.face_count(); ++f)
+    if (!dropped[f]) input_face.push_back(f);
+  const OrientedTriangles oriented = oriented_triangles(welded);
+  if (input_face.size() != welded.face_count() || oriented.triangles.size() != welded.face_count())
+    return std::nullopt;
+  const SphereLocator locator(mapped.map.sphere, oriented.triangles);
+
+  std::vector<uint16_t> rgb(static_cast<size_t>(size) * size * 3, 128);
+  std::vector<char> missed(static_cast<size_t>(size) * size, 0);
+  parallel_for(static_cast<size_t>(size), threads, [&](size_t row) {
+    for (int column = 0; column < size; ++column) {
+      const double u = (column + 0.5) / size, v = (row + 0.5) / size;
+      const SphereHit hit = locator.locate(octahedral_decode({2 * u - 1, 1 - 2 * v}));
+      const size_t texel = row * static_cast<size_t>(size) + column;
+      if (hit.triangle == UINT32_MAX) {
+        missed[texel] = 1;
+        continue;
+      }
+      const uint32_t face = input_face[hit.triangle];
+      const auto corners = input.face(face);
+      const GltfAppearance::Primitive& p = look.primitives[primitive_of[face]];
+      // The input corner of each map corner (same welded vertex).
+      std::array<uint32_t, 3> vertex{};
+      for (int k = 0; k < 3; ++k)
+        for (uint32_t c : corners)
+          if (to_welded[c] == oriented.triangles[hit.triangle][k]) vertex[k] = c;
+      auto interpolate = [&](const GltfAppearance::Attribute& a, int component) {
+        double x = 0;
+        for (int k = 0; k < 3; ++k)
+          x += hit.barycentric[k] *
+               a.values[vertex[k] * static_cast<size_t>(a.components) + component];
+        return x;
+      };
+      Rgba color{1, 1, 1, 1};
+      if (p.material >= 0 && static_cast<size_t>(p.material) < colors.size()) {
+        const BaseColor& c = colors[static_cast<size_t>(p.material)];
+        color = c.factor;
+        const GltfAppearance::Attribute* uv =
+            has(p, c.texcoord) ? look.attribute(c.texcoord) : nullptr;
+        if (c.image && uv) {
+          const Rgba t = sample(c, interpolate(*uv, 0), interpolate(*uv, 1));
+          for (int k = 0; k < 4; ++k) color[k] *= t[k];
+        }
+      }
+      if (const auto* vc = has(p, "COLOR_0") ? look.attribute("COLOR_0") : nullptr)
+        for (int k = 0; k < 3; ++k) color[k] *= interpolate(*vc, k);
+      for (int k = 0; k < 3; ++k)
+        rgb[texel * 3 + k] = static_cast<uint16_t>(std::lround(255 * linear_to_srgb(color[k])));
+    }
+  });
+  baked.unlocated_texels = static_cast<size_t>(std::count(missed.begin(), missed.end(), 1));
+  baked.size = size;
+  baked.png = encode_png(size, size, 8, rgb);
+  return baked;
+}
+
+}  // namespace spheremap

@@ -1,0 +1,28 @@
+// The input's base colour resampled onto the octahedral square: what a remesh (whose
+// TEXCOORD_0 is the square) needs to look like the textured original.
+#pragma once
+
+#include <optional>
+#include <string>
+
+#include "core/io/gltf_appearance.h"
+#include "core/map/pipeline.h"
+
+namespace spheremap {
+
+struct BakedBaseColor {
+  std::string png;  // size x size, 8-bit RGB
+  int size = 0;
+  size_t unlocated_texels = 0;  // texels whose sphere point no triangle held (grey)
+  size_t images_decoded = 0;    // base-colour images read (PNG, JPEG)
+};
+
+// Each texel's point of the square goes to the sphere, is located in the map, and takes
+// the colour of the surface there: baseColorFactor x baseColorTexture (at the face's
+// interpolated TEXCOORD_n, with its sampler's wrap) x COLOR_0. Nothing when the input has
+// no material and no vertex colour. Preconditions: mapped.map.check.bijective; `look`
+// and `input` from one read_gltf() call, `mapped` prepared from `input`.
+std::optional<BakedBaseColor> bake_base_color(const PolygonMesh& input, const GltfAppearance& look,
+                                              const MappedMesh& mapped, int size, int threads);
+
+}  // namespace spheremap

@@ -1,0 +1,58 @@
+#!/usr/bin/env bash
+# Textured glTF in, textured glTF out: sphere (.glb and .gltf), morph and remesh of a
+# generated textured mesh (always) and of the duck, its Draco copy, Box With Spaces and
+# CesiumMan (corpus), written by the CLI and by the service (a .gltf download), each
+# checked by the Khronos validator (0 errors) and by check_look.mjs (materials, textures,
+# images and TEXCOORD_0 of the input kept; the remesh has a base colour texture).
+# Usage: textured_outputs.sh SPHEREMAP MAKE_TEST_MESHES CORPUS. Exit 77 without npm.
+set -uo pipefail
+spheremap=$1 make_meshes=$2 corpus=$3
+here=$(cd "$(dirname "$0")" && pwd)
+. "$here/../start_server.sh"
+fail() { echo "FAIL: $*"; exit 1; }
+command -v npm > /dev/null || { echo "npm not found: skipped"; exit 77; }
+if [ ! -d "$here/node_modules/gltf-validator" ] || [ ! -d "$here/node_modules/@gltf-transform/core" ]; then
+  (cd "$here" && npm install --no-audit --no-fund --loglevel=error) || fail "npm install"
+fi
+out=$(mktemp -d)
+server=
+trap '[ -n "$server" ] && kill $server 2> /dev/null; wait 2> /dev/null; rm -rf "$out"' EXIT
+"$make_meshes" "$out" > /dev/null || fail "make_test_meshes"
+inputs=("$out/textured_horseshoe.glb")
+if [ -d "$corpus" ]; then
+  for f in duck.glb duck.draco.glb "gltf-samples/BoxWithSpaces-glTF/Box With Spaces.gltf" \
+           gltf-samples/CesiumMan-glTF-Draco/CesiumMan.gltf; do
+    [ -f "$corpus/$f" ] && inputs+=("$corpus/$f")
+  done
+else
+  echo "corpus not found: the generated textured mesh only"
+fi
+checks=()
+for input in "${inputs[@]}"; do
+  name=$(basename "${input%.*}" | tr ' .' '__')
+  "$spheremap" map "$input" -o "$out/$name.sphere.glb" --quiet || fail "map $input"
+  "$spheremap" map "$input" -o "$out/$name.sphere.gltf" --quiet || fail "map $input to .gltf"
+  "$spheremap" morph "$input" -o "$out/$name.morph.glb" --quiet || fail "morph $input"
+  "$spheremap" remesh "$input" -o "$out/$name.remesh.glb" --resolution 64 --quiet ||
+    fail "remesh $input"
+  checks+=("$input" "$out/$name.sphere.glb" "$out/$name.sphere.gltf" "$out/$name.morph.glb"
+           "$out/$name.remesh.glb")
+done
+
+# The service: the same through a job, sphere downloaded as .gltf.
+start_server "$out/server.log" --workers 1
+curl -sf -D "$out/headers" -o "$out/service.sphere.glb" -H 'Prefer: wait=120' \
+  -H 'Content-Type: model/gltf-binary' --data-binary "@$out/textured_horseshoe.glb" \
+  "$url/v1/map?outputs=sphere,morph,remesh&resolution=32" || fail "POST /v1/map"
+id=$(grep -i '^spheremap-job:' "$out/headers" | tr -d '\r' | cut -d' ' -f2)
+grep -q '^HTTP/1.1 200' "$out/headers" || fail "the job did not succeed: $(cat "$out/headers")"
+for a in sphere.gltf morph.glb remesh.glb; do
+  curl -sf -o "$out/service.$a" "$url/v1/jobs/$id/artifacts/$a" || fail "download $a"
+done
+checks+=("$out/textured_horseshoe.glb" "$out/service.sphere.gltf" "$out/service.sphere.gltf"
+         "$out/service.morph.glb" "$out/service.remesh.glb")
+
+files=()
+for ((i = 0; i < ${#checks[@]}; i += 5)); do files+=("${checks[@]:i+1:4}"); done
+node "$here/validate.mjs" "${files[@]}" || fail "the validator found errors"
+node "$here/check_look.mjs" "${checks[@]}" || fail "an output lost the input's look"
