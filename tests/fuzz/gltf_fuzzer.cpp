@@ -1,18 +1,30 @@
-// libFuzzer target: the glTF / GLB / Draco reader on arbitrary bytes. Any input must end
-// in a mesh or an InputError: no crash, leak, hang, or other exception.
+// libFuzzer target: the glTF / GLB / Draco reader on arbitrary bytes, with the look the
+// outputs carry over (materials, attributes, nodes, images). Any input must end in a mesh
+// or an InputError: no crash, leak, hang, or other exception. A file that reads is
+// written back with its look (the scene writer) and its images decoded.
 #include <cstddef>
 #include <cstdint>
 
 #include "core/io/gltf_reader.h"
+#include "core/io/image_reader.h"
+#include "core/io/scene_glb.h"
 #include "core/mesh/input_error.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   spheremap::GltfReadOptions options;
   options.max_vertices = 1 << 20;  // the service's caps are smaller still
   options.max_triangles = 1 << 21;
+  spheremap::GltfAppearance look;
+  spheremap::PolygonMesh mesh;
   try {
-    spheremap::read_gltf({data, size}, options);
+    mesh = spheremap::read_gltf({data, size}, options, nullptr, nullptr, &look);
   } catch (const spheremap::InputError&) {
+    return 0;
   }
+  spheremap::SceneGeometry geometry;
+  geometry.input = &mesh;
+  geometry.positions = mesh.positions;
+  if (!look.empty()) spheremap::build_scene_glb(look, geometry, {});
+  for (const std::string& image : look.image_bytes) spheremap::decode_image(image, 1 << 16);
   return 0;
 }
