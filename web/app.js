@@ -98,13 +98,18 @@ $('morph').addEventListener('input', () => {
   });
 });
 
-// A plain surface material for our own outputs, so the map's shape is what one sees; the
-// triangle edges too, except on the morph (a wireframe would not follow its target).
+// Our outputs keep a textured input's own material (the duck stays a duck on its sphere);
+// anything else gets a plain surface, so the map's shape is what one sees. Triangle edges
+// too, except on the morph (a wireframe would not follow its target).
 function surface(object, color, edges = true) {
   object.traverse((o) => {
     if (!o.isMesh) return;
-    o.material = new THREE.MeshStandardMaterial({
+    const own = [o.material].flat().find((m) => m?.map);
+    o.userData.plain = new THREE.MeshStandardMaterial({
       color, roughness: 0.65, metalness: 0.0, side: THREE.DoubleSide, flatShading: false });
+    if (own) own.side = THREE.DoubleSide;
+    o.userData.own = own ? o.material : null;
+    o.material = o.userData.own ?? o.userData.plain;
     if (!edges || !o.geometry.index || o.geometry.index.count > 600000) return;
     o.add(new THREE.LineSegments(new THREE.WireframeGeometry(o.geometry),
       new THREE.LineBasicMaterial({ color: 0x000000, transparent: true, opacity: 0.12 })));
@@ -167,9 +172,11 @@ function applyHeat() {
       const colors = heatColors(o.geometry);
       if (colors) o.geometry.setAttribute('color', colors);
     }
-    o.material.vertexColors = on && !!o.geometry.attributes.color;
-    o.material.color.set(on ? 0xffffff : 0xd8b06a);
-    o.material.needsUpdate = true;
+    const heat = on && !!o.geometry.attributes.color;
+    o.material = heat ? o.userData.plain : (o.userData.own ?? o.userData.plain);
+    o.userData.plain.vertexColors = heat;
+    o.userData.plain.color.set(heat ? 0xffffff : 0xd8b06a);
+    o.userData.plain.needsUpdate = true;
   });
 }
 $('heat').addEventListener('change', applyHeat);

@@ -1,7 +1,9 @@
 // Drives the page at GET / in headless Chromium as a person would: choose a file, wait
 // for the job to end, look at the canvas. Usage: node page_test.mjs URL MESH [MESH.gltf
 // RESOURCES...]. Fails (exit 1) on a console error, a page error, a status other than
-// succeeded, a blank canvas, or missing downloads.
+// succeeded, a blank canvas, or missing downloads. With EXPECT_TEXTURE=1 (the generated
+// textured mesh: red, green, blue and white squares) the sphere view must show the
+// texture's red and green, which the page's plain colours do not have.
 import { chromium } from 'playwright-core';
 
 const [url, ...files] = process.argv.slice(2);
@@ -57,6 +59,26 @@ try {
     if (!downloads.includes(name)) fail(`no download link for ${name}`);
   const verdict = await page.locator('#verdict').textContent();
   if (!verdict.startsWith('Bijective')) fail(`verdict: ${verdict}`);
+
+  if (process.env.EXPECT_TEXTURE) {
+    await page.locator('#views [data-view="sphere"]').click();
+    await page.waitForTimeout(500);
+    const [red, green] = await page.evaluate(() => {
+      const source = document.querySelector('canvas');
+      const copy = Object.assign(document.createElement('canvas'), { width: 320, height: 240 });
+      const context = copy.getContext('2d');
+      context.drawImage(source, 0, 0, 320, 240);
+      const d = context.getImageData(0, 0, 320, 240).data;
+      let r = 0, g = 0;
+      for (let i = 0; i < d.length; i += 4) {
+        r += d[i] > 120 && d[i + 1] < 60 && d[i + 2] < 60;
+        g += d[i + 1] > 120 && d[i] < 60 && d[i + 2] < 60;
+      }
+      return [r, g];
+    });
+    console.log(`sphere view: ${red} red and ${green} green pixels of the input's texture`);
+    if (red < 50 || green < 50) fail('the sphere does not show the input\'s texture');
+  }
 
   // Every view draws, and the heat map and the morph slider work.
   for (const view of ['input', 'remesh', 'morph']) {

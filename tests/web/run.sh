@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # The page at GET / in headless Chromium (Debian chromium + npm playwright-core) against
 # the real server on a loopback port: a GLB (a corpus model, or a generated one without
-# the corpus) and a .gltf chosen with its .bin and textures must end `succeeded` with a
-# drawn canvas and no console error. Exit 77 (skipped) without chromium or npm.
+# the corpus), a generated textured GLB (its sphere must show its texture) and a .gltf
+# chosen with its .bin and textures must end `succeeded` with a drawn canvas and no
+# console error. Exit 77 (skipped) without chromium or npm.
 set -uo pipefail
 spheremap=$1 make_meshes=$2 corpus=$3
 here=$(cd "$(dirname "$0")" && pwd)
@@ -18,12 +19,13 @@ work=$(mktemp -d)
 trap 'kill $server 2> /dev/null; wait $server 2> /dev/null; rm -rf "$work"' EXIT
 start_server "$work/server.log" --workers 1
 url=$url/
+"$make_meshes" "$work" > /dev/null || fail "make_test_meshes"
 mesh=$corpus/spot.glb
-if [ ! -f "$mesh" ]; then
-  "$make_meshes" "$work" > /dev/null || fail "make_test_meshes"
-  mesh=$work/icosphere4.glb
-fi
+[ -f "$mesh" ] || mesh=$work/icosphere4.glb
 CHROMIUM=$chromium node "$here/page_test.mjs" "$url" "$mesh" || fail "page test on $(basename "$mesh")"
+# A textured input keeps its texture on the sphere it comes back as.
+EXPECT_TEXTURE=1 CHROMIUM=$chromium node "$here/page_test.mjs" "$url" "$work/textured_horseshoe.glb" ||
+  fail "page test on a textured mesh"
 box=$corpus/gltf-samples/BoxWithSpaces-glTF
 if [ -d "$box" ]; then
   CHROMIUM=$chromium node "$here/page_test.mjs" "$url" "$box/Box With Spaces.gltf" "$box/Box With Spaces.bin" \
