@@ -1,5 +1,7 @@
 #include <gtest/gtest.h>
 
+#include <functional>
+
 #include <cstring>
 #include <nlohmann/json.hpp>
 
@@ -191,6 +193,74 @@ TEST(GltfDraco, RejectsBrokenDracoReferences) {
   for (size_t k = 0; k < 64 && at + k < garbage.bin.size(); ++k)
     garbage.bin[at + k] = static_cast<char>(k * 37);
   EXPECT_FALSE(read_error(garbage.bytes()).empty());
+}
+
+// A generated Draco GLB (sequential encoding, the stream last in the buffer) whose stream
+// `patch` rewrites: the header as Draco writes it is "DRACO", version 2.2, mesh, method,
+// flags (2 bytes), then the face and point counts as varints.
+std::string patched_draco(const std::function<std::string(const std::string&)>& patch) {
+  GlbMesh mesh;
+  const PolygonMesh sphere = testing::icosphere(2);
+  mesh.positions = sphere.positions;
+  mesh.triangles = fan_triangulate(sphere).triangles;
+  mesh.draco_position_bits = 14;
+  Glb glb(format_glb(mesh));
+  const size_t view = glb.json["meshes"][0]["primitives"][0]["extensions"]
+                              ["KHR_draco_mesh_compression"]["bufferView"];
+  const size_t at = glb.json["bufferViews"][view].value("byteOffset", size_t{0});
+  const size_t length = glb.json["bufferViews"][view]["byteLength"];
+  const std::string stream = patch(glb.bin.substr(at, length));
+  glb.bin = glb.bin.substr(0, at) + stream;
+  while (glb.bin.size() % 4) glb.bin.push_back('\0');
+  glb.json["bufferViews"][view]["byteLength"] = stream.size();
+  glb.json["buffers"][0]["byteLength"] = glb.bin.size();
+  return glb.bytes();
+}
+
+std::string varint(uint64_t v) {
+  std::string out;
+  do {
+    out.push_back(static_cast<char>((v & 0x7f) | (v > 0x7f ? 0x80 : 0)));
+    v >>= 7;
+  } while (v);
+  return out;
+}
+
+// Draco allocates by the counts its header declares; they are read and checked first.
+TEST(GltfDraco, DeclaredCountsAreCheckedBeforeDecoding) {
+  const std::string plain = patched_draco([](const std::string& s) { return s; });
+  EXPECT_EQ(read_gltf(as_bytes(plain)).face_count(), 320u);
+  // 320 faces (2 bytes) and 162 points (2 bytes) follow the 11-byte header.
+  ASSERT_EQ(plain.size() % 4, 0u);
+  const std::string many_points = patched_draco([](const std::string& s) {
+    return s.substr(0, 11) + varint(320) + varint(4'000'000'000u) + s.substr(15);
+  });
+  try {
+    read_gltf(as_bytes(many_points));
+    ADD_FAILURE() << "4e9 declared points accepted";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.check(), "too_large");
+    EXPECT_NE(std::string(e.what()).find("declares 4000000000 vertices"), std::string::npos)
+        << e.what();
+  }
+  GltfReadOptions small;
+  small.max_triangles = 100;
+  EXPECT_THROW(read_gltf(as_bytes(plain), small), InputError);
+  const std::string old = patched_draco([](std::string s) {
+    s[6] = 1;  // bitstream 2.1
+    return s;
+  });
+  EXPECT_NE(read_error(old).find("version 2.1"), std::string::npos);
+  // Metadata nested 1,000 deep (Draco's own reader recurses without a bound).
+  const std::string nested = patched_draco([](std::string s) {
+    std::string metadata = varint(0);  // no attribute metadata
+    for (int depth = 0; depth < 1000; ++depth) metadata += varint(0) + varint(1) + varint(1) + "n";
+    s[10] = static_cast<char>(0x80);  // flags: metadata present
+    return s.substr(0, 11) + metadata + s.substr(11);
+  });
+  EXPECT_NE(read_error(nested).find("nests metadata over 16 deep"), std::string::npos);
+  const std::string cut = patched_draco([](const std::string& s) { return s.substr(0, 12); });
+  EXPECT_NE(read_error(cut).find("ends inside its header"), std::string::npos);
 }
 
 // The corpus in three forms: the same welded surface from OBJ, GLB and Draco GLB.

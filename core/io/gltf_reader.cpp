@@ -7,6 +7,7 @@
 #include <cmath>
 #include <optional>
 
+#include "core/io/draco_header.h"
 #include "core/io/gltf_document.h"
 #include "core/io/gltf_look.h"
 #include "core/mesh/input_error.h"
@@ -330,6 +331,17 @@ class Reader {
       fail("KHR_draco_mesh_compression has no POSITION attribute");
     const size_t position_id =
         index_field(*attributes, "POSITION", UINT32_MAX, "Draco POSITION id");
+    // The counts the stream declares, against what is left of the caps, before Draco
+    // allocates by them.
+    const DracoCounts declared = read_draco_counts(bytes);
+    if (declared.faces > options_.max_triangles - mesh_.face_count() ||
+        declared.vertices > options_.max_vertices - mesh_.vertex_count())
+      throw InputError("too_large", "a Draco primitive declares " +
+                                        std::to_string(declared.vertices) + " vertices and " +
+                                        std::to_string(declared.faces) +
+                                        " triangles, over what is left of the limits (" +
+                                        std::to_string(options_.max_vertices) + " vertices, " +
+                                        std::to_string(options_.max_triangles) + " triangles)");
     draco::DecoderBuffer buffer;
     buffer.Init(reinterpret_cast<const char*>(bytes.data()), bytes.size());
     draco::Decoder decoder;
