@@ -144,7 +144,17 @@ TEST(Gltf, ConvertsStripsAndFans) {
   EXPECT_GT(read_gltf(as_bytes(fan.bytes())).face_count(), 0u);
   Glb strip(sphere_glb());
   strip.json["meshes"][0]["primitives"][0]["mode"] = 5;
-  EXPECT_GT(read_gltf(as_bytes(strip.bytes())).face_count(), 0u);
+  const size_t strip_triangles = read_gltf(as_bytes(strip.bytes())).face_count();
+  EXPECT_GT(strip_triangles, 0u);
+  // The expansion is counted against the cap before the triangles are made.
+  GltfReadOptions cap;
+  cap.max_triangles = strip_triangles - 1;
+  try {
+    read_gltf(as_bytes(strip.bytes()), cap);
+    ADD_FAILURE() << "a strip over the triangle cap was read";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.check(), "too_large");
+  }
 }
 
 // Nodes form a forest: a cycle, or a node listed by two parents, is refused when the walk

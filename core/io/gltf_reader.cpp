@@ -275,6 +275,8 @@ class Reader {
       }
       if (look_) carried = look_attributes(*attributes, vertex_count);
     }
+    // Strips and fans make up to 3 indices of each one: counted before they are made.
+    check_room(0, mode == 4 ? indices.size() / 3 : std::max<size_t>(indices.size(), 2) - 2);
     const size_t first_vertex = mesh_.vertex_count(), first_face = mesh_.face_count();
     const bool mirrored = append(positions, triangles_of(indices, mode), world);
     if (!look_) return;
@@ -375,19 +377,24 @@ class Reader {
       }
   }
 
+  // Refuses (too_large) what would take the mesh past the caps.
+  void check_room(size_t vertices, size_t triangles) const {
+    if (vertices > options_.max_vertices - mesh_.vertex_count())
+      throw InputError(
+          "too_large",
+          "the meshes have over " + std::to_string(options_.max_vertices) + " vertices, the limit");
+    if (triangles > options_.max_triangles - mesh_.face_count())
+      throw InputError("too_large", "the meshes have over " +
+                                        std::to_string(options_.max_triangles) +
+                                        " triangles, the limit");
+  }
+
   // Returns whether the transform mirrors (its faces were flipped to keep them outward).
   bool append(const std::vector<double>& positions, const std::vector<uint32_t>& tris,
               const Matrix& m) {
     const uint32_t base = static_cast<uint32_t>(mesh_.vertex_count());
     const size_t count = positions.size() / 3;
-    if (mesh_.vertex_count() + count > options_.max_vertices)
-      throw InputError(
-          "too_large",
-          "the meshes have over " + std::to_string(options_.max_vertices) + " vertices, the limit");
-    if (mesh_.face_count() + tris.size() / 3 > options_.max_triangles)
-      throw InputError("too_large", "the meshes have over " +
-                                        std::to_string(options_.max_triangles) +
-                                        " triangles, the limit");
+    check_room(count, tris.size() / 3);
     for (size_t i = 0; i < count; ++i) {
       const double x = positions[3 * i], y = positions[3 * i + 1], z = positions[3 * i + 2];
       mesh_.positions.push_back({m[0] * x + m[4] * y + m[8] * z + m[12],
