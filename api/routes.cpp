@@ -287,6 +287,40 @@ void serve_asset(const httplib::Request& request, httplib::Response& response) {
 
 }  // namespace
 
+// /healthz, /readyz and /metrics: on the API's port, and alone on the health port.
+static void install_probes(httplib::Server& http, Service& service) {
+  http.Get("/healthz", [](const httplib::Request&, httplib::Response& response) {
+    send_json(response, 200, {{"status", "ok"}});
+  });
+  http.Get(
+      "/readyz", guarded([&service](const httplib::Request&, httplib::Response& response) {
+        if (!service.ready())
+          throw Problem(503, "shutting_down", "Shutting down", "the server is draining its jobs");
+        const auto counts = service.store().counts();
+        send_json(response, 200,
+                  {{"status", "ready"}, {"queued", counts.queued}, {"running", counts.running}});
+      }));
+  http.Get("/metrics", [&service](const httplib::Request&, httplib::Response& response) {
+    service.store().evict();
+    response.set_content(
+        service.metrics().render(service.store().counts(), service.config().queue_capacity,
+                                 service.config().effective_workers()),
+        "text/plain; version=0.0.4; charset=utf-8");
+  });
+}
+
+void install_health(httplib::Server& http, Service& service) {
+  // Two threads, and short timeouts: a probe is a small GET from a kubelet or a load
+  // balancer, and nothing here may be held long by whoever reaches the port.
+  http.new_task_queue = [] { return new httplib::ThreadPool(2); };
+  http.set_payload_max_length(0);
+  http.set_read_timeout(std::chrono::seconds(2));
+  http.set_write_timeout(std::chrono::seconds(2));
+  http.set_keep_alive_timeout(1);
+  http.set_tcp_nodelay(true);
+  install_probes(http, service);
+}
+
 void install_api(httplib::Server& http, Service& service) {
   const server::ServerConfig& config = service.config();
   const size_t http_threads = static_cast<size_t>(config.http_threads);
@@ -433,24 +467,7 @@ void install_api(httplib::Server& http, Service& service) {
     return httplib::Server::HandlerResponse::Handled;
   }));
 
-  http.Get("/healthz", [](const httplib::Request&, httplib::Response& response) {
-    send_json(response, 200, {{"status", "ok"}});
-  });
-  http.Get(
-      "/readyz", guarded([&service](const httplib::Request&, httplib::Response& response) {
-        if (!service.ready())
-          throw Problem(503, "shutting_down", "Shutting down", "the server is draining its jobs");
-        const auto counts = service.store().counts();
-        send_json(response, 200,
-                  {{"status", "ready"}, {"queued", counts.queued}, {"running", counts.running}});
-      }));
-  http.Get("/metrics", [&service](const httplib::Request&, httplib::Response& response) {
-    service.store().evict();
-    response.set_content(
-        service.metrics().render(service.store().counts(), service.config().queue_capacity,
-                                 service.config().effective_workers()),
-        "text/plain; version=0.0.4; charset=utf-8");
-  });
+  install_probes(http, service);
   http.Get("/", guarded(serve_asset));
   http.Get(R"(/web/[A-Za-z0-9_./-]+)", guarded(serve_asset));
   http.Get("/v1/openapi.yaml", [](const httplib::Request&, httplib::Response& response) {

@@ -13,6 +13,14 @@ namespace spheremap::api {
 // the error and exception handlers (problem+json, never an exception's text in a header).
 void install_api(httplib::Server& http, server::Service& service);
 
+// Only /healthz, /readyz and /metrics, with two threads and short timeouts of their own:
+// for the health port, which answers while every API connection is held.
+void install_health(httplib::Server& http, server::Service& service);
+
+// Only /healthz, /readyz and /metrics, with two threads and short timeouts of their own:
+// for the health port, which answers while every API connection is held.
+void install_health(httplib::Server& http, server::Service& service);
+
 // The OpenAPI document, embedded at build time.
 extern const char* const kOpenApiYaml;
 

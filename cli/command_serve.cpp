@@ -23,6 +23,8 @@ jobs (shutdown_grace_seconds) and exits 0.
 
   --config FILE             a JSON file of settings
   --port N                  TCP port (default 8080; 0 = any free port, logged)
+  --health-port N           a second port for /healthz, /readyz and /metrics only, with
+                            threads of its own (default -1 = none; 0 = any free port)
   --host ADDRESS            listen address (default 127.0.0.1; 0.0.0.0 = all interfaces)
   --workers N               jobs mapped at once (default 0 = the machine's cores)
   --threads-per-job N       engine threads per job (default 0 = cores / workers)

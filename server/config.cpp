@@ -26,6 +26,7 @@ const std::vector<Setting>& settings() {
   static const std::vector<Setting> table = {
       {"host", &ServerConfig::host},
       {"port", &ServerConfig::port, 0, 65535},
+      {"health_port", &ServerConfig::health_port, -1, 65535},
       {"workers", &ServerConfig::workers, 0, 1024},
       {"threads_per_job", &ServerConfig::threads_per_job, 0, 1024},
       {"http_threads", &ServerConfig::http_threads, 2, 1024},

@@ -12,8 +12,11 @@
 namespace spheremap::server {
 
 struct ServerConfig {
-  std::string host = "127.0.0.1";     // "0.0.0.0" for all interfaces (the container does)
-  int port = 8080;                    // 0: any free port (tests)
+  std::string host = "127.0.0.1";  // "0.0.0.0" for all interfaces (the container does)
+  int port = 8080;                 // 0: any free port (tests)
+  // A second port for /healthz, /readyz and /metrics only, with threads of its own, so a
+  // probe is answered while clients hold every API connection. -1: none; 0: any free port.
+  int health_port = -1;
   int workers = 0;                    // mapping jobs at once; 0 = the machine's cores
   int threads_per_job = 0;            // engine threads per job; 0 = cores / workers (at least 1)
   int http_threads = 16;              // connections served at once (requests only, no mesh work)

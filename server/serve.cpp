@@ -14,6 +14,24 @@
 
 namespace spheremap::server {
 
+namespace {
+
+// Binds `http` to config.host and `port` (0: any free one); the port bound, or -1 after
+// logging why not.
+int bind_port(httplib::Server& http, const ServerConfig& config, int port, const char* what) {
+  const int bound = port == 0 ? http.bind_to_any_port(config.host)
+                              : (http.bind_to_port(config.host, port) ? port : -1);
+  if (bound < 0)
+    log_event({{"event", "bind_failed"},
+               {"listener", what},
+               {"host", config.host},
+               {"port", port},
+               {"error", std::strerror(errno)}});
+  return bound;
+}
+
+}  // namespace
+
 int serve(const ServerConfig& config) {
   // Signals are taken by sigwait on this thread only: block them before any thread starts.
   sigset_t stop_signals;
@@ -26,16 +44,26 @@ int serve(const ServerConfig& config) {
   Service service(config);
   httplib::Server http;
   api::install_api(http, service);
-  const int port = config.port == 0
-                       ? http.bind_to_any_port(config.host)
-                       : (http.bind_to_port(config.host, config.port) ? config.port : -1);
-  if (port < 0) {
-    log_event({{"event", "bind_failed"},
-               {"host", config.host},
-               {"port", config.port},
-               {"error", std::strerror(errno)}});
+  // The health port, when asked for: probes answered by threads of their own, however
+  // many clients hold the API's connections (slowloris, a full pool, a stuck proxy).
+  httplib::Server health;
+  int health_port = -1;
+  if (config.health_port >= 0) {
+    api::install_health(health, service);
+    health_port = bind_port(health, config, config.health_port, "health");
+  }
+  const int port = bind_port(http, config, config.port, "api");
+  if (port < 0 || (config.health_port >= 0 && health_port < 0)) {
     service.drain(0);
     return 1;
+  }
+  std::thread health_listener;
+  if (health_port >= 0) {
+    log_event({{"event", "health_listening"},
+               {"host", config.host},
+               {"port", health_port},
+               {"url", "http://" + config.host + ":" + std::to_string(health_port)}});
+    health_listener = std::thread([&health] { health.listen_after_bind(); });
   }
   log_event({{"event", "listening"},
              {"host", config.host},
@@ -66,6 +94,10 @@ int serve(const ServerConfig& config) {
   impatience.join();
   http.stop();
   listener.join();
+  if (health_listener.joinable()) {
+    health.stop();
+    health_listener.join();
+  }
   log_event({{"event", "stopped"}});
   return 0;
 }

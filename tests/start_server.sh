@@ -9,7 +9,7 @@ start_server() {
   url=
   for _ in $(seq 400); do
     if grep -q '"event":"listening"' "$log"; then
-      url=$(grep -o '"url":"[^"]*"' "$log" | head -1 | cut -d'"' -f4)
+      url=$(grep '"event":"listening"' "$log" | grep -o '"url":"[^"]*"' | head -1 | cut -d'"' -f4)
       break
     fi
     sleep 0.05
