@@ -270,6 +270,26 @@ TEST(Appearance, BrokenTextureReferencesDropTheMaterialsNotTheMap) {
   EXPECT_NE(Glb(sphere).json["meshes"][0]["primitives"][0]["attributes"].count("TEXCOORD_0"), 0u);
 }
 
+// The look is the input's JSON: wrong types and broken attribute accessors cost the look
+// (or part of it), never the map or an output.
+TEST(Appearance, HostileLookValuesAreIgnored) {
+  Glb glb(testing::textured_glb(testing::horseshoe()));
+  glb.json["samplers"] = {{{"wrapS", "repeat"}, {"wrapT", -3}}};
+  glb.json["textures"][0]["sampler"] = 0;
+  glb.json["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"]["texCoord"] = "zero";
+  glb.json["meshes"][0]["primitives"][0]["attributes"]["TEXCOORD_1"] = 999;
+  glb.json["meshes"][0]["primitives"][0]["attributes"]["COLOR_0"] = "x";
+  const ReadBack in = read_with_look(glb.bytes());
+  EXPECT_EQ(in.look.attribute("TEXCOORD_1"), nullptr);
+  EXPECT_EQ(in.look.attribute("COLOR_0"), nullptr);
+  EXPECT_EQ(in.look.samplers[0], nlohmann::json::object());  // only values glTF allows
+  const MappedMesh mapped = map_mesh(in.mesh, {}, {});
+  const RemeshAsset remesh = remesh_asset(mapped, 16, 1, &in.mesh, &in.look);
+  EXPECT_TRUE(remesh.metrics.contains("texture"));
+  const MorphAsset morph = morph_asset(mapped, 4, &in.mesh, &in.look);
+  EXPECT_EQ(read_with_look(morph.glb).look.materials, in.look.materials);
+}
+
 TEST(Appearance, MissingImageBecomesAPlaceholder) {
   Glb glb(testing::textured_glb(testing::horseshoe()));
   glb.json["images"][0].erase("bufferView");

@@ -1,5 +1,8 @@
 #include "core/io/gltf_look.h"
 
+#include <algorithm>
+#include <map>
+
 #include "core/mesh/input_error.h"
 
 namespace spheremap::gltf {
@@ -65,6 +68,24 @@ std::vector<std::string> appearance_extensions(const nlohmann::json& json, const
   return out;
 }
 
+// A sampler with only the members glTF defines, each only with a value glTF allows (so an
+// input's odd sampler does not make every output invalid).
+nlohmann::json checked_sampler(const nlohmann::json& sampler) {
+  static const std::map<std::string, std::vector<int>> kAllowed = {
+      {"magFilter", {9728, 9729}},
+      {"minFilter", {9728, 9729, 9984, 9985, 9986, 9987}},
+      {"wrapS", {33071, 33648, 10497}},
+      {"wrapT", {33071, 33648, 10497}}};
+  nlohmann::json out = nlohmann::json::object();
+  if (!sampler.is_object()) return out;
+  for (const auto& [key, values] : kAllowed)
+    if (const auto it = sampler.find(key); it != sampler.end() && it->is_number_integer() &&
+                                           std::count(values.begin(), values.end(), it->get<int>()))
+      out[key] = *it;
+  if (sampler.contains("name") && sampler["name"].is_string()) out["name"] = sampler["name"];
+  return out;
+}
+
 // A node with what the writer keeps: name, children, camera, transform.
 nlohmann::json copied_node(const nlohmann::json& node, size_t cameras) {
   nlohmann::json out = nlohmann::json::object();
@@ -93,14 +114,14 @@ void copy_scene_look(const Document& doc, const std::vector<size_t>& roots,
   const nlohmann::json& json = doc.json();
   const size_t images = array_size(json, "images"), samplers = array_size(json, "samplers");
   look.cameras = array_of(json, "cameras");
-  look.samplers = array_of(json, "samplers");
+  for (const auto& sampler : array_of(json, "samplers"))
+    look.samplers.push_back(checked_sampler(sampler));
   look.textures = array_of(json, "textures");
   look.materials = array_of(json, "materials");
   bool resolves = true;
   for (const auto& t : look.textures) resolves = resolves && texture_resolves(t, images, samplers);
   for (const auto& m : look.materials)
     resolves = resolves && m.is_object() && texture_references_resolve(m, look.textures.size());
-  for (const auto& s : look.samplers) resolves = resolves && s.is_object();
   if (!resolves) {
     // Broken references would make every output invalid; the geometry still maps.
     look.materials = look.textures = look.samplers = nlohmann::json::array();

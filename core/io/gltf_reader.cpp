@@ -439,10 +439,16 @@ class Reader {
     const size_t accessors =
         doc_.json().contains("accessors") ? doc_.json()["accessors"].size() : 0;
     for (const auto& [name, value] : attributes.items()) {
-      if (!carried_attribute(name)) continue;
-      const size_t index = index_field(attributes, name.c_str(), accessors, "attribute accessor");
+      if (!carried_attribute(name) || !value.is_number_unsigned() ||
+          value.get<uint64_t>() >= accessors)
+        continue;
       int components = 0;
-      std::vector<double> values = doc_.read_attribute(index, &components);
+      std::vector<double> values;
+      try {
+        values = doc_.read_attribute(value.get<size_t>(), &components);
+      } catch (const InputError&) {
+        continue;  // a broken UV accessor costs the UVs, not the map
+      }
       if (values.size() != vertex_count * static_cast<size_t>(components)) continue;
       if (auto fitted = fitted_attribute(name, components, std::move(values)))
         out.push_back(std::move(*fitted));

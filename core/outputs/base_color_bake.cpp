@@ -66,13 +66,21 @@ Rgba sample(const BaseColor& c, double u, double v) {
   return out;
 }
 
+// An unsigned member of a JSON object, or `fallback` when absent or of another type (the
+// look is the input's JSON: nothing in it is trusted to have the right type).
+size_t unsigned_or(const nlohmann::json& object, const char* key, size_t fallback) {
+  const auto it = object.find(key);
+  return it != object.end() && it->is_number_unsigned() ? it->get<size_t>() : fallback;
+}
+
 // The base colour of every material, decoding each image it uses once.
 std::vector<BaseColor> base_colors(const GltfAppearance& look, std::map<size_t, RgbaImage>& images,
                                    size_t& decoded) {
   std::vector<BaseColor> out(look.materials.size());
   for (size_t m = 0; m < look.materials.size(); ++m) {
-    const nlohmann::json pbr =
-        look.materials[m].value("pbrMetallicRoughness", nlohmann::json::object());
+    const nlohmann::json pbr = look.materials[m].contains("pbrMetallicRoughness")
+                                   ? look.materials[m]["pbrMetallicRoughness"]
+                                   : nlohmann::json::object();
     if (!pbr.is_object()) continue;
     if (const auto f = pbr.find("baseColorFactor");
         f != pbr.end() && f->is_array() && f->size() == 4)
@@ -80,16 +88,16 @@ std::vector<BaseColor> base_colors(const GltfAppearance& look, std::map<size_t, 
         if ((*f)[k].is_number()) out[m].factor[k] = (*f)[k].get<double>();
     const auto info = pbr.find("baseColorTexture");
     if (info == pbr.end() || !info->is_object()) continue;
-    const size_t texture = info->value("index", size_t{0});
-    const size_t set = info->value("texCoord", size_t{0});
+    const size_t texture = unsigned_or(*info, "index", 0);
+    const size_t set = unsigned_or(*info, "texCoord", 0);
     out[m].texcoord = "TEXCOORD_" + std::to_string(std::min<size_t>(set, 9));
     const nlohmann::json& t = look.textures.at(texture);  // checked when the look was read
     if (!t.contains("source") || !t["source"].is_number_unsigned()) continue;
     const size_t source = t["source"].get<size_t>();
     if (t.contains("sampler") && t["sampler"].is_number_unsigned()) {
       const nlohmann::json& s = look.samplers.at(t["sampler"].get<size_t>());
-      out[m].wrap_s = s.value("wrapS", kRepeat);
-      out[m].wrap_t = s.value("wrapT", kRepeat);
+      out[m].wrap_s = static_cast<int>(unsigned_or(s, "wrapS", kRepeat));
+      out[m].wrap_t = static_cast<int>(unsigned_or(s, "wrapT", kRepeat));
     }
     if (!images.count(source) && source < look.image_bytes.size())
       if (auto image = decode_image(look.image_bytes[source], kMaxImagePixels)) {
