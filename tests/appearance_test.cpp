@@ -190,12 +190,12 @@ TEST(Appearance, BakedBaseColourIsTheMaterialOfTheFaceUnderEachTexel) {
 
   const MappedMesh mapped = map_mesh(grouped, {}, {});
   const int size = 64;
-  const auto baked = bake_base_color(grouped, look, mapped, size, 1);
+  const std::vector<Triangle> oriented = oriented_triangles(mapped.prepared.welded.mesh).triangles;
+  const auto baked = bake_base_color(grouped, look, mapped, oriented, size, 1);
   ASSERT_TRUE(baked);
   EXPECT_EQ(baked->unlocated_texels, 0u);
   const auto image = decode_image(baked->png, 1 << 20);
   ASSERT_TRUE(image);
-  const std::vector<Triangle> oriented = oriented_triangles(mapped.prepared.welded.mesh).triangles;
   size_t agree = 0, reds = 0;
   for (int row = 0; row < size; ++row)
     for (int column = 0; column < size; ++column) {

@@ -24,20 +24,29 @@ size_t GlbBuilder::add_accessor(nlohmann::json accessor) {
   return accessors_.size() - 1;
 }
 
-size_t GlbBuilder::add_vec3(std::span<const Vec3> values, bool with_bounds, int target) {
-  std::array<float, 3> lo, hi;
+nlohmann::json GlbBuilder::vec3_accessor(std::span<const Vec3> values, bool with_bounds) {
+  nlohmann::json accessor = {{"componentType", 5126}, {"count", values.size()}, {"type", "VEC3"}};
+  if (!with_bounds) return accessor;
+  std::array<float, 3> lo, hi;  // of the float32 values, as glTF requires
   lo.fill(std::numeric_limits<float>::max());
   hi.fill(std::numeric_limits<float>::lowest());
+  for (const Vec3& p : values)
+    for (int k = 0; k < 3; ++k) {
+      const float f = static_cast<float>(p[k]);
+      lo[k] = std::min(lo[k], f), hi[k] = std::max(hi[k], f);
+    }
+  accessor["min"] = lo, accessor["max"] = hi;
+  return accessor;
+}
+
+size_t GlbBuilder::add_vec3(std::span<const Vec3> values, bool with_bounds, int target) {
   std::string data;
   data.reserve(values.size() * 12);
   for (const Vec3& p : values) {
     const float f[3] = {static_cast<float>(p.x), static_cast<float>(p.y), static_cast<float>(p.z)};
     data.append(reinterpret_cast<const char*>(f), sizeof f);
-    for (int k = 0; k < 3; ++k) lo[k] = std::min(lo[k], f[k]), hi[k] = std::max(hi[k], f[k]);
   }
-  nlohmann::json accessor = {{"componentType", 5126}, {"count", values.size()}, {"type", "VEC3"}};
-  if (with_bounds) accessor["min"] = lo, accessor["max"] = hi;
-  return add_accessor(std::move(accessor), data, target);
+  return add_accessor(vec3_accessor(values, with_bounds), data, target);
 }
 
 size_t GlbBuilder::add_floats(std::span<const float> values, int components, int target) {

@@ -23,6 +23,8 @@ class GlbBuilder {
   // An accessor with no data in this buffer (Draco decodes it).
   size_t add_accessor(nlohmann::json accessor);
 
+  // float32 VEC3: the accessor's description (min/max with_bounds), and one over new data.
+  static nlohmann::json vec3_accessor(std::span<const Vec3> values, bool with_bounds);
   size_t add_vec3(std::span<const Vec3> values, bool with_bounds, int target = kArrayBuffer);
   size_t add_floats(std::span<const float> values, int components, int target = kArrayBuffer);
   size_t add_indices(std::span<const std::array<uint32_t, 3>> triangles);

@@ -70,14 +70,8 @@ GlbParts build_glb(const GlbMesh& mesh) {
   GlbBuilder b;
   // With Draco, accessors describe the decoded data and have no bufferView.
   auto vec3 = [&](const std::vector<Vec3>& values, bool bounds) {
-    if (!draco) return b.add_vec3(values, bounds);
-    nlohmann::json accessor = {{"componentType", 5126}, {"count", n}, {"type", "VEC3"}};
-    if (bounds) {
-      GlbBuilder scratch;  // the bounds as the plain accessor has them
-      accessor = scratch.accessors()[scratch.add_vec3(values, true)];
-      accessor.erase("bufferView");
-    }
-    return b.add_accessor(std::move(accessor));
+    return draco ? b.add_accessor(GlbBuilder::vec3_accessor(values, bounds))
+                 : b.add_vec3(values, bounds);
   };
   nlohmann::json attributes;
   attributes["POSITION"] = vec3(mesh.positions, true);

@@ -8,6 +8,7 @@
 // [first_face, first_face + face_count), in reading order.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <nlohmann/json.hpp>
@@ -48,6 +49,9 @@ struct GltfAppearance {
     Matrix4 world{};        // node-to-world transform applied to its positions
     bool mirrored = false;  // world has a negative determinant: faces were flipped on read
     std::vector<std::string> attributes;  // names of the attributes it has (below)
+    bool has(const std::string& name) const {
+      return std::find(attributes.begin(), attributes.end(), name) != attributes.end();
+    }
   };
   std::vector<Primitive> primitives;
 

@@ -25,9 +25,7 @@ const char* const kGltf1 =
 // Extensions a file may require that change what is drawn, not where: materials,
 // textures, lights. The geometry ones read here are listed separately.
 bool appearance_only(const std::string& name) {
-  return name.rfind("KHR_materials_", 0) == 0 || name == "KHR_texture_transform" ||
-         name == "KHR_texture_basisu" || name == "EXT_texture_webp" || name == "EXT_texture_avif" ||
-         name == "KHR_lights_punctual" || name == "KHR_xmp_json_ld";
+  return material_extension(name) || name == "KHR_lights_punctual" || name == "KHR_xmp_json_ld";
 }
 const char* const kGeometryExtensions[] = {"KHR_draco_mesh_compression", "KHR_mesh_quantization",
                                            "EXT_meshopt_compression", "EXT_mesh_gpu_instancing"};
@@ -93,6 +91,11 @@ int component_count(const std::string& type) {
 }
 
 }  // namespace
+
+bool material_extension(const std::string& name) {
+  return name.rfind("KHR_materials_", 0) == 0 || name == "KHR_texture_transform" ||
+         name == "KHR_texture_basisu" || name == "EXT_texture_webp" || name == "EXT_texture_avif";
+}
 
 void fail(const std::string& message) {
   throw InputError("gltf", message);

@@ -15,6 +15,10 @@ namespace spheremap::gltf {
 
 [[noreturn]] void fail(const std::string& message);
 
+// An extension of materials and textures only (KHR_materials_*, texture transforms and
+// image formats): what outputs that keep the input's materials may keep.
+bool material_extension(const std::string& name);
+
 class Document {
  public:
   // bytes: a GLB file or glTF JSON text. `resources` supplies the files that buffer URIs

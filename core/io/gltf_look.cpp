@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <map>
 
+#include "core/io/image_reader.h"
 #include "core/mesh/input_error.h"
 
 namespace spheremap::gltf {
@@ -55,15 +56,10 @@ bool texture_resolves(const nlohmann::json& texture, size_t images, size_t sampl
   return true;
 }
 
-bool appearance_extension(const std::string& name) {
-  return name.rfind("KHR_materials_", 0) == 0 || name == "KHR_texture_transform" ||
-         name == "KHR_texture_basisu" || name == "EXT_texture_webp" || name == "EXT_texture_avif";
-}
-
 std::vector<std::string> appearance_extensions(const nlohmann::json& json, const char* key) {
   std::vector<std::string> out;
   for (const auto& e : array_of(json, key))
-    if (e.is_string() && appearance_extension(e.get<std::string>()))
+    if (e.is_string() && material_extension(e.get<std::string>()))
       out.push_back(e.get<std::string>());
   return out;
 }
@@ -98,16 +94,6 @@ nlohmann::json copied_node(const nlohmann::json& node, size_t cameras) {
 
 }  // namespace
 
-std::string sniff_image_type(const std::string& bytes) {
-  if (bytes.rfind("\x89PNG\r\n\x1a\n", 0) == 0) return "image/png";
-  if (bytes.size() >= 3 && bytes.compare(0, 3, "\xff\xd8\xff") == 0) return "image/jpeg";
-  if (bytes.size() >= 12 && bytes.compare(0, 4, "RIFF") == 0 && bytes.compare(8, 4, "WEBP") == 0)
-    return "image/webp";
-  if (bytes.size() >= 12 && bytes.compare(0, 12, "\xabKTX 20\xbb\r\n\x1a\n") == 0)
-    return "image/ktx2";
-  return "";
-}
-
 void copy_scene_look(const Document& doc, const std::vector<size_t>& roots,
                      const std::string& scene_name, const std::vector<char>& visited,
                      GltfAppearance& look) {
@@ -138,7 +124,7 @@ void copy_scene_look(const Document& doc, const std::vector<size_t>& roots,
       nlohmann::json copy = nlohmann::json::object();
       if (image.is_object() && image.contains("name") && image["name"].is_string())
         copy["name"] = image["name"];
-      const std::string type = sniff_image_type(bytes);
+      const std::string type = image_type(bytes);
       if (type.empty()) bytes.clear();
       copy["mimeType"] = type.empty() ? "image/png" : type;
       look.images.push_back(std::move(copy));

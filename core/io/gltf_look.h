@@ -19,8 +19,4 @@ void copy_scene_look(const Document& doc, const std::vector<size_t>& roots,
                      const std::string& scene_name, const std::vector<char>& visited,
                      GltfAppearance& look);
 
-// The image type its first bytes say ("image/png", "image/jpeg", "image/webp",
-// "image/ktx2"), or "" when unknown.
-std::string sniff_image_type(const std::string& bytes);
-
 }  // namespace spheremap::gltf

@@ -17,7 +17,7 @@ namespace {
 
 using gltf::fail;
 using gltf::index_field;
-using Matrix = std::array<double, 16>;  // column-major, as glTF
+using Matrix = Matrix4;
 
 constexpr Matrix kIdentity = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
 constexpr int kMaxNodeDepth = 64;

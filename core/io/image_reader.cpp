@@ -49,11 +49,19 @@ std::optional<RgbaImage> decode_jpeg(std::string_view bytes, size_t max_pixels) 
 
 }  // namespace
 
+std::string image_type(std::string_view bytes) {
+  if (bytes.substr(0, 8) == "\x89PNG\r\n\x1a\n") return "image/png";
+  if (bytes.size() >= 3 && bytes.substr(0, 3) == "\xff\xd8\xff") return "image/jpeg";
+  if (bytes.size() >= 12 && bytes.substr(0, 4) == "RIFF" && bytes.substr(8, 4) == "WEBP")
+    return "image/webp";
+  if (bytes.size() >= 12 && bytes.substr(0, 12) == "\xabKTX 20\xbb\r\n\x1a\n") return "image/ktx2";
+  return "";
+}
+
 std::optional<RgbaImage> decode_image(std::string_view bytes, size_t max_pixels) {
-  if (bytes.size() >= 8 && bytes.substr(0, 8) == "\x89PNG\r\n\x1a\n")
-    return decode_png(bytes, max_pixels);
-  if (bytes.size() >= 3 && bytes.substr(0, 3) == "\xff\xd8\xff")
-    return decode_jpeg(bytes, max_pixels);
+  const std::string type = image_type(bytes);
+  if (type == "image/png") return decode_png(bytes, max_pixels);
+  if (type == "image/jpeg") return decode_jpeg(bytes, max_pixels);
   return std::nullopt;
 }
 

@@ -5,6 +5,7 @@
 
 #include <cstdint>
 #include <optional>
+#include <string>
 #include <string_view>
 #include <vector>
 
@@ -14,6 +15,10 @@ struct RgbaImage {
   int width = 0, height = 0;
   std::vector<uint8_t> rgba;  // row-major, top row first, 4 bytes a pixel
 };
+
+// The type its first bytes say: "image/png", "image/jpeg", "image/webp", "image/ktx2", or
+// "" when none of these.
+std::string image_type(std::string_view bytes);
 
 // The image, or nothing when it is not a PNG or JPEG that decodes, or has more than
 // `max_pixels` pixels.

@@ -87,9 +87,7 @@ nlohmann::json write_primitive(GlbBuilder& b, const GltfAppearance& look,
   nlohmann::json attributes;
   attributes["POSITION"] = b.add_vec3(local, true);
   const GltfAppearance::Attribute* input_normals =
-      std::find(p.attributes.begin(), p.attributes.end(), "NORMAL") != p.attributes.end()
-          ? look.attribute("NORMAL")
-          : nullptr;
+      p.has("NORMAL") ? look.attribute("NORMAL") : nullptr;
   if (!g.normals.empty()) {
     for (size_t i = 0; i < count; ++i)
       normals.push_back(frame.normal_to_local(g.normals[first + i]));

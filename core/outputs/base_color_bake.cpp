@@ -109,16 +109,14 @@ std::vector<BaseColor> base_colors(const GltfAppearance& look, std::map<size_t, 
   return out;
 }
 
-bool has(const GltfAppearance::Primitive& p, const std::string& attribute) {
-  return std::find(p.attributes.begin(), p.attributes.end(), attribute) != p.attributes.end();
-}
-
 }  // namespace
 
 std::optional<BakedBaseColor> bake_base_color(const PolygonMesh& input, const GltfAppearance& look,
-                                              const MappedMesh& mapped, int size, int threads) {
+                                              const MappedMesh& mapped,
+                                              std::span<const Triangle> oriented, int size,
+                                              int threads) {
   const bool coloured = std::any_of(look.primitives.begin(), look.primitives.end(),
-                                    [](auto& p) { return p.material >= 0 || has(p, "COLOR_0"); });
+                                    [](auto& p) { return p.material >= 0 || p.has("COLOR_0"); });
   if (look.empty() || !coloured || size <= 0) return std::nullopt;
   BakedBaseColor baked;
   std::map<size_t, RgbaImage> images;
@@ -135,10 +133,9 @@ std::optional<BakedBaseColor> bake_base_color(const PolygonMesh& input, const Gl
       primitive_of[look.primitives[p].first_face + f] = p;
   for (uint32_t f = 0; f < input.face_count(); ++f)
     if (!dropped[f]) input_face.push_back(f);
-  const OrientedTriangles oriented = oriented_triangles(welded);
-  if (input_face.size() != welded.face_count() || oriented.triangles.size() != welded.face_count())
+  if (input_face.size() != welded.face_count() || oriented.size() != welded.face_count())
     return std::nullopt;
-  const SphereLocator locator(mapped.map.sphere, oriented.triangles);
+  const SphereLocator locator(mapped.map.sphere, oriented);
 
   std::vector<uint16_t> rgb(static_cast<size_t>(size) * size * 3, 128);
   std::vector<char> missed(static_cast<size_t>(size) * size, 0);
@@ -158,7 +155,7 @@ std::optional<BakedBaseColor> bake_base_color(const PolygonMesh& input, const Gl
       std::array<uint32_t, 3> vertex{};
       for (int k = 0; k < 3; ++k)
         for (uint32_t c : corners)
-          if (to_welded[c] == oriented.triangles[hit.triangle][k]) vertex[k] = c;
+          if (to_welded[c] == oriented[hit.triangle][k]) vertex[k] = c;
       auto interpolate = [&](const GltfAppearance::Attribute& a, int component) {
         double x = 0;
         for (int k = 0; k < 3; ++k)
@@ -171,13 +168,13 @@ std::optional<BakedBaseColor> bake_base_color(const PolygonMesh& input, const Gl
         const BaseColor& c = colors[static_cast<size_t>(p.material)];
         color = c.factor;
         const GltfAppearance::Attribute* uv =
-            has(p, c.texcoord) ? look.attribute(c.texcoord) : nullptr;
+            p.has(c.texcoord) ? look.attribute(c.texcoord) : nullptr;
         if (c.image && uv) {
           const Rgba t = sample(c, interpolate(*uv, 0), interpolate(*uv, 1));
           for (int k = 0; k < 4; ++k) color[k] *= t[k];
         }
       }
-      if (const auto* vc = has(p, "COLOR_0") ? look.attribute("COLOR_0") : nullptr)
+      if (const auto* vc = p.has("COLOR_0") ? look.attribute("COLOR_0") : nullptr)
         for (int k = 0; k < 3; ++k) color[k] *= interpolate(*vc, k);
       for (int k = 0; k < 3; ++k)
         rgb[texel * 3 + k] = static_cast<uint16_t>(std::lround(255 * linear_to_srgb(color[k])));

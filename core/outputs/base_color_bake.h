@@ -3,6 +3,7 @@
 #pragma once
 
 #include <optional>
+#include <span>
 #include <string>
 
 #include "core/io/gltf_appearance.h"
@@ -21,8 +22,11 @@ struct BakedBaseColor {
 // the colour of the surface there: baseColorFactor x baseColorTexture (at the face's
 // interpolated TEXCOORD_n, with its sampler's wrap) x COLOR_0. Nothing when the input has
 // no material and no vertex colour. Preconditions: mapped.map.check.bijective; `look`
-// and `input` from one read_gltf() call, `mapped` prepared from `input`.
+// and `input` from one read_gltf() call, `mapped` prepared from `input`; `oriented` the
+// welded mesh's oriented_triangles() (the remesh has them already).
 std::optional<BakedBaseColor> bake_base_color(const PolygonMesh& input, const GltfAppearance& look,
-                                              const MappedMesh& mapped, int size, int threads);
+                                              const MappedMesh& mapped,
+                                              std::span<const Triangle> oriented, int size,
+                                              int threads);
 
 }  // namespace spheremap

@@ -76,10 +76,8 @@ SceneGeometry scene_morph(const PolygonMesh& input, const GltfAppearance& look,
   g.input = &input;
   g.positions = input.positions;
   g.skip_face = dropped_faces(input, mapped);
-  const bool all_have_normals =
-      std::all_of(look.primitives.begin(), look.primitives.end(), [](const auto& p) {
-        return std::find(p.attributes.begin(), p.attributes.end(), "NORMAL") != p.attributes.end();
-      });
+  const bool all_have_normals = std::all_of(look.primitives.begin(), look.primitives.end(),
+                                            [](const auto& p) { return p.has("NORMAL"); });
   for (size_t v = 0; v < input.vertex_count(); ++v) {
     const uint32_t w = to_welded[v];
     const Vec3 s = w == kUnreferenced ? Vec3{0, 0, 1} : mapped.map.sphere[w];
@@ -156,7 +154,8 @@ RemeshAsset remesh_asset(const MappedMesh& mapped, int resolution, int threads,
   if (input && appearance) {
     // Twice the grid's resolution (a texel per half quad), within 256..2048.
     const int size = std::clamp(2 * resolution, 256, 2048);
-    if (auto baked = bake_base_color(*input, *appearance, mapped, size, threads)) {
+    if (auto baked =
+            bake_base_color(*input, *appearance, mapped, oriented.triangles, size, threads)) {
       glb.base_color_png = std::move(baked->png);
       glb.material_name = "base colour of the input";
       asset.metrics["texture"] = {{"size", baked->size},

@@ -9,6 +9,7 @@ namespace spheremap {
 WrittenGlb sphere_glb(const PolygonMesh& sphere, bool inward, int draco_position_bits,
                       const SphereLook& look) {
   WrittenGlb out;
+  const std::vector<Triangle> triangles = fan_triangulate(sphere).triangles;
   if (look.appearance) {
     SceneGeometry geometry;
     geometry.input = look.input;
@@ -18,7 +19,7 @@ WrittenGlb sphere_glb(const PolygonMesh& sphere, bool inward, int draco_position
   } else {
     GlbMesh mesh;
     mesh.positions = mesh.normals = sphere.positions;
-    mesh.triangles = fan_triangulate(sphere).triangles;
+    mesh.triangles = triangles;
     mesh.draco_position_bits = draco_position_bits;
     out.glb = build_glb(mesh);
   }
@@ -36,7 +37,7 @@ WrittenGlb sphere_glb(const PolygonMesh& sphere, bool inward, int draco_position
   out.check = check_map(directions, oriented);
   // Every face written (the scene's vertices may come in another number: a primitive
   // whose faces were all dropped is not written).
-  if (oriented.size() != fan_triangulate(sphere).triangles.size()) out.check.bijective = false;
+  if (oriented.size() != triangles.size()) out.check.bijective = false;
   return out;
 }
 

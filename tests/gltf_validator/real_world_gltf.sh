@@ -7,12 +7,10 @@
 set -uo pipefail
 spheremap=$1 corpus=$2
 here=$(cd "$(dirname "$0")" && pwd)
+. "$here/../npm_packages.sh"
 fail() { echo "FAIL: $*"; exit 1; }
 [ -d "$corpus" ] || { echo "corpus not found: skipped"; exit 77; }
-command -v npm > /dev/null || { echo "npm not found: skipped"; exit 77; }
-if [ ! -x "$here/node_modules/.bin/gltfpack" ] || [ ! -x "$here/node_modules/.bin/gltf-transform" ]; then
-  (cd "$here" && npm install --no-audit --no-fund --loglevel=error) || fail "npm install"
-fi
+need_npm_packages "$here" .bin/gltfpack .bin/gltf-transform
 bin=$here/node_modules/.bin
 out=$(mktemp -d)
 trap 'rm -rf "$out"' EXIT

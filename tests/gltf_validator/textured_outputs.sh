@@ -9,11 +9,9 @@ set -uo pipefail
 spheremap=$1 make_meshes=$2 corpus=$3
 here=$(cd "$(dirname "$0")" && pwd)
 . "$here/../start_server.sh"
+. "$here/../npm_packages.sh"
 fail() { echo "FAIL: $*"; exit 1; }
-command -v npm > /dev/null || { echo "npm not found: skipped"; exit 77; }
-if [ ! -d "$here/node_modules/gltf-validator" ] || [ ! -d "$here/node_modules/@gltf-transform/core" ]; then
-  (cd "$here" && npm install --no-audit --no-fund --loglevel=error) || fail "npm install"
-fi
+need_npm_packages "$here" gltf-validator @gltf-transform/core
 out=$(mktemp -d)
 server=
 trap '[ -n "$server" ] && kill $server 2> /dev/null; wait 2> /dev/null; rm -rf "$out"' EXIT

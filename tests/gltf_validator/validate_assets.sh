@@ -7,10 +7,8 @@
 set -uo pipefail
 spheremap=$1 make_meshes=$2 corpus=$3
 here=$(cd "$(dirname "$0")" && pwd)
-command -v npm > /dev/null || { echo "npm not found: skipped"; exit 77; }
-if [ ! -d "$here/node_modules/gltf-validator" ] || [ ! -d "$here/node_modules/@gltf-transform/core" ]; then
-  (cd "$here" && npm install --no-audit --no-fund --loglevel=error) || { echo "npm install failed"; exit 1; }
-fi
+. "$here/../npm_packages.sh"
+need_npm_packages "$here" gltf-validator @gltf-transform/core
 out=$(mktemp -d)
 trap 'rm -rf "$out"' EXIT
 inputs=()

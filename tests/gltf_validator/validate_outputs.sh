@@ -5,11 +5,9 @@
 set -uo pipefail
 spheremap=$1 corpus=$2
 here=$(cd "$(dirname "$0")" && pwd)
+. "$here/../npm_packages.sh"
 [ -d "$corpus" ] || { echo "corpus not found: skipped"; exit 77; }
-command -v npm > /dev/null || { echo "npm not found: skipped"; exit 77; }
-if [ ! -d "$here/node_modules/gltf-validator" ] || [ ! -d "$here/node_modules/@gltf-transform/core" ]; then
-  (cd "$here" && npm install --no-audit --no-fund --loglevel=error) || { echo "npm install failed"; exit 1; }
-fi
+need_npm_packages "$here" gltf-validator @gltf-transform/core
 out=$(mktemp -d)
 trap 'rm -rf "$out"' EXIT
 files=()

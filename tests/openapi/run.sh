@@ -8,11 +8,9 @@ spheremap=$1 make_meshes=$2
 here=$(cd "$(dirname "$0")" && pwd)
 root=$(cd "$here/../.." && pwd)
 . "$here/../start_server.sh"
+. "$here/../npm_packages.sh"
 fail() { echo "FAIL: $*"; exit 1; }
-command -v npm > /dev/null || { echo "npm not found: skipped"; exit 77; }
-if [ ! -x "$here/node_modules/.bin/redocly" ]; then
-  (cd "$here" && npm install --no-audit --no-fund --loglevel=error) || fail "npm install"
-fi
+need_npm_packages "$here" .bin/redocly
 work=$(mktemp -d)
 trap 'kill $server 2> /dev/null; wait $server 2> /dev/null; rm -rf "$work"' EXIT
 "$here/node_modules/.bin/redocly" lint "$root/api/openapi.yaml" --format=stylish > "$work/lint.txt" 2>&1 ||

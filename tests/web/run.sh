@@ -8,13 +8,11 @@ set -uo pipefail
 spheremap=$1 make_meshes=$2 corpus=$3
 here=$(cd "$(dirname "$0")" && pwd)
 . "$here/../start_server.sh"
+. "$here/../npm_packages.sh"
 fail() { echo "FAIL: $*"; [ -f "$work/server.log" ] && tail -5 "$work/server.log"; exit 1; }
-command -v npm > /dev/null || { echo "npm not found: skipped"; exit 77; }
 chromium=${CHROMIUM:-/usr/bin/chromium}
 [ -x "$chromium" ] || { echo "chromium not found: skipped (apt-get install chromium)"; exit 77; }
-if [ ! -d "$here/node_modules/playwright-core" ]; then
-  (cd "$here" && npm install --no-audit --no-fund --loglevel=error) || { echo "npm install failed"; exit 1; }
-fi
+need_npm_packages "$here" playwright-core
 work=$(mktemp -d)
 trap 'kill $server 2> /dev/null; wait $server 2> /dev/null; rm -rf "$work"' EXIT
 start_server "$work/server.log" --workers 1

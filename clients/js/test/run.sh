@@ -6,11 +6,9 @@ set -uo pipefail
 spheremap=$1 make_meshes=$2
 here=$(cd "$(dirname "$0")/.." && pwd)
 . "$here/../../tests/start_server.sh"
+. "$here/../../tests/npm_packages.sh"
 fail() { echo "FAIL: $*"; exit 1; }
-command -v npm > /dev/null || { echo "npm not found: skipped"; exit 77; }
-if [ ! -d "$here/node_modules/@gltf-transform/functions" ]; then
-  (cd "$here" && npm ci --no-audit --no-fund --loglevel=error) || fail "npm ci"
-fi
+need_npm_packages --ci "$here" @gltf-transform/functions
 work=$(mktemp -d)
 trap 'kill $server 2> /dev/null; wait $server 2> /dev/null; rm -rf "$work"' EXIT
 "$make_meshes" "$work" > /dev/null || fail "make_test_meshes"
