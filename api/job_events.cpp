@@ -39,14 +39,24 @@ void stream_job_events(server::Service& service, const std::shared_ptr<server::J
   response.set_chunked_content_provider(
       "text/event-stream",
       [stream, &service](size_t, httplib::DataSink& sink) {
+        // The job as it stands after up to 250 ms (a Redis queue: a fresh snapshot).
+        try {
+          stream->job = service.queue().wait(stream->job, 0.25);
+        } catch (const server::QueueUnavailable&) {
+          // Redis away for a moment: keep the stream, say nothing new this tick.
+        }
         server::Job& job = *stream->job;
         bool terminal;
         {
-          std::unique_lock lock(job.mutex);
-          terminal = job.finished_cv.wait_for(lock, 250ms,
-                                              [&] { return server::is_terminal(job.status); });
+          std::lock_guard lock(job.mutex);
+          terminal = server::is_terminal(job.status);
         }
-        const nlohmann::json view = job_json(job, service.store().queue_position(job));
+        nlohmann::json view;
+        try {
+          view = job_json(job, service.queue().queue_position(job));
+        } catch (const server::QueueUnavailable&) {
+          view = job_json(job, 0);
+        }
         std::string out;
         const std::string progress = view["progress"].dump();
         if (progress != stream->last_progress) {

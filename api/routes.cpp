@@ -18,8 +18,8 @@ namespace {
 
 using server::Clock;
 using server::Job;
+using server::JobQueue;
 using server::JobStatus;
-using server::JobStore;
 using server::Service;
 
 const char* const kJobId = "([0-9a-f]{32})";
@@ -44,7 +44,7 @@ std::string tenant_of(const Service& service, const httplib::Request& request) {
 // tenant's job does not exist, as far as this request can tell.
 std::shared_ptr<Job> find_job(Service& service, const httplib::Request& request) {
   const std::string id = request.matches[1];
-  JobStore::Lookup found = service.store().find(id);
+  JobQueue::Lookup found = service.queue().find(id);
   if (found.job && service.api_keys().enabled() && found.job->tenant != tenant_of(service, request))
     throw Problem(404, "job_not_found", "No such job", "no job with id " + id);
   if (found.job) return found.job;
@@ -57,12 +57,16 @@ std::shared_ptr<Job> find_job(Service& service, const httplib::Request& request)
 
 // Reads, checks and queues a submission; throws Problems for every refusal.
 std::shared_ptr<Job> submit(Service& service, const httplib::Request& request) {
-  if (!service.ready()) {
+  if (service.draining()) {
     service.metrics().rejected("shutting_down");
     throw Problem(503, "shutting_down", "Shutting down",
                   "the server is shutting down and accepts no new jobs");
   }
-  if (service.store().queued() >= service.config().queue_capacity) {
+  if (!service.ready()) {
+    service.metrics().rejected("queue_unavailable");
+    throw server::QueueUnavailable("readiness check failed");
+  }
+  if (service.queue().queued() >= service.config().queue_capacity) {
     service.metrics().rejected("queue_full");
     throw Problem(429, "queue_full", "Queue full",
                   "the job queue is full (" + std::to_string(service.config().queue_capacity) +
@@ -77,18 +81,18 @@ std::shared_ptr<Job> submit(Service& service, const httplib::Request& request) {
   }
   spec->tenant = tenant_of(service, request);
   std::shared_ptr<Job> job;
-  switch (service.store().submit(std::move(spec), job)) {
-    case JobStore::Admission::kAccepted:
+  switch (service.queue().submit(std::move(spec), job)) {
+    case JobQueue::Admission::kAccepted:
       return job;
-    case JobStore::Admission::kQueueFull:
+    case JobQueue::Admission::kQueueFull:
       service.metrics().rejected("queue_full");
       throw Problem(429, "queue_full", "Queue full", "the job queue is full; retry later");
-    case JobStore::Admission::kTenantQueueFull:
+    case JobQueue::Admission::kTenantQueueFull:
       service.metrics().rejected("tenant_quota");
       throw Problem(429, "tenant_quota", "Too many queued jobs",
                     "you have " + std::to_string(service.config().tenant_max_queued) +
                         " jobs waiting (tenant_max_queued); retry when one has started");
-    case JobStore::Admission::kShuttingDown:
+    case JobQueue::Admission::kShuttingDown:
       service.metrics().rejected("shutting_down");
       throw Problem(503, "shutting_down", "Shutting down",
                     "the server is shutting down and accepts no new jobs");
@@ -100,7 +104,7 @@ void post_job(Service& service, const httplib::Request& request, httplib::Respon
   const std::shared_ptr<Job> job = submit(service, request);
   response.set_header("Location", job_path(job->id));
   response.set_header("Spheremap-Job", job->id);
-  send_json(response, 202, job_json(*job, service.store().queue_position(*job)));
+  send_json(response, 202, job_json(*job, service.queue().queue_position(*job)));
 }
 
 // Prefer: wait=N (RFC 7240) shortens or lengthens the wait, within the configured one.
@@ -122,35 +126,47 @@ void post_map(Service& service, std::atomic<int>& waiting, const httplib::Reques
   // Waiting holds an HTTP thread: at most half of them may wait, so the rest can serve.
   const int max_waiting = std::max(1, service.config().http_threads / 2);
   const double wait = sync_wait_seconds(request, service.config().sync_timeout_seconds);
-  bool done = false;
+  std::shared_ptr<Job> now = job;
   if (waiting.fetch_add(1) < max_waiting) {
-    std::unique_lock lock(job->mutex);
-    done = job->finished_cv.wait_for(lock, std::chrono::duration<double>(wait),
-                                     [&] { return server::is_terminal(job->status); });
+    try {
+      now = service.queue().wait(job, wait);
+    } catch (...) {
+      waiting.fetch_sub(1);
+      throw;
+    }
   }
   waiting.fetch_sub(1);
-  if (!done) {
+  JobStatus status;
+  {
+    std::lock_guard lock(now->mutex);
+    status = now->status;
+  }
+  if (!server::is_terminal(status)) {
     response.set_header("Location", job_path(job->id));
-    send_json(response, 202, job_json(*job, service.store().queue_position(*job)));
+    send_json(response, 202, job_json(*now, service.queue().queue_position(*now)));
     return;
   }
-  std::lock_guard lock(job->mutex);
-  if (job->status == JobStatus::kSucceeded) {
-    const server::Artifact& sphere = job->artifacts.front();
+  if (status == JobStatus::kSucceeded) {
+    const std::optional<server::Artifact> sphere = service.queue().artifact(*now, "sphere.glb");
+    if (!sphere)
+      throw Problem(410, "gone", "Job results expired",
+                    "job " + job->id + " finished and its results were dropped");
+    std::lock_guard lock(now->mutex);
     response.set_header("Content-Location", job_path(job->id) + "/artifacts/sphere.glb");
     response.set_header("Link",
                         "<" + job_path(job->id) + "/artifacts/metrics.json>; rel=\"describedby\"");
     response.set_header("Spheremap-Bijective",
-                        job->metrics.value("bijective_as_written", false) ? "true" : "false");
+                        now->metrics.value("bijective_as_written", false) ? "true" : "false");
     response.set_header("Spheremap-Folds",
-                        std::to_string(job->metrics.value("folds_as_written", size_t{0})));
-    response.set_content(sphere.bytes, sphere.content_type);
+                        std::to_string(now->metrics.value("folds_as_written", size_t{0})));
+    response.set_content(sphere->bytes, sphere->content_type);
     response.status = 200;
     return;
   }
-  const server::JobError error = job->error.value_or(
+  std::lock_guard lock(now->mutex);
+  const server::JobError error = now->error.value_or(
       server::JobError{503, "cancelled", "Job cancelled",
-                       job->cancel_reason.empty() ? "the job was cancelled" : job->cancel_reason});
+                       now->cancel_reason.empty() ? "the job was cancelled" : now->cancel_reason});
   throw Problem(error.status, error.problem, error.title, error.detail, {{"job", job->id}});
 }
 
@@ -160,17 +176,16 @@ void get_artifact(Service& service, const httplib::Request& request, httplib::Re
   // Every .glb artifact is also served as .gltf (JSON, the buffer embedded as base64).
   const bool as_gltf = name.ends_with(".gltf");
   const std::string stored = as_gltf ? name.substr(0, name.size() - 5) + ".glb" : name;
+  if (const std::optional<server::Artifact> a = service.queue().artifact(*job, stored)) {
+    if (as_gltf)
+      response.set_content(glb_to_gltf(a->bytes), "model/gltf+json");
+    else
+      response.set_content(a->bytes, a->content_type);
+    if (name.ends_with(".glb") || as_gltf)
+      response.set_header("Content-Disposition", "attachment; filename=\"" + name + "\"");
+    return;
+  }
   std::lock_guard lock(job->mutex);
-  for (const server::Artifact& a : job->artifacts)
-    if (a.name == stored) {
-      if (as_gltf)
-        response.set_content(glb_to_gltf(a.bytes), "model/gltf+json");
-      else
-        response.set_content(a.bytes, a.content_type);
-      if (name.ends_with(".glb") || as_gltf)
-        response.set_header("Content-Disposition", "attachment; filename=\"" + name + "\"");
-      return;
-    }
   if (!server::is_terminal(job->status))
     throw Problem(409, "not_ready", "Job not finished",
                   "job " + job->id + " is " + std::string(to_string(job->status)) +
@@ -181,7 +196,7 @@ void get_artifact(Service& service, const httplib::Request& request, httplib::Re
 
 void delete_job(Service& service, const httplib::Request& request, httplib::Response& response) {
   const std::shared_ptr<Job> job = find_job(service, request);
-  if (service.store().cancel(job, "cancelled by the client")) {
+  if (service.queue().cancel(job, "cancelled by the client")) {
     JobStatus status;
     {
       std::lock_guard lock(job->mutex);
@@ -191,7 +206,7 @@ void delete_job(Service& service, const httplib::Request& request, httplib::Resp
     send_json(response, status == JobStatus::kCancelled ? 200 : 202, job_json(*job, 0));
     return;
   }
-  service.store().remove(job->id);
+  service.queue().remove(job->id);
   response.status = 204;
 }
 
@@ -226,6 +241,14 @@ httplib::Server::Handler guarded(Body body) {
       if (problem.status == 429) response.set_header("Retry-After", "5");
       if (problem.status == 503) response.set_header("Retry-After", "30");
       send_problem(response, problem, request.path);
+    } catch (const server::QueueUnavailable& e) {
+      // Redis out of reach: nothing was accepted or changed; the client may retry soon.
+      server::log_event({{"event", "queue_unavailable"}, {"error", e.what()}});
+      response.set_header("Retry-After", "5");
+      send_problem(response,
+                   Problem(503, "queue_unavailable", "Job queue unavailable",
+                           "the shared job queue cannot be reached; retry in a few seconds"),
+                   request.path);
     }
   };
 }
@@ -294,19 +317,22 @@ static void install_probes(httplib::Server& http, Service& service) {
   });
   http.Get(
       "/readyz", guarded([&service](const httplib::Request&, httplib::Response& response) {
-        if (!service.ready())
+        if (service.draining())
           throw Problem(503, "shutting_down", "Shutting down", "the server is draining its jobs");
-        const auto counts = service.store().counts();
+        if (!service.ready())
+          throw Problem(503, "queue_unavailable", "Job queue unavailable",
+                        "the shared job queue cannot be reached");
+        const auto counts = service.queue().counts();
         send_json(response, 200,
                   {{"status", "ready"}, {"queued", counts.queued}, {"running", counts.running}});
       }));
-  http.Get("/metrics", [&service](const httplib::Request&, httplib::Response& response) {
-    service.store().evict();
-    response.set_content(
-        service.metrics().render(service.store().counts(), service.config().queue_capacity,
-                                 service.config().effective_workers()),
-        "text/plain; version=0.0.4; charset=utf-8");
-  });
+  http.Get("/metrics", guarded([&service](const httplib::Request&, httplib::Response& response) {
+             service.queue().evict();
+             response.set_content(
+                 service.metrics().render(service.queue().counts(), service.config().queue_capacity,
+                                          service.config().effective_workers()),
+                 "text/plain; version=0.0.4; charset=utf-8");
+           }));
 }
 
 void install_health(httplib::Server& http, Service& service) {
@@ -485,7 +511,7 @@ void install_api(httplib::Server& http, Service& service) {
   http.Get(std::string("/v1/jobs/") + kJobId,
            guarded([&service](const httplib::Request& request, httplib::Response& response) {
              const std::shared_ptr<Job> job = find_job(service, request);
-             send_json(response, 200, job_json(*job, service.store().queue_position(*job)));
+             send_json(response, 200, job_json(*job, service.queue().queue_position(*job)));
            }));
   auto event_streams = std::make_shared<std::atomic<int>>(0);
   http.Get(std::string("/v1/jobs/") + kJobId + "/events",

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <iostream>
+#include <optional>
 
 #include "cli/arguments.h"
 #include "cli/commands.h"
@@ -26,7 +27,15 @@ jobs (shutdown_grace_seconds) and exits 0.
   --health-port N           a second port for /healthz, /readyz and /metrics only, with
                             threads of its own (default -1 = none; 0 = any free port)
   --host ADDRESS            listen address (default 127.0.0.1; 0.0.0.0 = all interfaces)
-  --workers N               jobs mapped at once (default 0 = the machine's cores)
+  --queue URL               memory:// (default: jobs live in this process) or
+                            redis://HOST[:PORT][/DB]: jobs shared by every replica and
+                            worker node on that Redis; any replica answers for any job
+  --visibility-timeout-seconds S  redis: a job whose worker is silent this long is
+                            reclaimed by another worker (default 30)
+  --max-attempts N          redis: starts of a job whose worker keeps dying before it
+                            fails as worker_crashed (default 3)
+  --workers N               jobs mapped at once (default -1 = the machine's cores;
+                            0 = none: an API-only node of a redis queue)
   --threads-per-job N       engine threads per job (default 0 = cores / workers)
   --queue-capacity N        jobs waiting at most; more get 429 (default 32)
   --max-body-bytes N        largest request body (default 67108864)
@@ -69,17 +78,28 @@ std::map<std::string, std::string> spheremap_environment() {
   return out;
 }
 
-}  // namespace
+const char* const kWorkerUsage =
+    R"(Usage: spheremap worker --queue redis://HOST[:PORT][/DB] [--workers N] [--SETTING VALUE ...]
 
-int run_serve(int argc, char** argv) {
+Runs a worker node: takes jobs from the Redis queue that `spheremap serve --queue ...`
+replicas fill, maps each in a worker process, and stores the results there; no public
+HTTP port (--health-port N serves /healthz, /readyz and /metrics). Takes every setting
+of `spheremap serve --help`. SIGTERM lets running jobs finish for shutdown_grace_seconds,
+then puts what is left back in the queue for another node, and exits 0.
+)";
+
+// Settings from the defaults, the --config file (or $SPHEREMAP_CONFIG), SPHEREMAP_*
+// variables and flags, in that order; null after printing --help.
+std::optional<server::ServerConfig> read_config(int argc, char** argv, const char* usage) {
   std::set<std::string> values = {"config"};
   for (const std::string& name : server::setting_names()) values.insert(flag_name(name));
   Arguments args(argc, argv, 2, values, {"help"});
   if (args.flag("help")) {
-    std::cout << kUsage;
-    return kExitOk;
+    std::cout << usage;
+    return std::nullopt;
   }
-  if (!args.positional().empty()) throw UsageError("serve takes no positional arguments");
+  if (!args.positional().empty())
+    throw UsageError(std::string(argv[1]) + " takes no positional arguments");
   server::ServerConfig config;
   const auto environment = spheremap_environment();
   try {
@@ -94,7 +114,23 @@ int run_serve(int argc, char** argv) {
   } catch (const server::ConfigError& e) {
     throw UsageError(std::string("configuration: ") + e.what());
   }
-  return server::serve(config);
+  return config;
+}
+
+}  // namespace
+
+int run_serve(int argc, char** argv) {
+  const auto config = read_config(argc, argv, kUsage);
+  return config ? server::serve(*config) : kExitOk;
+}
+
+int run_worker(int argc, char** argv) {
+  const auto config = read_config(argc, argv, kWorkerUsage);
+  if (!config) return kExitOk;
+  if (!config->shared_queue())
+    throw UsageError("worker needs a shared queue: --queue redis://HOST:PORT");
+  if (config->effective_workers() == 0) throw UsageError("worker needs --workers of 1 or more");
+  return server::serve(*config, server::Role::kWorker);
 }
 
 }  // namespace spheremap::cli

@@ -11,6 +11,7 @@ inline constexpr int kExitNotBijective = 3;
 int run_map(int argc, char** argv);
 int run_info(int argc, char** argv);
 int run_serve(int argc, char** argv);
+int run_worker(int argc, char** argv);
 int run_remesh(int argc, char** argv);
 int run_uv(int argc, char** argv);
 int run_morph(int argc, char** argv);

@@ -1,5 +1,5 @@
 // spheremap: maps closed genus-0 meshes onto the unit sphere. Subcommands: map, info,
-// remesh, uv, morph, serve.
+// remesh, uv, morph, serve, worker.
 #include <cstdio>
 #include <cstring>
 #include <exception>
@@ -22,6 +22,7 @@ Usage:
   spheremap uv INPUT -o OUT.glb                                    texture coordinates
   spheremap morph INPUT -o OUT.glb                                 mesh-to-sphere morph
   spheremap serve [--config FILE] [--port N]                       the HTTP service
+  spheremap worker --queue redis://HOST:PORT                       a worker node (no HTTP API)
   spheremap health [--port N]                                      is the service ready?
   spheremap COMMAND --help                                         options of a command
   spheremap --version
@@ -38,6 +39,7 @@ int main(int argc, char** argv) {
     if (command == "map") return run_map(argc, argv);
     if (command == "info") return run_info(argc, argv);
     if (command == "serve") return run_serve(argc, argv);
+    if (command == "worker") return run_worker(argc, argv);
     if (command == "remesh") return run_remesh(argc, argv);
     if (command == "uv") return run_uv(argc, argv);
     if (command == "morph") return run_morph(argc, argv);

@@ -1,5 +1,7 @@
 #include "server/config.h"
 
+#include "server/redis_connection.h"
+
 #include <unistd.h>
 #include <algorithm>
 #include <cctype>
@@ -27,7 +29,10 @@ const std::vector<Setting>& settings() {
       {"host", &ServerConfig::host},
       {"port", &ServerConfig::port, 0, 65535},
       {"health_port", &ServerConfig::health_port, -1, 65535},
-      {"workers", &ServerConfig::workers, 0, 1024},
+      {"queue", &ServerConfig::queue},
+      {"visibility_timeout_seconds", &ServerConfig::visibility_timeout_seconds, 0.5, 3600},
+      {"max_attempts", &ServerConfig::max_attempts, 1, 100},
+      {"workers", &ServerConfig::workers, -1, 1024},
       {"threads_per_job", &ServerConfig::threads_per_job, 0, 1024},
       {"http_threads", &ServerConfig::http_threads, 2, 1024},
       {"queue_capacity", &ServerConfig::queue_capacity, 0, 1e6},
@@ -80,6 +85,13 @@ void store(ServerConfig& config, const Setting& s, const nlohmann::json& value,
     if (!value.is_string()) throw ConfigError(source + ": " + s.name + " must be a string");
     if (s.name == "worker_isolation" && value != "process" && value != "thread")
       throw ConfigError(source + ": worker_isolation must be \"process\" or \"thread\"");
+    if (s.name == "queue" && value != "memory://") {
+      try {
+        RedisAddress::parse(value.get<std::string>());
+      } catch (const std::invalid_argument& e) {
+        throw ConfigError(source + ": queue: " + e.what());
+      }
+    }
     config.*(*text) = value.get<std::string>();
     return;
   }
@@ -101,11 +113,12 @@ int cores() {
 }  // namespace
 
 int ServerConfig::effective_workers() const {
-  return workers > 0 ? workers : cores();
+  return workers >= 0 ? workers : cores();
 }
 
 int ServerConfig::effective_threads_per_job() const {
-  return threads_per_job > 0 ? threads_per_job : std::max(1, cores() / effective_workers());
+  return threads_per_job > 0 ? threads_per_job
+                             : std::max(1, cores() / std::max(1, effective_workers()));
 }
 
 size_t ServerConfig::effective_worker_memory_bytes() const {

@@ -17,7 +17,13 @@ struct ServerConfig {
   // A second port for /healthz, /readyz and /metrics only, with threads of its own, so a
   // probe is answered while clients hold every API connection. -1: none; 0: any free port.
   int health_port = -1;
-  int workers = 0;                    // mapping jobs at once; 0 = the machine's cores
+  // Where jobs wait: "memory://" (this process only; a restart loses them) or
+  // "redis://HOST[:PORT][/DB]", shared by every replica and worker node on that Redis.
+  std::string queue = "memory://";
+  double visibility_timeout_seconds = 30;  // redis: a silent worker's job is reclaimed after
+  int max_attempts = 3;                    // redis: starts of a job whose worker keeps dying
+  int workers = -1;                   // jobs mapped at once; -1 = the machine's cores; 0 = none
+                                      // (an API-only node; redis queue only)
   int threads_per_job = 0;            // engine threads per job; 0 = cores / workers (at least 1)
   int http_threads = 16;              // connections served at once (requests only, no mesh work)
   size_t queue_capacity = 32;         // jobs waiting for a worker; more get 429
@@ -48,6 +54,7 @@ struct ServerConfig {
   size_t worker_memory_bytes = 0;  // address space of a worker; 0 = 3/4 of physical memory
   double worker_cpu_seconds = 0;   // CPU time of a worker; 0 = (2 x job limit + 60 s) x threads
 
+  bool shared_queue() const { return queue.starts_with("redis://"); }
   // The resolved worker and thread counts for this machine.
   int effective_workers() const;
   int effective_threads_per_job() const;

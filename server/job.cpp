@@ -18,6 +18,13 @@ std::string_view to_string(JobStatus status) {
   return "unknown";
 }
 
+std::optional<JobStatus> job_status_from(std::string_view text) {
+  for (JobStatus s : {JobStatus::kQueued, JobStatus::kRunning, JobStatus::kSucceeded,
+                      JobStatus::kFailed, JobStatus::kCancelled})
+    if (to_string(s) == text) return s;
+  return std::nullopt;
+}
+
 size_t Job::artifact_bytes() const {
   size_t total = 0;
   for (const Artifact& a : artifacts) total += a.bytes.size();

@@ -18,6 +18,7 @@ namespace spheremap::server {
 
 enum class JobStatus { kQueued, kRunning, kSucceeded, kFailed, kCancelled };
 std::string_view to_string(JobStatus status);
+std::optional<JobStatus> job_status_from(std::string_view text);
 inline bool is_terminal(JobStatus s) {
   return s != JobStatus::kQueued && s != JobStatus::kRunning;
 }
@@ -41,6 +42,7 @@ struct JobSpec {
 
 struct Artifact {
   std::string name, content_type, bytes;
+  size_t size = 0;  // of bytes; also set when a view lists an artifact without its bytes
 };
 
 // Why a job failed, as a problem (RFC 9457) the API can return.

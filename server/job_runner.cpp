@@ -13,7 +13,8 @@ namespace {
 
 void add_artifact(Job& job, std::string name, std::string type, std::string bytes) {
   std::lock_guard lock(job.mutex);
-  job.artifacts.push_back({std::move(name), std::move(type), std::move(bytes)});
+  const size_t size = bytes.size();
+  job.artifacts.push_back({std::move(name), std::move(type), std::move(bytes), size});
 }
 
 void set_stage(Job& job, const char* stage) {

@@ -141,7 +141,21 @@ JobStore::Lookup JobStore::find(const std::string& id) {
   return {nullptr, evicted_.count(id) > 0};
 }
 
-size_t JobStore::queue_position(const Job& job) const {
+std::shared_ptr<Job> JobStore::wait(const std::shared_ptr<Job>& job, double seconds) {
+  std::unique_lock lock(job->mutex);
+  job->finished_cv.wait_for(lock, std::chrono::duration<double>(seconds),
+                            [&] { return is_terminal(job->status); });
+  return job;
+}
+
+std::optional<Artifact> JobStore::artifact(const Job& job, const std::string& name) {
+  std::lock_guard lock(job.mutex);
+  for (const Artifact& a : job.artifacts)
+    if (a.name == name) return a;
+  return std::nullopt;
+}
+
+size_t JobStore::queue_position(const Job& job) {
   std::lock_guard lock(mutex_);
   for (size_t i = 0; i < queue_.size(); ++i)
     if (queue_[i].get() == &job) return i + 1;
@@ -226,7 +240,7 @@ void JobStore::close() {
   queue_cv_.notify_all();
 }
 
-size_t JobStore::queued() const {
+size_t JobStore::queued() {
   std::lock_guard lock(mutex_);
   return queue_.size();
 }
@@ -299,7 +313,7 @@ void JobStore::remember_evicted(const std::string& id) {
   }
 }
 
-StoreCounts JobStore::counts() const {
+StoreCounts JobStore::counts() {
   std::lock_guard lock(mutex_);
   StoreCounts c;
   c.queued = queue_.size();

@@ -11,7 +11,7 @@
 #include <unordered_map>
 #include <unordered_set>
 
-#include "server/job.h"
+#include "server/job_queue.h"
 
 namespace spheremap::server {
 
@@ -28,21 +28,15 @@ struct StoreLimits {
   size_t tenant_result_memory_bytes = 256u << 20;
 };
 
-struct StoreCounts {
-  size_t queued = 0, running = 0, succeeded = 0, failed = 0, cancelled = 0;
-  size_t result_bytes = 0, evicted = 0;
-};
-
-class JobStore {
+// The memory:// backend of JobQueue.
+class JobStore : public JobQueue {
  public:
   // Called after every status change, outside the store's lock.
   using Observer = std::function<void(const std::shared_ptr<Job>&, JobStatus)>;
 
   JobStore(StoreLimits limits, Observer observer);
 
-  enum class Admission { kAccepted, kQueueFull, kTenantQueueFull, kShuttingDown };
-  // Queues a job for `spec`; `job` is set when accepted.
-  Admission submit(std::unique_ptr<JobSpec> spec, std::shared_ptr<Job>& job);
+  Admission submit(std::unique_ptr<JobSpec> spec, std::shared_ptr<Job>& job) override;
 
   // Blocks until a job may run (returned as running) or the store is closed (nullptr).
   // Tenants take turns: the next job is the oldest queued one of the tenant with the
@@ -52,30 +46,24 @@ class JobStore {
   // A worker is done with a running job: it is in a terminal state now.
   void finish(const std::shared_ptr<Job>& job, JobStatus status);
 
-  struct Lookup {
-    std::shared_ptr<Job> job;
-    bool evicted = false;  // known, but its results were dropped (TTL or memory cap)
-  };
-  Lookup find(const std::string& id);
-  size_t queue_position(const Job& job) const;  // 1 = next to run; 0 = not queued
-
-  // Cancels a queued job at once and asks a running one to stop (its worker ends it).
-  // Returns false when the job has already finished.
-  bool cancel(const std::shared_ptr<Job>& job, const std::string& reason);
-  // Forgets a finished job; false when it is still queued or running.
-  bool remove(const std::string& id);
+  Lookup find(const std::string& id) override;
+  std::shared_ptr<Job> wait(const std::shared_ptr<Job>& job, double seconds) override;
+  size_t queue_position(const Job& job) override;
+  std::optional<Artifact> artifact(const Job& job, const std::string& name) override;
+  bool cancel(const std::shared_ptr<Job>& job, const std::string& reason) override;
+  bool remove(const std::string& id) override;
 
   void stop_accepting();  // new submissions get kShuttingDown
-  bool accepting() const;
+  bool accepting() const override;
   // Cancels every queued job and asks every running one to stop.
   void cancel_all(const std::string& reason);
   // Waits until nothing is queued or running, or the deadline; true when idle.
   bool wait_idle(Clock::time_point deadline);
   void close();  // next() returns nullptr from now on
 
-  size_t queued() const;  // cheap: for the 429 check before a body is parsed
-  void evict();           // drops finished jobs past the TTL or over the caps
-  StoreCounts counts() const;
+  size_t queued() override;
+  void evict() override;
+  StoreCounts counts() override;
 
  private:
   struct Tenant {
@@ -102,8 +90,5 @@ class JobStore {
   size_t running_ = 0, result_bytes_ = 0, evicted_total_ = 0;
   bool accepting_ = true, closed_ = false;
 };
-
-// A new random job id (128 bits, hex): not guessable from another job's id.
-std::string new_job_id();
 
 }  // namespace spheremap::server

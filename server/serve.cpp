@@ -32,7 +32,7 @@ int bind_port(httplib::Server& http, const ServerConfig& config, int port, const
 
 }  // namespace
 
-int serve(const ServerConfig& config) {
+int serve(const ServerConfig& config, Role role) {
   // Signals are taken by sigwait on this thread only: block them before any thread starts.
   sigset_t stop_signals;
   sigemptyset(&stop_signals);
@@ -41,9 +41,17 @@ int serve(const ServerConfig& config) {
   pthread_sigmask(SIG_BLOCK, &stop_signals, nullptr);
   signal(SIGPIPE, SIG_IGN);  // a client that hangs up must not end the process
 
-  Service service(config);
+  std::unique_ptr<Service> started;
+  try {
+    started = std::make_unique<Service>(config);
+  } catch (const ConfigError& e) {
+    log_event({{"event", "config_error"}, {"error", e.what()}});
+    return 1;
+  }
+  Service& service = *started;
+  const bool api = role == Role::kApi;
   httplib::Server http;
-  api::install_api(http, service);
+  if (api) api::install_api(http, service);
   // The health port, when asked for: probes answered by threads of their own, however
   // many clients hold the API's connections (slowloris, a full pool, a stuck proxy).
   httplib::Server health;
@@ -52,7 +60,7 @@ int serve(const ServerConfig& config) {
     api::install_health(health, service);
     health_port = bind_port(health, config, config.health_port, "health");
   }
-  const int port = bind_port(http, config, config.port, "api");
+  const int port = api ? bind_port(http, config, config.port, "api") : 0;
   if (port < 0 || (config.health_port >= 0 && health_port < 0)) {
     service.drain(0);
     return 1;
@@ -65,12 +73,17 @@ int serve(const ServerConfig& config) {
                {"url", "http://" + config.host + ":" + std::to_string(health_port)}});
     health_listener = std::thread([&health] { health.listen_after_bind(); });
   }
-  log_event({{"event", "listening"},
-             {"host", config.host},
-             {"port", port},
-             {"url", "http://" + config.host + ":" + std::to_string(port)},
-             {"config", config.to_json()}});
-  std::thread listener([&http] { http.listen_after_bind(); });
+  std::thread listener;
+  if (api) {
+    log_event({{"event", "listening"},
+               {"host", config.host},
+               {"port", port},
+               {"url", "http://" + config.host + ":" + std::to_string(port)},
+               {"config", config.to_json()}});
+    listener = std::thread([&http] { http.listen_after_bind(); });
+  } else {
+    log_event({{"event", "worker_node"}, {"config", config.to_json()}});
+  }
 
   int received = 0;
   sigwait(&stop_signals, &received);
@@ -86,14 +99,16 @@ int serve(const ServerConfig& config) {
       log_event({{"event", "signal"},
                  {"signal", again == SIGTERM ? "SIGTERM" : "SIGINT"},
                  {"action", "cancelling every job now"}});
-      service.store().cancel_all("the server was told to stop at once (a second signal)");
+      service.stop_now();
     }
   });
   service.drain(config.shutdown_grace_seconds);
   drained = true;
   impatience.join();
-  http.stop();
-  listener.join();
+  if (listener.joinable()) {
+    http.stop();
+    listener.join();
+  }
   if (health_listener.joinable()) {
     health.stop();
     health_listener.join();

@@ -20,15 +20,45 @@ StoreLimits store_limits(const ServerConfig& c) {
           c.tenant_max_queued, c.tenant_max_running, c.tenant_result_memory_bytes};
 }
 
+RedisQueueLimits redis_limits(const ServerConfig& c) {
+  return {c.queue_capacity,      c.tenant_max_queued, c.result_ttl_seconds,
+          c.result_memory_bytes, c.max_jobs_kept,     c.visibility_timeout_seconds,
+          c.max_attempts};
+}
+
+RunLimits run_limits(const ServerConfig& c) {
+  return {c.job_time_limit_seconds, c.effective_threads_per_job()};
+}
+
+WorkerLimits worker_limits(const ServerConfig& c) {
+  return {c.worker_executable, c.effective_worker_memory_bytes(), c.effective_worker_cpu_seconds(),
+          std::max<size_t>(c.result_memory_bytes, size_t{1} << 30)};
+}
+
 }  // namespace
 
 Service::Service(ServerConfig config)
     : config_(std::move(config)),
-      api_keys_(config_.api_keys.empty() ? ApiKeys() : ApiKeys::load(config_.api_keys)),
-      store_(store_limits(config_),
-             [this](const std::shared_ptr<Job>& job, JobStatus status) { observe(job, status); }) {
+      api_keys_(config_.api_keys.empty() ? ApiKeys() : ApiKeys::load(config_.api_keys)) {
   // A worker process that dies while we write its request must not kill the server.
   signal(SIGPIPE, SIG_IGN);
+  auto observer = [this](const std::shared_ptr<Job>& job, JobStatus status) {
+    observe(job, status);
+  };
+  if (config_.shared_queue()) {
+    redis_ = std::make_unique<RedisJobQueue>(RedisAddress::parse(config_.queue),
+                                             redis_limits(config_), observer);
+    queue_ = redis_.get();
+    if (config_.effective_workers() > 0)
+      redis_workers_ = std::make_unique<RedisWorkers>(
+          *redis_, config_.effective_workers(), run_limits(config_), worker_limits(config_),
+          config_.worker_isolation == "thread", observer);
+    return;
+  }
+  if (config_.effective_workers() == 0)
+    throw ConfigError("workers 0 (an API-only node) needs a shared queue (--queue redis://...)");
+  memory_ = std::make_unique<JobStore>(store_limits(config_), observer);
+  queue_ = memory_.get();
   for (int i = 0; i < config_.effective_workers(); ++i) workers_.emplace_back([this] { work(); });
 }
 
@@ -37,16 +67,14 @@ Service::~Service() {
 }
 
 void Service::work() {
-  const RunLimits limits{config_.job_time_limit_seconds, config_.effective_threads_per_job()};
-  const WorkerLimits worker{config_.worker_executable, config_.effective_worker_memory_bytes(),
-                            config_.effective_worker_cpu_seconds(),
-                            std::max<size_t>(config_.result_memory_bytes, size_t{1} << 30)};
+  const RunLimits limits = run_limits(config_);
+  JobStore& store = *memory_;
   if (config_.worker_isolation == "thread") {
-    while (std::shared_ptr<Job> job = store_.next()) store_.finish(job, run_job(*job, limits));
+    while (std::shared_ptr<Job> job = store.next()) store.finish(job, run_job(*job, limits));
     return;
   }
-  WorkerProcess process(worker);
-  while (std::shared_ptr<Job> job = store_.next()) store_.finish(job, process.run(*job, limits));
+  WorkerProcess process(worker_limits(config_));
+  while (std::shared_ptr<Job> job = store.next()) store.finish(job, process.run(*job, limits));
 }
 
 void Service::observe(const std::shared_ptr<Job>& job, JobStatus status) {
@@ -77,21 +105,35 @@ void Service::observe(const std::shared_ptr<Job>& job, JobStatus status) {
   log_event(std::move(line));
 }
 
+void Service::stop_now() {
+  if (memory_) memory_->cancel_all("the server was told to stop at once (a second signal)");
+  if (redis_workers_) redis_workers_->release_now();
+}
+
 void Service::drain(double grace_seconds) {
   if (drained_.exchange(true)) return;
-  store_.stop_accepting();
-  const auto counts = store_.counts();
+  if (redis_) {
+    redis_->stop_accepting();
+    const size_t running = redis_workers_ ? redis_workers_->running() : 0;
+    log_event({{"event", "draining"}, {"running_here", running}, {"grace_s", grace_seconds}});
+    if (redis_workers_) redis_workers_->stop(grace_seconds);
+    log_event({{"event", "drained"}});
+    return;
+  }
+  JobStore& store = *memory_;
+  store.stop_accepting();
+  const auto counts = store.counts();
   log_event({{"event", "draining"},
              {"queued", counts.queued},
              {"running", counts.running},
              {"grace_s", grace_seconds}});
   const auto deadline = Clock::now() + std::chrono::duration_cast<Clock::duration>(
                                            std::chrono::duration<double>(grace_seconds));
-  if (!store_.wait_idle(deadline)) {
-    store_.cancel_all("the server shut down before the job finished");
-    store_.wait_idle(Clock::now() + std::chrono::hours(24));  // the engine stops in ms
+  if (!store.wait_idle(deadline)) {
+    store.cancel_all("the server shut down before the job finished");
+    store.wait_idle(Clock::now() + std::chrono::hours(24));  // the engine stops in ms
   }
-  store_.close();
+  store.close();
   for (std::thread& t : workers_) t.join();
   workers_.clear();
   log_event({{"event", "drained"}});

@@ -1,36 +1,48 @@
-// The mapping service without its HTTP front: configuration, the job store, the worker
-// pool that drains it (the only threads that do mesh work), metrics, and the graceful
-// drain used on SIGTERM. The HTTP routes (api/) call into it.
+// The mapping service without its HTTP front: configuration, the job queue (memory://
+// in this process, or redis:// shared by every replica), the workers that drain it (the
+// only threads that do mesh work), metrics, and the graceful drain used on SIGTERM. The
+// HTTP routes (api/) call into it.
 #pragma once
 
 #include <atomic>
+#include <memory>
 #include <thread>
 #include <vector>
 
 #include "server/api_keys.h"
 #include "server/config.h"
 #include "server/job_store.h"
+#include "server/redis_queue.h"
+#include "server/redis_workers.h"
 #include "server/service_metrics.h"
 
 namespace spheremap::server {
 
 class Service {
  public:
+  // Throws ConfigError for a configuration that cannot run (bad API keys file, no
+  // workers on a memory queue).
   explicit Service(ServerConfig config);
   ~Service();  // drains with no grace if drain() was not called
   Service(const Service&) = delete;
   Service& operator=(const Service&) = delete;
 
   const ServerConfig& config() const { return config_; }
-  JobStore& store() { return store_; }
+  JobQueue& queue() { return *queue_; }
   const ApiKeys& api_keys() const { return api_keys_; }
   ServiceMetrics& metrics() { return metrics_; }
-  bool ready() const { return store_.accepting(); }
+  bool ready() const { return queue_->accepting(); }
+  bool draining() const { return drained_; }
 
   // Stops accepting jobs, lets queued and running jobs finish until `grace_seconds`,
   // cancels what is left, waits for the workers, and stops them. Every accepted job ends
-  // in a terminal state. Safe to call more than once.
+  // in a terminal state. With a Redis queue the jobs belong to the cluster: queued ones
+  // stay queued, and running ones go back to the queue after the grace period. Safe to
+  // call more than once.
   void drain(double grace_seconds);
+  // Ends the grace period at once (a second signal): memory jobs are cancelled, Redis
+  // jobs running here go back to the queue.
+  void stop_now();
 
  private:
   void work();
@@ -39,8 +51,11 @@ class Service {
   const ServerConfig config_;
   const ApiKeys api_keys_;  // loaded from config_.api_keys at start (ConfigError if bad)
   ServiceMetrics metrics_;
-  JobStore store_;
-  std::vector<std::thread> workers_;
+  std::unique_ptr<JobStore> memory_;      // memory://
+  std::unique_ptr<RedisJobQueue> redis_;  // redis://
+  std::unique_ptr<RedisWorkers> redis_workers_;
+  JobQueue* queue_ = nullptr;
+  std::vector<std::thread> workers_;  // memory:// only
   std::atomic<bool> drained_{false};
 };
 

@@ -125,18 +125,18 @@ std::optional<JobStatus> apply(Job& job, const FrameReader::Frame& frame) {
     case FrameType::kArtifact: {
       const size_t newline = frame.payload.find('\n');
       const nlohmann::json header = nlohmann::json::parse(frame.payload.substr(0, newline));
+      std::string bytes = frame.payload.substr(newline + 1);
+      const size_t size = bytes.size();
       job.artifacts.push_back(
-          {header.at("name"), header.at("content_type"), frame.payload.substr(newline + 1)});
+          {header.at("name"), header.at("content_type"), std::move(bytes), size});
       break;
     }
     case FrameType::kMetrics:
       job.metrics = nlohmann::json::parse(frame.payload);
       break;
-    case FrameType::kError: {
-      const nlohmann::json e = nlohmann::json::parse(frame.payload);
-      job.error = JobError{e.at("status"), e.at("problem"), e.at("title"), e.at("detail")};
+    case FrameType::kError:
+      job.error = error_from_json(frame.payload);
       break;
-    }
     case FrameType::kStatus: {
       const std::string status = nlohmann::json::parse(frame.payload).at("status");
       if (status == "succeeded") return JobStatus::kSucceeded;
@@ -313,12 +313,15 @@ void serve_one(const std::string& request) {
     limits.time_limit_seconds = decoded.time_limit_seconds;
     limits.threads = decoded.threads;
     job.spec = std::make_unique<JobSpec>(std::move(decoded.spec));
+  } catch (const std::bad_alloc&) {
+    // The request alone did not fit in the worker's address space (worker_memory_bytes).
+    send(FrameType::kError, error_json({507, "out_of_memory", "Out of memory",
+                                        "the job's input does not fit in the worker's memory "
+                                        "limit; try a smaller mesh"}));
+    send(FrameType::kStatus, R"({"status":"failed"})");
+    return;
   } catch (const std::exception& e) {
-    send(FrameType::kError, nlohmann::json{{"status", 500},
-                                           {"problem", "internal"},
-                                           {"title", "Internal error"},
-                                           {"detail", e.what()}}
-                                .dump());
+    send(FrameType::kError, error_json({500, "internal", "Internal error", e.what()}));
     send(FrameType::kStatus, R"({"status":"failed"})");
     return;
   }
@@ -351,12 +354,7 @@ void serve_one(const std::string& request) {
         FrameType::kArtifact,
         nlohmann::json{{"name", a.name}, {"content_type", a.content_type}}.dump() + "\n" + a.bytes);
   if (!job.metrics.is_null()) send(FrameType::kMetrics, job.metrics.dump());
-  if (job.error)
-    send(FrameType::kError, nlohmann::json{{"status", job.error->status},
-                                           {"problem", job.error->problem},
-                                           {"title", job.error->title},
-                                           {"detail", job.error->detail}}
-                                .dump());
+  if (job.error) send(FrameType::kError, error_json(*job.error));
   send(FrameType::kStatus, nlohmann::json{{"status", to_string(status)}}.dump());
 }
 

@@ -227,4 +227,15 @@ JobProgress progress_from_json(const std::string& text) {
   return p;
 }
 
+std::string error_json(const JobError& e) {
+  return nlohmann::json{
+      {"status", e.status}, {"problem", e.problem}, {"title", e.title}, {"detail", e.detail}}
+      .dump();
+}
+
+JobError error_from_json(const std::string& text) {
+  const nlohmann::json e = nlohmann::json::parse(text);
+  return JobError{e.at("status"), e.at("problem"), e.at("title"), e.at("detail")};
+}
+
 }  // namespace spheremap::server

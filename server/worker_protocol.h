@@ -61,5 +61,7 @@ class FrameReader {
 
 std::string progress_json(const JobProgress& progress);
 JobProgress progress_from_json(const std::string& text);
+std::string error_json(const JobError& error);
+JobError error_from_json(const std::string& text);  // throws on JSON that is not one
 
 }  // namespace spheremap::server

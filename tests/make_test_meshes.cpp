@@ -1,6 +1,7 @@
 // Writes the generated test meshes as GLB files for the shell tests and the load bench
 // (no corpus needed): make_test_meshes OUTDIR -> OUTDIR/{icosphere2,icosphere4,horseshoe,
-// torus,textured_horseshoe}.glb; with --stress [--million], the stress set as OBJ (bench/quality).
+// torus,textured_horseshoe}.glb; with --stress [--million], the stress set as OBJ (bench/quality);
+// with --stress-glb, the stress set as GLB (the service's slow jobs in tests and benches).
 #include <cstdio>
 #include <string>
 
@@ -11,8 +12,8 @@
 int main(int argc, char** argv) {
   using namespace spheremap;
   const std::string flag = argc >= 3 ? argv[2] : "";
-  if (argc < 2 || argc > 4 || (argc >= 3 && flag != "--stress")) {
-    std::fprintf(stderr, "usage: make_test_meshes OUTDIR [--stress [--million]]\n");
+  if (argc < 2 || argc > 4 || (argc >= 3 && flag != "--stress" && flag != "--stress-glb")) {
+    std::fprintf(stderr, "usage: make_test_meshes OUTDIR [--stress [--million] | --stress-glb]\n");
     return 1;
   }
   const std::string dir = argv[1];
@@ -28,6 +29,10 @@ int main(int argc, char** argv) {
     glb.triangles = fan_triangulate(mesh).triangles;
     write_binary_file(dir + "/" + name + ".glb", format_glb(glb));
   };
+  if (flag == "--stress-glb") {
+    for (const testing::NamedMesh& m : testing::stress_meshes(false)) write(m.name, m.mesh);
+    return 0;
+  }
   write("icosphere2", testing::icosphere(2));  // 320 triangles
   write("icosphere4", testing::icosphere(4));  // 5,120 triangles
   write("horseshoe", testing::horseshoe());    // 744 triangles, the paper's loop never unfolds it

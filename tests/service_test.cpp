@@ -893,7 +893,7 @@ TEST(Service, AJobThatThrowsFailsAndTheWorkerGoesOn) {
   spec->outputs = {"sphere", "remesh"};
   spec->remesh_resolution = 3;
   std::shared_ptr<server::Job> job;
-  ASSERT_EQ(server.service().store().submit(std::move(spec), job),
+  ASSERT_EQ(server.service().queue().submit(std::move(spec), job),
             server::JobStore::Admission::kAccepted);
   auto client = server.client();
   const json failed = wait_for(client, job->id);
@@ -1081,7 +1081,7 @@ TEST(ServerConfig, ErrorsNameTheSettingAndTheSource) {
   EXPECT_EQ(message([&] {
               apply_json(config, {{"workers", 1.5}}, "a.json");
             }),
-            "a.json: workers must be an integer in [0, 1024], got 1.5");
+            "a.json: workers must be an integer in [-1, 1024], got 1.5");
   EXPECT_NE(message([&] { apply_file(config, "/nonexistent/spheremap.json"); }).find("cannot read"),
             std::string::npos);
 }

@@ -1,0 +1,65 @@
+// Where jobs wait, run and are kept: what the HTTP routes see of the service. Two
+// backends: JobStore (memory://, this process only, the default) and RedisJobQueue
+// (redis://, shared by every replica and worker node on one Redis). The workers' side
+// differs between them (threads that take from the store, or nodes that claim from a
+// Redis stream), so it is not part of this interface.
+//
+// A Job returned here is a view: in memory it is the live object; from Redis it is a
+// snapshot read when asked (artifacts listed with their sizes, bytes left in Redis).
+#pragma once
+
+#include <memory>
+#include <optional>
+#include <stdexcept>
+#include <string>
+
+#include "server/job.h"
+
+namespace spheremap::server {
+
+struct StoreCounts {
+  size_t queued = 0, running = 0, succeeded = 0, failed = 0, cancelled = 0;
+  size_t result_bytes = 0, evicted = 0;
+};
+
+// The queue's backend cannot be reached now (Redis down): the request may be retried.
+class QueueUnavailable : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+class JobQueue {
+ public:
+  virtual ~JobQueue() = default;
+
+  enum class Admission { kAccepted, kQueueFull, kTenantQueueFull, kShuttingDown };
+  // Queues a job for `spec`; `job` is set when accepted.
+  virtual Admission submit(std::unique_ptr<JobSpec> spec, std::shared_ptr<Job>& job) = 0;
+
+  struct Lookup {
+    std::shared_ptr<Job> job;
+    bool evicted = false;  // known, but its results were dropped (TTL or memory cap)
+  };
+  virtual Lookup find(const std::string& id) = 0;
+  // Waits up to `seconds` for `job` to end, and returns it as it stands then.
+  virtual std::shared_ptr<Job> wait(const std::shared_ptr<Job>& job, double seconds) = 0;
+  virtual size_t queue_position(const Job& job) = 0;  // 1 = next to run; 0 = not queued
+  // One artifact of a finished job, bytes included; nullopt when it has none by that name.
+  virtual std::optional<Artifact> artifact(const Job& job, const std::string& name) = 0;
+
+  // Cancels a queued job at once and asks a running one to stop (its worker ends it).
+  // Returns false when the job has already finished.
+  virtual bool cancel(const std::shared_ptr<Job>& job, const std::string& reason) = 0;
+  // Forgets a finished job; false when it is still queued or running.
+  virtual bool remove(const std::string& id) = 0;
+
+  virtual bool accepting() const = 0;  // new submissions may come (ready)
+  virtual size_t queued() = 0;         // cheap: for the 429 check before a body is parsed
+  virtual void evict() = 0;            // drops finished jobs past the TTL or over the caps
+  virtual StoreCounts counts() = 0;
+};
+
+// A new random job id (128 bits, hex): not guessable from another job's id.
+std::string new_job_id();
+
+}  // namespace spheremap::server

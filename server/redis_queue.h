@@ -1,0 +1,113 @@
+// The redis:// backend of JobQueue: jobs shared by every replica and worker node on one
+// Redis. Any replica answers for any job; any worker node runs any job; a job whose
+// worker node dies is finished by another one.
+//
+// What lives in Redis (every key under "spheremap:"):
+//   jobs                 a stream, one entry per job to run, read by the consumer group
+//                        "workers". An entry is pending while a worker runs its job;
+//                        the worker's heartbeat (XCLAIM ... JUSTID) keeps it fresh, and
+//                        an entry silent for visibility_timeout_seconds is reclaimed by
+//                        another worker (XAUTOCLAIM): its node died.
+//   job:ID               a hash: status, tenant, times, input summary, options, progress,
+//                        metrics, error, artifact list, attempts, cancel flag.
+//   spec:ID              the prepared request (worker_protocol's encoding), until it ends.
+//   files:ID             a hash of artifact name -> bytes, once it has succeeded.
+//   gone:ID              set when a job ends, outlives its results by a day: 410, not 404.
+//   queued, tenant:T:queued  sorted sets (by creation) of queued ids: capacity, quotas
+//                        and queue positions, cluster-wide.
+//   finished, sizes, result_bytes  finished ids by end time and their artifact bytes:
+//                        the TTL and the result memory cap, cluster-wide.
+//   count:STATUS, count:evicted  totals for /metrics.
+// Every change that must be atomic (admission, start, finish, cancel, eviction) is one
+// Lua script, so replicas never race each other.
+//
+// Redis unreachable: the routes' calls throw QueueUnavailable (503 + Retry-After) and
+// readiness fails; nothing is accepted that Redis did not store. For jobs to survive a
+// restart of Redis itself, Redis must persist (appendonly yes).
+#pragma once
+
+#include <atomic>
+#include <functional>
+#include <optional>
+
+#include "server/job_queue.h"
+#include "server/redis_connection.h"
+
+namespace spheremap::server {
+
+struct RedisQueueLimits {
+  size_t queue_capacity = 32;
+  size_t tenant_max_queued = 16;
+  double result_ttl_seconds = 3600;
+  size_t result_memory_bytes = 1u << 30;
+  size_t max_jobs_kept = 10000;
+  double visibility_timeout_seconds = 30;
+  int max_attempts = 3;
+};
+
+class RedisJobQueue : public JobQueue {
+ public:
+  // Called after a status change this process made (submission here, a start or an end
+  // on this node's workers), outside any lock.
+  using Observer = std::function<void(const std::shared_ptr<Job>&, JobStatus)>;
+
+  RedisJobQueue(RedisAddress address, RedisQueueLimits limits, Observer observer);
+
+  // JobQueue, for the routes (throw QueueUnavailable while Redis cannot be reached).
+  Admission submit(std::unique_ptr<JobSpec> spec, std::shared_ptr<Job>& job) override;
+  Lookup find(const std::string& id) override;
+  std::shared_ptr<Job> wait(const std::shared_ptr<Job>& job, double seconds) override;
+  size_t queue_position(const Job& job) override;
+  std::optional<Artifact> artifact(const Job& job, const std::string& name) override;
+  bool cancel(const std::shared_ptr<Job>& job, const std::string& reason) override;
+  bool remove(const std::string& id) override;
+  bool accepting() const override;  // not draining, and Redis answered within the last second
+  size_t queued() override;
+  void evict() override;
+  StoreCounts counts() override;
+  void stop_accepting() { accepting_ = false; }
+
+  // The workers' side. Each worker thread passes its own connection.
+  struct Delivery {
+    std::string entry, id;  // the stream entry and the job it names
+  };
+  // The next job for `consumer`: first one abandoned by a dead worker, else a new one,
+  // waiting up to `block_seconds`; nullopt when there is none.
+  std::optional<Delivery> claim(RedisConnection& redis, const std::string& consumer,
+                                double block_seconds);
+  enum class Start { kRun, kSkip, kPoison };
+  // Marks the job running on `node` and counts the attempt. kSkip: it ended or vanished
+  // meanwhile (the entry is acknowledged); kPoison: its workers died max_attempts times.
+  Start start(RedisConnection& redis, const Delivery& delivery, const std::string& node,
+              int& attempts);
+  // The job as a worker runs it: the snapshot plus its spec (nullptr when the spec is gone).
+  std::shared_ptr<Job> load(RedisConnection& redis, const std::string& id, bool with_spec);
+  // Keeps the entry from being reclaimed; publishes progress; returns whether a client
+  // asked to cancel the job.
+  bool heartbeat(RedisConnection& redis, const std::string& consumer, const Delivery& delivery,
+                 const Job& job);
+  // Stores what the job made and its verdict, acknowledges the entry, evicts over the caps.
+  void finish(RedisConnection& redis, const Delivery& delivery, Job& job, JobStatus status);
+  // Puts a running job back in the queue (this node stops, or its worker process died and
+  // attempts remain); `count_attempt` false undoes the attempt (a drain is not its fault).
+  void release(RedisConnection& redis, const Delivery& delivery, bool count_attempt);
+
+  const RedisQueueLimits& limits() const { return limits_; }
+  const RedisAddress& address() const { return pool_.address(); }
+
+ private:
+  template <typename Body>
+  auto with_redis(Body body);
+  std::shared_ptr<Job> snapshot(RedisConnection& redis, const std::string& id, bool& gone);
+  void ensure_group(RedisConnection& redis);
+  void evict(RedisConnection& redis);
+
+  const RedisQueueLimits limits_;
+  const Observer observer_;
+  mutable RedisPool pool_;
+  std::atomic<bool> accepting_{true};
+  mutable std::atomic<int64_t> last_ping_ok_ms_{0}, last_ping_ms_{0};
+  std::atomic<bool> group_ready_{false};
+};
+
+}  // namespace spheremap::server

@@ -1,0 +1,152 @@
+// The Lua scripts that change the Redis queue's state (redis_queue.h says what each key
+// holds). Each runs atomically in Redis, so replicas and worker nodes never race: two
+// submissions cannot both take the last queue slot, a cancel cannot slip between a
+// worker's start and its first heartbeat, a finish and an eviction cannot double-count.
+// Keys a script derives from an id or a tenant are built from the prefix in ARGV (one
+// Redis, not a cluster).
+#pragma once
+
+namespace spheremap::server::redis_scripts {
+
+// KEYS: queued, tenant's queued, job hash, spec, stream. ARGV: id, capacity, tenant
+// capacity, now (ms), spec bytes, then the hash's field/value pairs.
+// Returns 0 accepted, 1 queue full, 2 tenant's queue full, 3 id taken.
+inline constexpr const char* kSubmit = R"lua(
+if redis.call('ZCARD', KEYS[1]) >= tonumber(ARGV[2]) then return 1 end
+if redis.call('ZCARD', KEYS[2]) >= tonumber(ARGV[3]) then return 2 end
+if redis.call('EXISTS', KEYS[3]) == 1 then return 3 end
+redis.call('HSET', KEYS[3], unpack(ARGV, 6))
+redis.call('SET', KEYS[4], ARGV[5])
+redis.call('ZADD', KEYS[1], ARGV[4], ARGV[1])
+redis.call('ZADD', KEYS[2], ARGV[4], ARGV[1])
+redis.call('XADD', KEYS[5], '*', 'job', ARGV[1])
+return 0
+)lua";
+
+// KEYS: job hash, queued, stream. ARGV: id, now (ms), max attempts, node, prefix, entry.
+// Returns 'skip' (the job ended or vanished: its entry is acknowledged), 'poison' (its
+// workers died max attempts times; it is marked running so that it can be finished as
+// failed) or 'run', with the attempt's number.
+inline constexpr const char* kStart = R"lua(
+local status = redis.call('HGET', KEYS[1], 'status')
+if status ~= 'queued' and status ~= 'running' then
+  redis.call('XACK', KEYS[3], 'workers', ARGV[6])
+  redis.call('XDEL', KEYS[3], ARGV[6])
+  return {'skip', 0}
+end
+local tenant = redis.call('HGET', KEYS[1], 'tenant')
+redis.call('ZREM', KEYS[2], ARGV[1])
+redis.call('ZREM', ARGV[5] .. 'tenant:' .. tenant .. ':queued', ARGV[1])
+local attempts = redis.call('HINCRBY', KEYS[1], 'attempts', 1)
+redis.call('HSET', KEYS[1], 'status', 'running', 'started_ms', ARGV[2], 'node', ARGV[4],
+           'progress', '{"stage":"starting"}')
+if attempts > tonumber(ARGV[3]) then return {'poison', attempts - 1} end
+return {'run', attempts}
+)lua";
+
+// KEYS: job hash, files, finished, sizes, result_bytes, stream, gone, spec. ARGV: id,
+// entry, status, now (ms), ttl (s), artifact bytes, counter key, then the hash's
+// field/value pairs. A job no longer running (cancelled while queued, removed, finished
+// by a worker that reclaimed it) keeps its state; what this worker made is dropped.
+inline constexpr const char* kFinish = R"lua(
+redis.call('XACK', KEYS[6], 'workers', ARGV[2])
+redis.call('XDEL', KEYS[6], ARGV[2])
+if redis.call('HGET', KEYS[1], 'status') ~= 'running' then
+  redis.call('DEL', KEYS[2])
+  return 0
+end
+redis.call('HSET', KEYS[1], 'status', ARGV[3], 'finished_ms', ARGV[4], unpack(ARGV, 8))
+redis.call('HDEL', KEYS[1], 'cancel')
+redis.call('EXPIRE', KEYS[1], ARGV[5])
+redis.call('EXPIRE', KEYS[2], ARGV[5])
+redis.call('SET', KEYS[7], 'ended', 'EX', tonumber(ARGV[5]) + 86400)
+redis.call('DEL', KEYS[8])
+redis.call('ZADD', KEYS[3], ARGV[4], ARGV[1])
+redis.call('HSET', KEYS[4], ARGV[1], ARGV[6])
+redis.call('INCRBY', KEYS[5], ARGV[6])
+redis.call('INCR', ARGV[7])
+return 1
+)lua";
+
+// KEYS: job hash, queued, stream. ARGV: id, entry, prefix, count attempt (0/1). Puts a
+// running job back at its place in the queue under a new entry.
+inline constexpr const char* kRelease = R"lua(
+redis.call('XACK', KEYS[3], 'workers', ARGV[2])
+redis.call('XDEL', KEYS[3], ARGV[2])
+if redis.call('HGET', KEYS[1], 'status') ~= 'running' then return 0 end
+local created = redis.call('HGET', KEYS[1], 'created_ms')
+local tenant = redis.call('HGET', KEYS[1], 'tenant')
+redis.call('HSET', KEYS[1], 'status', 'queued', 'progress', '{"stage":"queued"}')
+redis.call('HDEL', KEYS[1], 'started_ms', 'node')
+if ARGV[4] == '0' then redis.call('HINCRBY', KEYS[1], 'attempts', -1) end
+redis.call('ZADD', KEYS[2], created, ARGV[1])
+redis.call('ZADD', ARGV[3] .. 'tenant:' .. tenant .. ':queued', created, ARGV[1])
+redis.call('XADD', KEYS[3], '*', 'job', ARGV[1])
+return 1
+)lua";
+
+// KEYS: job hash, queued, finished, sizes, gone, spec. ARGV: id, reason, now (ms), ttl
+// (s), prefix. Returns 'cancelled' (it was queued), 'stopping' (running: its worker sees
+// the flag with its next heartbeat), 'finished' or 'missing'.
+inline constexpr const char* kCancel = R"lua(
+local status = redis.call('HGET', KEYS[1], 'status')
+if not status then return 'missing' end
+if status == 'queued' then
+  local tenant = redis.call('HGET', KEYS[1], 'tenant')
+  redis.call('HSET', KEYS[1], 'status', 'cancelled', 'finished_ms', ARGV[3],
+             'cancel_reason', ARGV[2], 'progress', '{"stage":"cancelled"}')
+  redis.call('ZREM', KEYS[2], ARGV[1])
+  redis.call('ZREM', ARGV[5] .. 'tenant:' .. tenant .. ':queued', ARGV[1])
+  redis.call('EXPIRE', KEYS[1], ARGV[4])
+  redis.call('SET', KEYS[5], 'ended', 'EX', tonumber(ARGV[4]) + 86400)
+  redis.call('DEL', KEYS[6])
+  redis.call('ZADD', KEYS[3], ARGV[3], ARGV[1])
+  redis.call('HSET', KEYS[4], ARGV[1], 0)
+  redis.call('INCR', ARGV[5] .. 'count:cancelled')
+  return 'cancelled'
+end
+if status == 'running' then
+  if not redis.call('HGET', KEYS[1], 'cancel_reason') then
+    redis.call('HSET', KEYS[1], 'cancel_reason', ARGV[2])
+  end
+  redis.call('HSET', KEYS[1], 'cancel', '1')
+  return 'stopping'
+end
+return 'finished'
+)lua";
+
+// KEYS: finished, sizes, result_bytes. ARGV: prefix, now (ms), ttl (ms), memory cap
+// (bytes), jobs kept, the id to forget now or ''. Drops finished jobs past the TTL, then
+// the oldest while over the caps; their gone: keys stay (410). With an id: forgets that
+// finished job entirely (DELETE), gone: key too; returns 1 if it was finished.
+inline constexpr const char* kEvict = R"lua(
+local p = ARGV[1]
+local function drop(id)
+  local size = tonumber(redis.call('HGET', KEYS[2], id) or '0')
+  redis.call('DECRBY', KEYS[3], size)
+  redis.call('HDEL', KEYS[2], id)
+  redis.call('ZREM', KEYS[1], id)
+  redis.call('DEL', p .. 'job:' .. id, p .. 'files:' .. id)
+end
+if ARGV[6] ~= '' then
+  if not redis.call('ZSCORE', KEYS[1], ARGV[6]) then return 0 end
+  drop(ARGV[6])
+  redis.call('DEL', p .. 'gone:' .. ARGV[6])
+  return 1
+end
+local evicted = 0
+local old = redis.call('ZRANGEBYSCORE', KEYS[1], '-inf', tonumber(ARGV[2]) - tonumber(ARGV[3]),
+                       'LIMIT', 0, 1000)
+for _, id in ipairs(old) do drop(id); evicted = evicted + 1 end
+while tonumber(redis.call('GET', KEYS[3]) or '0') > tonumber(ARGV[4]) or
+      redis.call('ZCARD', KEYS[1]) > tonumber(ARGV[5]) do
+  local oldest = redis.call('ZRANGE', KEYS[1], 0, 0)
+  if #oldest == 0 then break end
+  drop(oldest[1])
+  evicted = evicted + 1
+end
+if evicted > 0 then redis.call('INCRBY', p .. 'count:evicted', evicted) end
+return evicted
+)lua";
+
+}  // namespace spheremap::server::redis_scripts
