@@ -152,6 +152,11 @@ void RedisWorkers::run_one(RedisConnection& redis, const std::string& consumer,
       log_job("job_retried", job->id, job->error->detail);
     return;
   }
+  if (crashed) {
+    std::lock_guard lock(job->mutex);
+    job->error->detail += "; attempt " + std::to_string(attempts) + " of " +
+                          std::to_string(queue_.limits().max_attempts) + ", not retried again";
+  }
   persist([&] { queue_.finish(redis, delivery, *job, status); });
   {
     std::lock_guard lock(job->mutex);
