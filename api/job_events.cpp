@@ -14,17 +14,17 @@ std::string event(const char* name, const nlohmann::json& data) {
 }
 
 struct Stream {
-  std::shared_ptr<server::Job> job;
+  std::shared_ptr<Job> job;
   std::shared_ptr<std::atomic<int>> streams;
   std::string last_progress;
-  server::Clock::time_point last_write = server::Clock::now();
+  Clock::time_point last_write = Clock::now();
 };
 
 }  // namespace
 
-void stream_job_events(server::Service& service, const std::shared_ptr<server::Job>& job,
+void stream_job_events(Backend& service, const std::shared_ptr<Job>& job,
                        httplib::Response& response, std::shared_ptr<std::atomic<int>> streams) {
-  const int max_streams = std::max(1, service.config().http_threads / 4);
+  const int max_streams = std::max(1, service.settings().http_threads / 4);
   if (streams->fetch_add(1) >= max_streams) {
     streams->fetch_sub(1);
     throw Problem(503, "too_many_streams", "Too many event streams",
@@ -42,19 +42,19 @@ void stream_job_events(server::Service& service, const std::shared_ptr<server::J
         // The job as it stands after up to 250 ms (a Redis queue: a fresh snapshot).
         try {
           stream->job = service.queue().wait(stream->job, 0.25);
-        } catch (const server::QueueUnavailable&) {
+        } catch (const QueueUnavailable&) {
           // Redis away for a moment: keep the stream, say nothing new this tick.
         }
-        server::Job& job = *stream->job;
+        Job& job = *stream->job;
         bool terminal;
         {
           std::lock_guard lock(job.mutex);
-          terminal = server::is_terminal(job.status);
+          terminal = is_terminal(job.status);
         }
         nlohmann::json view;
         try {
           view = job_json(job, service.queue().queue_position(job));
-        } catch (const server::QueueUnavailable&) {
+        } catch (const QueueUnavailable&) {
           view = job_json(job, 0);
         }
         std::string out;
@@ -66,11 +66,10 @@ void stream_job_events(server::Service& service, const std::shared_ptr<server::J
           stream->last_progress = progress;
         }
         if (terminal) out += event("status", view);
-        if (out.empty() && server::Clock::now() - stream->last_write > 15s)
-          out = ": keep-alive\n\n";
+        if (out.empty() && Clock::now() - stream->last_write > 15s) out = ": keep-alive\n\n";
         if (!out.empty()) {
           if (!sink.write(out.data(), out.size())) return false;  // the client went away
-          stream->last_write = server::Clock::now();
+          stream->last_write = Clock::now();
         }
         if (terminal) sink.done();
         return true;

@@ -14,11 +14,11 @@
 #include <atomic>
 #include <memory>
 
-#include "server/service.h"
+#include "api/backend.h"
 
 namespace spheremap::api {
 
-void stream_job_events(server::Service& service, const std::shared_ptr<server::Job>& job,
+void stream_job_events(Backend& service, const std::shared_ptr<Job>& job,
                        httplib::Response& response, std::shared_ptr<std::atomic<int>> streams);
 
 }  // namespace spheremap::api

@@ -5,8 +5,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "api/job.h"
 #include "core/io/gltf_reader.h"
-#include "server/job.h"
 
 namespace spheremap::api {
 

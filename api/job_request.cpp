@@ -104,14 +104,14 @@ Body split_body(const httplib::Request& request) {
 
 }  // namespace
 
-std::unique_ptr<server::JobSpec> read_job_request(const httplib::Request& request,
-                                                  const server::ServerConfig& config) {
+std::unique_ptr<JobSpec> read_job_request(const httplib::Request& request,
+                                          const ApiSettings& config) {
   Body body = split_body(request);
   JobOptions options = parse_job_options(body.options);
   options.gltf.max_vertices = config.max_vertices;
   options.gltf.max_triangles = config.max_faces;
 
-  auto spec = std::make_unique<server::JobSpec>();
+  auto spec = std::make_unique<JobSpec>();
   GltfReadStats stats;
   try {
     const MemoryResources resources(std::move(body.resources), kHowToSendResources);

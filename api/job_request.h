@@ -8,15 +8,15 @@
 
 #include <memory>
 
-#include "server/config.h"
-#include "server/job.h"
+#include "api/backend.h"
+#include "api/job.h"
 
 namespace spheremap::api {
 
 // The 415 detail for a mesh sent as a form (curl's default for --data-binary).
 extern const char* const kFormEncodedHint;
 
-std::unique_ptr<server::JobSpec> read_job_request(const httplib::Request& request,
-                                                  const server::ServerConfig& config);
+std::unique_ptr<JobSpec> read_job_request(const httplib::Request& request,
+                                          const ApiSettings& config);
 
 }  // namespace spheremap::api

@@ -16,7 +16,7 @@ std::string iso_time(std::chrono::system_clock::time_point t) {
   return text;
 }
 
-double seconds(server::Clock::time_point from, server::Clock::time_point to) {
+double seconds(Clock::time_point from, Clock::time_point to) {
   return std::chrono::duration<double>(to - from).count();
 }
 
@@ -26,10 +26,10 @@ std::string job_path(const std::string& id) {
   return "/v1/jobs/" + id;
 }
 
-nlohmann::json job_json(const server::Job& job, size_t queue_position) {
+nlohmann::json job_json(const Job& job, size_t queue_position) {
   std::lock_guard lock(job.mutex);
-  const auto now = server::Clock::now();
-  const server::Clock::time_point end = job.finished.value_or(now);
+  const auto now = Clock::now();
+  const Clock::time_point end = job.finished.value_or(now);
   nlohmann::json out = {
       {"id", job.id},
       {"status", to_string(job.status)},
@@ -51,12 +51,12 @@ nlohmann::json job_json(const server::Job& job, size_t queue_position) {
         {"elapsed_seconds", job.started ? seconds(*job.started, end) : 0.0}}},
       {"links", {{"self", job_path(job.id)}}},
   };
-  if (job.status == server::JobStatus::kQueued) out["queue_position"] = queue_position;
+  if (job.status == JobStatus::kQueued) out["queue_position"] = queue_position;
   if (job.started) out["waited_seconds"] = seconds(job.created, *job.started);
   if (!job.metrics.is_null()) out["metrics"] = job.metrics;
   if (!job.artifacts.empty()) {
     nlohmann::json artifacts = nlohmann::json::object();
-    for (const server::Artifact& a : job.artifacts)
+    for (const Artifact& a : job.artifacts)
       artifacts[a.name] = {{"href", job_path(job.id) + "/artifacts/" + a.name},
                            {"type", a.content_type},
                            {"bytes", a.bytes.size()}};

@@ -3,12 +3,12 @@
 
 #include <nlohmann/json.hpp>
 
-#include "server/job_store.h"
+#include "api/job.h"
 
 namespace spheremap::api {
 
 // `queue_position` from JobStore::queue_position (0 when not queued).
-nlohmann::json job_json(const server::Job& job, size_t queue_position);
+nlohmann::json job_json(const Job& job, size_t queue_position);
 
 std::string job_path(const std::string& id);  // "/v1/jobs/<id>"
 

@@ -8,19 +8,13 @@
 #include "api/job_events.h"
 #include "api/job_request.h"
 #include "api/job_view.h"
+#include "api/log.h"
 #include "api/problem.h"
 #include "core/io/glb_writer.h"
-#include "server/log.h"
 #include "web/web_assets.h"
 
 namespace spheremap::api {
 namespace {
-
-using server::Clock;
-using server::Job;
-using server::JobQueue;
-using server::JobStatus;
-using server::Service;
 
 const char* const kJobId = "([0-9a-f]{32})";
 
@@ -33,7 +27,7 @@ void send_json(httplib::Response& response, int status, const nlohmann::json& bo
 // Whose request this is: the API key's tenant (the pre-routing handler has already
 // refused requests without a valid key when keys are configured), else the client's
 // address, which quotas and fair scheduling then apply to.
-std::string tenant_of(const Service& service, const httplib::Request& request) {
+std::string tenant_of(const Backend& service, const httplib::Request& request) {
   if (service.api_keys().enabled())
     return "key:" +
            service.api_keys().tenant_for(request.get_header_value("Authorization")).value_or("");
@@ -42,7 +36,7 @@ std::string tenant_of(const Service& service, const httplib::Request& request) {
 
 // The job of the path's first capture, or a 404 / 410 problem. With API keys another
 // tenant's job does not exist, as far as this request can tell.
-std::shared_ptr<Job> find_job(Service& service, const httplib::Request& request) {
+std::shared_ptr<Job> find_job(Backend& service, const httplib::Request& request) {
   const std::string id = request.matches[1];
   JobQueue::Lookup found = service.queue().find(id);
   if (found.job && service.api_keys().enabled() && found.job->tenant != tenant_of(service, request))
@@ -56,7 +50,7 @@ std::shared_ptr<Job> find_job(Service& service, const httplib::Request& request)
 }
 
 // Reads, checks and queues a submission; throws Problems for every refusal.
-std::shared_ptr<Job> submit(Service& service, const httplib::Request& request) {
+std::shared_ptr<Job> submit(Backend& service, const httplib::Request& request) {
   if (service.draining()) {
     service.metrics().rejected("shutting_down");
     throw Problem(503, "shutting_down", "Shutting down",
@@ -64,17 +58,17 @@ std::shared_ptr<Job> submit(Service& service, const httplib::Request& request) {
   }
   if (!service.ready()) {
     service.metrics().rejected("queue_unavailable");
-    throw server::QueueUnavailable("readiness check failed");
+    throw QueueUnavailable("readiness check failed");
   }
-  if (service.queue().queued() >= service.config().queue_capacity) {
+  if (service.queue().queued() >= service.settings().queue_capacity) {
     service.metrics().rejected("queue_full");
     throw Problem(429, "queue_full", "Queue full",
-                  "the job queue is full (" + std::to_string(service.config().queue_capacity) +
+                  "the job queue is full (" + std::to_string(service.settings().queue_capacity) +
                       " jobs waiting); retry later");
   }
-  std::unique_ptr<server::JobSpec> spec;
+  std::unique_ptr<JobSpec> spec;
   try {
-    spec = read_job_request(request, service.config());
+    spec = read_job_request(request, service.settings());
   } catch (const Problem& p) {
     service.metrics().rejected(p.extra.value("check", p.slug));
     throw;
@@ -90,7 +84,7 @@ std::shared_ptr<Job> submit(Service& service, const httplib::Request& request) {
     case JobQueue::Admission::kTenantQueueFull:
       service.metrics().rejected("tenant_quota");
       throw Problem(429, "tenant_quota", "Too many queued jobs",
-                    "you have " + std::to_string(service.config().tenant_max_queued) +
+                    "you have " + std::to_string(service.settings().tenant_max_queued) +
                         " jobs waiting (tenant_max_queued); retry when one has started");
     case JobQueue::Admission::kShuttingDown:
       service.metrics().rejected("shutting_down");
@@ -100,7 +94,7 @@ std::shared_ptr<Job> submit(Service& service, const httplib::Request& request) {
   return job;
 }
 
-void post_job(Service& service, const httplib::Request& request, httplib::Response& response) {
+void post_job(Backend& service, const httplib::Request& request, httplib::Response& response) {
   const std::shared_ptr<Job> job = submit(service, request);
   response.set_header("Location", job_path(job->id));
   response.set_header("Spheremap-Job", job->id);
@@ -119,13 +113,13 @@ double sync_wait_seconds(const httplib::Request& request, double configured) {
   return std::clamp(wait, 0.0, configured);
 }
 
-void post_map(Service& service, std::atomic<int>& waiting, const httplib::Request& request,
+void post_map(Backend& service, std::atomic<int>& waiting, const httplib::Request& request,
               httplib::Response& response) {
   const std::shared_ptr<Job> job = submit(service, request);
   response.set_header("Spheremap-Job", job->id);
   // Waiting holds an HTTP thread: at most half of them may wait, so the rest can serve.
-  const int max_waiting = std::max(1, service.config().http_threads / 2);
-  const double wait = sync_wait_seconds(request, service.config().sync_timeout_seconds);
+  const int max_waiting = std::max(1, service.settings().http_threads / 2);
+  const double wait = sync_wait_seconds(request, service.settings().sync_timeout_seconds);
   std::shared_ptr<Job> now = job;
   if (waiting.fetch_add(1) < max_waiting) {
     try {
@@ -141,13 +135,13 @@ void post_map(Service& service, std::atomic<int>& waiting, const httplib::Reques
     std::lock_guard lock(now->mutex);
     status = now->status;
   }
-  if (!server::is_terminal(status)) {
+  if (!is_terminal(status)) {
     response.set_header("Location", job_path(job->id));
     send_json(response, 202, job_json(*now, service.queue().queue_position(*now)));
     return;
   }
   if (status == JobStatus::kSucceeded) {
-    const std::optional<server::Artifact> sphere = service.queue().artifact(*now, "sphere.glb");
+    const std::optional<Artifact> sphere = service.queue().artifact(*now, "sphere.glb");
     if (!sphere)
       throw Problem(410, "gone", "Job results expired",
                     "job " + job->id + " finished and its results were dropped");
@@ -164,19 +158,19 @@ void post_map(Service& service, std::atomic<int>& waiting, const httplib::Reques
     return;
   }
   std::lock_guard lock(now->mutex);
-  const server::JobError error = now->error.value_or(
-      server::JobError{503, "cancelled", "Job cancelled",
-                       now->cancel_reason.empty() ? "the job was cancelled" : now->cancel_reason});
+  const JobError error = now->error.value_or(
+      JobError{503, "cancelled", "Job cancelled",
+               now->cancel_reason.empty() ? "the job was cancelled" : now->cancel_reason});
   throw Problem(error.status, error.problem, error.title, error.detail, {{"job", job->id}});
 }
 
-void get_artifact(Service& service, const httplib::Request& request, httplib::Response& response) {
+void get_artifact(Backend& service, const httplib::Request& request, httplib::Response& response) {
   const std::shared_ptr<Job> job = find_job(service, request);
   const std::string name = request.matches[2];
   // Every .glb artifact is also served as .gltf (JSON, the buffer embedded as base64).
   const bool as_gltf = name.ends_with(".gltf");
   const std::string stored = as_gltf ? name.substr(0, name.size() - 5) + ".glb" : name;
-  if (const std::optional<server::Artifact> a = service.queue().artifact(*job, stored)) {
+  if (const std::optional<Artifact> a = service.queue().artifact(*job, stored)) {
     if (as_gltf)
       response.set_content(glb_to_gltf(a->bytes), "model/gltf+json");
     else
@@ -186,7 +180,7 @@ void get_artifact(Service& service, const httplib::Request& request, httplib::Re
     return;
   }
   std::lock_guard lock(job->mutex);
-  if (!server::is_terminal(job->status))
+  if (!is_terminal(job->status))
     throw Problem(409, "not_ready", "Job not finished",
                   "job " + job->id + " is " + std::string(to_string(job->status)) +
                       "; artifacts exist once it has succeeded");
@@ -194,7 +188,7 @@ void get_artifact(Service& service, const httplib::Request& request, httplib::Re
                 "job " + job->id + " has no artifact '" + name + "'");
 }
 
-void delete_job(Service& service, const httplib::Request& request, httplib::Response& response) {
+void delete_job(Backend& service, const httplib::Request& request, httplib::Response& response) {
   const std::shared_ptr<Job> job = find_job(service, request);
   if (service.queue().cancel(job, "cancelled by the client")) {
     JobStatus status;
@@ -241,9 +235,9 @@ httplib::Server::Handler guarded(Body body) {
       if (problem.status == 429) response.set_header("Retry-After", "5");
       if (problem.status == 503) response.set_header("Retry-After", "30");
       send_problem(response, problem, request.path);
-    } catch (const server::QueueUnavailable& e) {
+    } catch (const QueueUnavailable& e) {
       // Redis out of reach: nothing was accepted or changed; the client may retry soon.
-      server::log_event({{"event", "queue_unavailable"}, {"error", e.what()}});
+      log_event({{"event", "queue_unavailable"}, {"error", e.what()}});
       response.set_header("Retry-After", "5");
       send_problem(response,
                    Problem(503, "queue_unavailable", "Job queue unavailable",
@@ -311,7 +305,7 @@ void serve_asset(const httplib::Request& request, httplib::Response& response) {
 }  // namespace
 
 // /healthz, /readyz and /metrics: on the API's port, and alone on the health port.
-static void install_probes(httplib::Server& http, Service& service) {
+static void install_probes(httplib::Server& http, Backend& service) {
   http.Get("/healthz", [](const httplib::Request&, httplib::Response& response) {
     send_json(response, 200, {{"status", "ok"}});
   });
@@ -328,14 +322,14 @@ static void install_probes(httplib::Server& http, Service& service) {
       }));
   http.Get("/metrics", guarded([&service](const httplib::Request&, httplib::Response& response) {
              service.queue().evict();
-             response.set_content(
-                 service.metrics().render(service.queue().counts(), service.config().queue_capacity,
-                                          service.config().effective_workers()),
-                 "text/plain; version=0.0.4; charset=utf-8");
+             response.set_content(service.metrics().render(service.queue().counts(),
+                                                           service.settings().queue_capacity,
+                                                           service.settings().workers),
+                                  "text/plain; version=0.0.4; charset=utf-8");
            }));
 }
 
-void install_health(httplib::Server& http, Service& service) {
+void install_health(httplib::Server& http, Backend& service) {
   // Two threads, and short timeouts: a probe is a small GET from a kubelet or a load
   // balancer, and nothing here may be held long by whoever reaches the port.
   http.new_task_queue = [] { return new httplib::ThreadPool(2); };
@@ -347,8 +341,8 @@ void install_health(httplib::Server& http, Service& service) {
   install_probes(http, service);
 }
 
-void install_api(httplib::Server& http, Service& service) {
-  const server::ServerConfig& config = service.config();
+void install_api(httplib::Server& http, Backend& service) {
+  const ApiSettings& config = service.settings();
   const size_t http_threads = static_cast<size_t>(config.http_threads);
   http.new_task_queue = [http_threads] { return new httplib::ThreadPool(http_threads); };
   http.set_payload_max_length(config.max_body_bytes);
@@ -437,14 +431,14 @@ void install_api(httplib::Server& http, Service& service) {
         {"path", request.path},
         {"status", response.status},
         {"ms",
-         server::rounded_seconds(
+         rounded_seconds(
              std::chrono::duration<double, std::milli>(Clock::now() - request_start).count())},
         {"bytes_in", request.body.size()},
         {"bytes_out", response.body.size()},
         {"remote", request.remote_addr}};
     if (response.has_header("Spheremap-Job"))
       line["job"] = response.get_header_value("Spheremap-Job");
-    server::log_event(std::move(line));
+    log_event(std::move(line));
   });
   http.set_exception_handler(
       [](const httplib::Request& request, httplib::Response& response, std::exception_ptr error) {
@@ -455,7 +449,7 @@ void install_api(httplib::Server& http, Service& service) {
           what = e.what();
         } catch (...) {
         }
-        server::log_event({{"event", "handler_exception"}, {"path", request.path}, {"what", what}});
+        log_event({{"event", "handler_exception"}, {"path", request.path}, {"what", what}});
         send_problem(response,
                      Problem(500, "internal", "Internal error",
                              "the server failed to handle this request; it is logged"),

@@ -4,7 +4,7 @@
 // error. Never throws.
 #pragma once
 
-#include "server/job.h"
+#include "server/api_types.h"
 
 namespace spheremap::server {
 

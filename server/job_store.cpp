@@ -1,11 +1,5 @@
 #include "server/job_store.h"
 
-#include <sys/random.h>
-
-#include <cerrno>
-#include <cstring>
-#include <stdexcept>
-
 #include <algorithm>
 #include <cstdio>
 
@@ -25,24 +19,6 @@ void mark_terminal(Job& job, JobStatus status) {
 }
 
 }  // namespace
-
-// 128 bits from the kernel's CSPRNG (getrandom): ids are the only handle on a job, so
-// they must not be predictable (a std::mt19937_64 stream is rebuilt from 156 outputs).
-std::string new_job_id() {
-  uint64_t words[2];
-  size_t got = 0;
-  while (got < sizeof words) {
-    const ssize_t n = getrandom(reinterpret_cast<char*>(words) + got, sizeof words - got, 0);
-    if (n > 0)
-      got += static_cast<size_t>(n);
-    else if (errno != EINTR)
-      throw std::runtime_error("getrandom failed: " + std::string(std::strerror(errno)));
-  }
-  char text[33];
-  std::snprintf(text, sizeof text, "%016llx%016llx", static_cast<unsigned long long>(words[0]),
-                static_cast<unsigned long long>(words[1]));
-  return text;
-}
 
 JobStore::JobStore(StoreLimits limits, Observer observer)
     : limits_(limits), observer_(std::move(observer)) {}

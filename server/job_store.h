@@ -11,7 +11,7 @@
 #include <unordered_map>
 #include <unordered_set>
 
-#include "server/job_queue.h"
+#include "server/api_types.h"
 
 namespace spheremap::server {
 

@@ -189,19 +189,24 @@ JobQueue::Lookup RedisJobQueue::find(const std::string& id) {
 std::shared_ptr<Job> RedisJobQueue::wait(const std::shared_ptr<Job>& job, double seconds) {
   const auto deadline = Clock::now() + std::chrono::duration_cast<Clock::duration>(
                                            std::chrono::duration<double>(seconds));
-  std::shared_ptr<Job> now = job;
-  for (;;) {
-    {
-      std::lock_guard lock(now->mutex);
-      if (is_terminal(now->status)) return now;
-    }
-    if (Clock::now() >= deadline) return now;
-    // Polling: 50 ms is well under a mapping job's length and a few commands per second.
-    std::this_thread::sleep_for(std::chrono::milliseconds(50));
-    Lookup found = find(job->id);
-    if (!found.job) return now;  // removed meanwhile: the last view stands
-    now = found.job;
+  {
+    std::lock_guard lock(job->mutex);
+    if (is_terminal(job->status)) return job;
   }
+  // Polls the status alone, 2 ms apart at first and backing off to 50 ms: a small job's
+  // answer waits a millisecond or two, a long one costs a few commands per second.
+  auto pause = std::chrono::milliseconds(2);
+  while (Clock::now() < deadline) {
+    std::this_thread::sleep_for(std::min<Clock::duration>(pause, deadline - Clock::now()));
+    pause = std::min(pause * 2, std::chrono::milliseconds(50));
+    const std::string status = with_redis([&](RedisConnection& redis) {
+      return redis.command({"HGET", job_key(job->id), "status"}).text();
+    });
+    const auto now = job_status_from(status);
+    if (!now || is_terminal(*now)) break;  // ended (or removed): read it whole
+  }
+  Lookup found = find(job->id);
+  return found.job ? found.job : job;
 }
 
 size_t RedisJobQueue::queue_position(const Job& job) {

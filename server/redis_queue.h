@@ -30,7 +30,7 @@
 #include <functional>
 #include <optional>
 
-#include "server/job_queue.h"
+#include "server/api_types.h"
 #include "server/redis_connection.h"
 
 namespace spheremap::server {

@@ -5,7 +5,7 @@
 #include <algorithm>
 #include <optional>
 
-#include "server/log.h"
+#include "api/log.h"
 
 namespace spheremap::server {
 namespace {
@@ -58,6 +58,7 @@ bool RedisWorkers::persist(Action action) {
 void RedisWorkers::work(int index) {
   const std::string consumer = node_ + ":" + std::to_string(index);
   RedisConnection redis(queue_.address());
+  RedisConnection beat(queue_.address());  // the companion's, kept from job to job
   std::optional<WorkerProcess> process;
   if (!isolation_thread_) process.emplace(process_);
   bool unreachable = false;
@@ -66,7 +67,7 @@ void RedisWorkers::work(int index) {
       const auto delivery = queue_.claim(redis, consumer, 1.0);
       if (unreachable) log_event({{"event", "redis_reachable"}, {"consumer", consumer}});
       unreachable = false;
-      if (delivery) run_one(redis, consumer, *delivery, process ? &*process : nullptr);
+      if (delivery) run_one(redis, beat, consumer, *delivery, process ? &*process : nullptr);
     } catch (const RedisUnavailable& e) {
       if (!unreachable) log_event({{"event", "redis_unavailable"}, {"error", e.what()}});
       unreachable = true;
@@ -83,12 +84,24 @@ void RedisWorkers::work(int index) {
   }
 }
 
-void RedisWorkers::run_one(RedisConnection& redis, const std::string& consumer,
-                           const RedisJobQueue::Delivery& delivery, WorkerProcess* process) {
+void RedisWorkers::run_one(RedisConnection& redis, RedisConnection& beat,
+                           const std::string& consumer, const RedisJobQueue::Delivery& delivery,
+                           WorkerProcess* process) {
   int attempts = 0;
   const RedisJobQueue::Start start = queue_.start(redis, delivery, node_, attempts);
   if (start == RedisJobQueue::Start::kSkip) return;
-  std::shared_ptr<Job> job = queue_.load(redis, delivery.id, start == RedisJobQueue::Start::kRun);
+  std::shared_ptr<Job> job;
+  std::string unreadable;
+  try {
+    job = queue_.load(redis, delivery.id, start == RedisJobQueue::Start::kRun);
+  } catch (const RedisUnavailable&) {
+    throw;
+  } catch (const std::exception& e) {
+    // An input this build cannot decode (a node of another version during a rolling
+    // deploy, or a bug): fail the job now rather than let it go round the nodes.
+    unreadable = e.what();
+    job = queue_.load(redis, delivery.id, false);
+  }
   if (!job) return;  // removed meanwhile; the entry is skipped when reclaimed
   if (stopping_) {   // claimed while this node began to stop: another node takes it
     persist([&] { queue_.release(redis, delivery, false); });
@@ -109,6 +122,9 @@ void RedisWorkers::run_one(RedisConnection& redis, const std::string& consumer,
                  "the job's worker died " + std::to_string(attempts) +
                      " times (crash, memory or CPU limit, or its node was lost); it is not "
                      "retried again"});
+  if (!unreadable.empty())
+    return fail(
+        {500, "internal", "Internal error", "the job's input cannot be read: " + unreadable});
   if (!job->spec) return fail({500, "internal", "Internal error", "the job's input is missing"});
 
   {
@@ -117,21 +133,28 @@ void RedisWorkers::run_one(RedisConnection& redis, const std::string& consumer,
     ++running_;
   }
   if (observer_) observer_(job, JobStatus::kRunning);
-  // The companion: heartbeat, progress and the client's cancel, every 250 ms.
-  std::atomic<bool> done{false}, client_cancel{false};
+  // The companion: heartbeat, progress and the client's cancel, every 250 ms; woken at
+  // once when the job ends, so that a short job's answer does not wait out the interval.
+  std::mutex companion_mutex;
+  std::condition_variable companion_cv;
+  bool done = false;
+  std::atomic<bool> client_cancel{false};
   std::thread companion([&] {
-    RedisConnection beat(queue_.address());
-    while (!done) {
+    std::unique_lock lock(companion_mutex);
+    while (!companion_cv.wait_for(lock, 250ms, [&] { return done; })) {
       try {
         if (queue_.heartbeat(beat, consumer, delivery, *job)) client_cancel = job->cancel = true;
       } catch (const std::exception&) {
         // Redis away for a moment: the claim is kept by the next beat.
       }
-      for (int i = 0; i < 5 && !done; ++i) std::this_thread::sleep_for(50ms);
     }
   });
   const JobStatus status = process ? process->run(*job, run_) : run_job(*job, run_);
-  done = true;
+  {
+    std::lock_guard lock(companion_mutex);
+    done = true;
+  }
+  companion_cv.notify_one();
   companion.join();
   {
     std::lock_guard lock(mutex_);

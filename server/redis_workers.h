@@ -47,7 +47,7 @@ class RedisWorkers {
 
  private:
   void work(int index);
-  void run_one(RedisConnection& redis, const std::string& consumer,
+  void run_one(RedisConnection& redis, RedisConnection& beat, const std::string& consumer,
                const RedisJobQueue::Delivery& delivery, WorkerProcess* process);
   // Retries `action` every second while Redis is unreachable, until it succeeds or the
   // node stops for good (then the entry stays pending and another node takes over).

@@ -8,8 +8,8 @@
 #include <ctime>
 #include <thread>
 
+#include "api/log.h"
 #include "api/routes.h"
-#include "server/log.h"
 #include "server/service.h"
 
 namespace spheremap::server {

@@ -4,8 +4,8 @@
 
 #include <algorithm>
 
+#include "api/log.h"
 #include "server/job_runner.h"
-#include "server/log.h"
 #include "server/worker_process.h"
 
 namespace spheremap::server {
@@ -26,6 +26,31 @@ RedisQueueLimits redis_limits(const ServerConfig& c) {
           c.max_attempts};
 }
 
+ApiSettings api_settings(const ServerConfig& c) {
+  ApiSettings s;
+  s.http_threads = c.http_threads;
+  s.queue_capacity = c.queue_capacity;
+  s.tenant_max_queued = c.tenant_max_queued;
+  s.max_body_bytes = c.max_body_bytes;
+  s.max_vertices = c.max_vertices;
+  s.max_faces = c.max_faces;
+  s.sync_timeout_seconds = c.sync_timeout_seconds;
+  s.keep_alive_timeout_seconds = c.keep_alive_timeout_seconds;
+  s.read_timeout_seconds = c.read_timeout_seconds;
+  s.cors_origins = c.cors_origins;
+  s.workers = c.effective_workers();
+  return s;
+}
+
+ApiKeys load_api_keys(const std::string& path) {
+  if (path.empty()) return ApiKeys();
+  try {
+    return ApiKeys::load(path);
+  } catch (const std::invalid_argument& e) {
+    throw ConfigError(e.what());
+  }
+}
+
 RunLimits run_limits(const ServerConfig& c) {
   return {c.job_time_limit_seconds, c.effective_threads_per_job()};
 }
@@ -39,7 +64,8 @@ WorkerLimits worker_limits(const ServerConfig& c) {
 
 Service::Service(ServerConfig config)
     : config_(std::move(config)),
-      api_keys_(config_.api_keys.empty() ? ApiKeys() : ApiKeys::load(config_.api_keys)) {
+      settings_(api_settings(config_)),
+      api_keys_(load_api_keys(config_.api_keys)) {
   // A worker process that dies while we write its request must not kill the server.
   signal(SIGPIPE, SIG_IGN);
   auto observer = [this](const std::shared_ptr<Job>& job, JobStatus status) {

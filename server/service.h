@@ -9,16 +9,15 @@
 #include <thread>
 #include <vector>
 
-#include "server/api_keys.h"
+#include "server/api_types.h"
 #include "server/config.h"
 #include "server/job_store.h"
 #include "server/redis_queue.h"
 #include "server/redis_workers.h"
-#include "server/service_metrics.h"
 
 namespace spheremap::server {
 
-class Service {
+class Service : public Backend {
  public:
   // Throws ConfigError for a configuration that cannot run (bad API keys file, no
   // workers on a memory queue).
@@ -28,11 +27,13 @@ class Service {
   Service& operator=(const Service&) = delete;
 
   const ServerConfig& config() const { return config_; }
-  JobQueue& queue() { return *queue_; }
-  const ApiKeys& api_keys() const { return api_keys_; }
-  ServiceMetrics& metrics() { return metrics_; }
-  bool ready() const { return queue_->accepting(); }
-  bool draining() const { return drained_; }
+  // Backend: what the routes see.
+  const ApiSettings& settings() const override { return settings_; }
+  JobQueue& queue() override { return *queue_; }
+  const ApiKeys& api_keys() const override { return api_keys_; }
+  ServiceMetrics& metrics() override { return metrics_; }
+  bool ready() const override { return queue_->accepting(); }
+  bool draining() const override { return drained_; }
 
   // Stops accepting jobs, lets queued and running jobs finish until `grace_seconds`,
   // cancels what is left, waits for the workers, and stops them. Every accepted job ends
@@ -49,7 +50,8 @@ class Service {
   void observe(const std::shared_ptr<Job>& job, JobStatus status);
 
   const ServerConfig config_;
-  const ApiKeys api_keys_;  // loaded from config_.api_keys at start (ConfigError if bad)
+  const ApiSettings settings_;  // config_'s part the routes apply
+  const ApiKeys api_keys_;      // loaded from config_.api_keys at start (ConfigError if bad)
   ServiceMetrics metrics_;
   std::unique_ptr<JobStore> memory_;      // memory://
   std::unique_ptr<RedisJobQueue> redis_;  // redis://

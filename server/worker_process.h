@@ -16,7 +16,7 @@
 
 #include <string>
 
-#include "server/job.h"
+#include "server/api_types.h"
 #include "server/job_runner.h"
 
 namespace spheremap::server {

@@ -18,7 +18,7 @@
 #include <string>
 #include <vector>
 
-#include "server/job.h"
+#include "server/api_types.h"
 
 namespace spheremap::server {
 

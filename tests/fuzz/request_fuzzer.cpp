@@ -71,7 +71,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     add_parts(request, body);
   else
     request.body = body;
-  spheremap::server::ServerConfig config;
+  spheremap::api::ApiSettings config;
   config.max_vertices = 200000;  // the fuzzer's memory cap, not the service's
   config.max_faces = 400000;
   try {

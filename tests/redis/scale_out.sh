@@ -116,7 +116,14 @@ curl -sf -o "$tmp/from_b.glb" "$api_b/v1/jobs/$id/artifacts/sphere.glb" || fail 
 cmp -s "$tmp/from_a.glb" "$tmp/from_b.glb" || fail "replicas serve different bytes"
 [ -s "$tmp/from_a.glb" ] || fail "empty sphere.glb"
 first=$id
-echo "1. submitted to a, polled and downloaded through b: identical ($(wc -c < "$tmp/from_a.glb") bytes)"
+[ "$(field "$api_a" "$id" status)" = "$(field "$api_b" "$id" status)" ] || fail "replicas disagree"
+id=$(submit "$api_b" "$small")
+wait_status "$api_a" "$id" succeeded 30
+code=$(curl -s -o /dev/null -w '%{http_code}' -X DELETE "$api_a/v1/jobs/$id")
+[ "$code" = 204 ] || fail "DELETE of a finished job through a: $code"
+code=$(curl -s -o /dev/null -w '%{http_code}' "$api_b/v1/jobs/$id")
+[ "$code" = 404 ] || fail "a deleted job through b: $code"
+echo "1. submitted to a, polled and downloaded through b: identical ($(wc -c < "$tmp/from_a.glb") bytes); deleted through a, gone from b"
 
 # 2. Cancel through the other replica.
 id=$(submit "$api_a" "$slow" "quality=high")

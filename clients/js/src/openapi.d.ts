@@ -154,7 +154,11 @@ export interface paths {
             path?: never;
             cookie?: never;
         };
-        /** Accepting work */
+        /**
+         * Accepting work
+         * @description 503 shutting_down while the server drains; with a Redis queue, 503
+         *     queue_unavailable while Redis cannot be reached (it recovers by itself).
+         */
         get: operations["readyz"];
         put?: never;
         post?: never;
@@ -331,10 +335,12 @@ export interface components {
          *     too_small, and `failures`, `topology`; `check` instancing for an
          *     EXT_mesh_gpu_instancing scene), missing_resources (422: files a .gltf names were
          *     not sent); in a failed job: not_bijective,
-         *     time_limit (422), out_of_memory (507), worker_crashed (500, the signal named),
-         *     worker_unavailable (503), internal (500); queue_full, tenant_quota (429);
-         *     too_many_streams (503);
-         *     shutting_down (503); internal (500).
+         *     time_limit (422), out_of_memory (507), worker_crashed (500, the signal named;
+         *     with a Redis queue after max_attempts starts), result_too_large (507: the
+         *     artifacts exceed result_memory_bytes), worker_unavailable (503), internal (500);
+         *     queue_full, tenant_quota (429); too_many_streams (503);
+         *     queue_unavailable (503 with Retry-After: the Redis queue cannot be reached; nothing
+         *     was accepted or changed); shutting_down (503); internal (500).
          */
         Problem: {
             type: string;

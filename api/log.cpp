@@ -1,4 +1,4 @@
-#include "server/log.h"
+#include "api/log.h"
 
 #include <chrono>
 #include <cmath>
@@ -6,7 +6,7 @@
 #include <ctime>
 #include <mutex>
 
-namespace spheremap::server {
+namespace spheremap::api {
 
 void log_event(nlohmann::json fields) {
   const auto now = std::chrono::system_clock::now();
@@ -31,4 +31,4 @@ double rounded_seconds(double seconds) {
   return std::round(seconds * 1000) / 1000;
 }
 
-}  // namespace spheremap::server
+}  // namespace spheremap::api

@@ -1,11 +1,11 @@
-#include "server/api_keys.h"
+#include "api/api_keys.h"
 
 #include <fstream>
 #include <sstream>
 
-#include "server/config.h"
+#include <stdexcept>
 
-namespace spheremap::server {
+namespace spheremap::api {
 namespace {
 
 // Equal strings, in time that depends only on their lengths' maximum.
@@ -24,7 +24,7 @@ bool same(std::string_view a, std::string_view b) {
 
 ApiKeys ApiKeys::load(const std::string& path) {
   std::ifstream in(path);
-  if (!in) throw ConfigError("cannot read the API key file '" + path + "'");
+  if (!in) throw std::invalid_argument("cannot read the API key file '" + path + "'");
   ApiKeys keys;
   std::string line;
   for (int number = 1; std::getline(in, line); ++number) {
@@ -33,13 +33,16 @@ ApiKeys ApiKeys::load(const std::string& path) {
     std::istringstream fields(line);
     std::string tenant, key, extra;
     if (!(fields >> tenant)) continue;  // blank or comment
-    if (!(fields >> key) || (fields >> extra)) throw ConfigError(where + ": expected 'TENANT KEY'");
-    if (key.size() < 16) throw ConfigError(where + ": keys must have at least 16 characters");
+    if (!(fields >> key) || (fields >> extra))
+      throw std::invalid_argument(where + ": expected 'TENANT KEY'");
+    if (key.size() < 16)
+      throw std::invalid_argument(where + ": keys must have at least 16 characters");
     for (const Entry& e : keys.entries_)
-      if (e.key == key) throw ConfigError(where + ": this key is already given to " + e.tenant);
+      if (e.key == key)
+        throw std::invalid_argument(where + ": this key is already given to " + e.tenant);
     keys.entries_.push_back({tenant, key});
   }
-  if (keys.entries_.empty()) throw ConfigError(path + ": no 'TENANT KEY' line");
+  if (keys.entries_.empty()) throw std::invalid_argument(path + ": no 'TENANT KEY' line");
   return keys;
 }
 
@@ -55,4 +58,4 @@ std::optional<std::string> ApiKeys::tenant_for(std::string_view authorization) c
   return found->tenant;
 }
 
-}  // namespace spheremap::server
+}  // namespace spheremap::api

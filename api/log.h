@@ -3,7 +3,7 @@
 
 #include <nlohmann/json.hpp>
 
-namespace spheremap::server {
+namespace spheremap::api {
 
 // Writes {"time": ..., fields...} as one line; safe from any thread.
 void log_event(nlohmann::json fields);
@@ -11,4 +11,4 @@ void log_event(nlohmann::json fields);
 // Seconds between two steady-clock points, rounded to milliseconds, for logs.
 double rounded_seconds(double seconds);
 
-}  // namespace spheremap::server
+}  // namespace spheremap::api

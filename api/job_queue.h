@@ -13,9 +13,9 @@
 #include <stdexcept>
 #include <string>
 
-#include "server/job.h"
+#include "api/job.h"
 
-namespace spheremap::server {
+namespace spheremap::api {
 
 struct StoreCounts {
   size_t queued = 0, running = 0, succeeded = 0, failed = 0, cancelled = 0;
@@ -62,4 +62,4 @@ class JobQueue {
 // A new random job id (128 bits, hex): not guessable from another job's id.
 std::string new_job_id();
 
-}  // namespace spheremap::server
+}  // namespace spheremap::api

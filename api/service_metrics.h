@@ -7,9 +7,9 @@
 #include <string>
 #include <vector>
 
-#include "server/job_store.h"
+#include "api/job_queue.h"
 
-namespace spheremap::server {
+namespace spheremap::api {
 
 class Histogram {
  public:
@@ -45,4 +45,4 @@ class ServiceMetrics {
 // The process's resident memory (from /proc/self/statm), 0 when unknown.
 size_t resident_memory_bytes();
 
-}  // namespace spheremap::server
+}  // namespace spheremap::api

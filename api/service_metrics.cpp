@@ -1,11 +1,11 @@
-#include "server/service_metrics.h"
+#include "api/service_metrics.h"
 
 #include <unistd.h>
 
 #include <fstream>
 #include <sstream>
 
-namespace spheremap::server {
+namespace spheremap::api {
 namespace {
 
 std::string format_number(double value) {
@@ -127,4 +127,4 @@ size_t resident_memory_bytes() {
   return pages_resident * static_cast<size_t>(sysconf(_SC_PAGESIZE));
 }
 
-}  // namespace spheremap::server
+}  // namespace spheremap::api

@@ -14,7 +14,7 @@
 #include "core/map/pipeline.h"
 #include "core/outputs/sphere_asset.h"
 
-namespace spheremap::server {
+namespace spheremap::api {
 
 enum class JobStatus { kQueued, kRunning, kSucceeded, kFailed, kCancelled };
 std::string_view to_string(JobStatus status);
@@ -85,4 +85,4 @@ struct Job {
   size_t artifact_bytes() const;  // caller holds mutex
 };
 
-}  // namespace spheremap::server
+}  // namespace spheremap::api

@@ -9,12 +9,12 @@
 #include <string_view>
 #include <vector>
 
-namespace spheremap::server {
+namespace spheremap::api {
 
 class ApiKeys {
  public:
   ApiKeys() = default;  // none: every request is anonymous, tenants are client addresses
-  // Throws ConfigError naming the file and line for a malformed file, a key shorter than
+  // Throws std::invalid_argument naming the file and line for a malformed file, a key shorter than
   // 16 characters, or a key given twice.
   static ApiKeys load(const std::string& path);
 
@@ -30,4 +30,4 @@ class ApiKeys {
   std::vector<Entry> entries_;
 };
 
-}  // namespace spheremap::server
+}  // namespace spheremap::api

@@ -1,0 +1,44 @@
+// What the HTTP API needs of the service behind it, and nothing more: the settings its
+// handlers enforce, the job queue, the API keys, the metrics and the readiness. The
+// server implements it (server/service.h); the API never sees processes, threads of
+// workers, Redis or configuration files, so the dependency goes one way: core <- api <-
+// server.
+#pragma once
+
+#include <cstddef>
+#include <string>
+
+#include "api/api_keys.h"
+#include "api/job_queue.h"
+#include "api/service_metrics.h"
+
+namespace spheremap::api {
+
+// The limits and connection settings the API applies (a subset of the server's
+// configuration, copied from it at start).
+struct ApiSettings {
+  int http_threads = 16;
+  size_t queue_capacity = 32;
+  size_t tenant_max_queued = 16;
+  size_t max_body_bytes = 64u << 20;
+  size_t max_vertices = 2'000'000;
+  size_t max_faces = 4'000'000;
+  double sync_timeout_seconds = 30;
+  double keep_alive_timeout_seconds = 5;
+  double read_timeout_seconds = 30;
+  std::string cors_origins = "*";
+  int workers = 0;  // on this node, for /metrics
+};
+
+class Backend {
+ public:
+  virtual ~Backend() = default;
+  virtual const ApiSettings& settings() const = 0;
+  virtual JobQueue& queue() = 0;
+  virtual const ApiKeys& api_keys() const = 0;
+  virtual ServiceMetrics& metrics() = 0;
+  virtual bool ready() const = 0;     // new jobs may be submitted (/readyz)
+  virtual bool draining() const = 0;  // told to stop: new jobs get 503 shutting_down
+};
+
+}  // namespace spheremap::api
