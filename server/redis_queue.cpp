@@ -411,7 +411,10 @@ void RedisJobQueue::finish(RedisConnection& redis, const Delivery& delivery, Job
                            JobStatus status) {
   std::vector<std::string> fields;
   nlohmann::json listed = nlohmann::json::array();
-  std::vector<std::string> files = {"HSET", files_key(delivery.id)};
+  // Written under this delivery's own key: the finish script makes them the job's files
+  // only if this worker's result is the one that counts.
+  const std::string staged = files_key(delivery.id) + ":" + delivery.entry;
+  std::vector<std::string> files = {"HSET", staged};
   size_t bytes = 0;
   {
     std::lock_guard lock(job.mutex);
@@ -441,6 +444,8 @@ void RedisJobQueue::finish(RedisConnection& redis, const Delivery& delivery, Job
   if (files.size() > 2) {
     std::vector<std::string_view> argv(files.begin(), files.end());
     redis.command(argv);
+    // A worker that dies before its finish leaves no staged files forever.
+    redis.command({"EXPIRE", staged, number(limits_.result_ttl_seconds)});
   }
   std::vector<std::string> args = {delivery.id,
                                    delivery.entry,
@@ -452,7 +457,7 @@ void RedisJobQueue::finish(RedisConnection& redis, const Delivery& delivery, Job
   args.insert(args.end(), fields.begin(), fields.end());
   eval(redis, redis_scripts::kFinish,
        {job_key(delivery.id), files_key(delivery.id), kFinished, kSizes, kResultBytes, kStream,
-        gone_key(delivery.id), spec_key(delivery.id)},
+        gone_key(delivery.id), spec_key(delivery.id), staged},
        args);
   evict(redis);
 }

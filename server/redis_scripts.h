@@ -44,17 +44,21 @@ if attempts > tonumber(ARGV[3]) then return {'poison', attempts - 1} end
 return {'run', attempts}
 )lua";
 
-// KEYS: job hash, files, finished, sizes, result_bytes, stream, gone, spec. ARGV: id,
-// entry, status, now (ms), ttl (s), artifact bytes, counter key, then the hash's
-// field/value pairs. A job no longer running (cancelled while queued, removed, finished
-// by a worker that reclaimed it) keeps its state; what this worker made is dropped.
+// KEYS: job hash, files, finished, sizes, result_bytes, stream, gone, spec, this
+// delivery's files. ARGV: id, entry, status, now (ms), ttl (s), artifact bytes, counter
+// key, then the hash's field/value pairs. The worker wrote its artifacts under a key of
+// its own delivery; they become the job's files only if the job is still running. A job
+// no longer running (cancelled, removed, or finished by another worker that reclaimed
+// it while this one was presumed dead) keeps its state and its files; this worker's are
+// dropped.
 inline constexpr const char* kFinish = R"lua(
 redis.call('XACK', KEYS[6], 'workers', ARGV[2])
 redis.call('XDEL', KEYS[6], ARGV[2])
 if redis.call('HGET', KEYS[1], 'status') ~= 'running' then
-  redis.call('DEL', KEYS[2])
+  redis.call('DEL', KEYS[9])
   return 0
 end
+if redis.call('EXISTS', KEYS[9]) == 1 then redis.call('RENAME', KEYS[9], KEYS[2]) end
 redis.call('HSET', KEYS[1], 'status', ARGV[3], 'finished_ms', ARGV[4], unpack(ARGV, 8))
 redis.call('HDEL', KEYS[1], 'cancel')
 redis.call('EXPIRE', KEYS[1], ARGV[5])
