@@ -1,0 +1,208 @@
+"""Hostile requests against a running spheremap server (tests/attack/run.sh starts it
+under a memory cap). Each attack must get its specific 4xx; meanwhile slow clients hold
+API connections open and a prober times GET /healthz on the health port, which must
+answer every time within 2 s. Prints one line per attack; exits 1 on the first failure.
+Usage: attack.py API_URL HEALTH_URL GLB_FILE"""
+import http.client
+import json
+import socket
+import sys
+import threading
+import time
+import urllib.parse
+
+api, health, glb_path = sys.argv[1:4]
+api_host, api_port = urllib.parse.urlsplit(api).hostname, urllib.parse.urlsplit(api).port
+glb = open(glb_path, "rb").read()
+
+
+def fail(message):
+    print("FAIL: " + message)
+    sys.exit(1)
+
+
+def request(method, path, body=None, headers=None, timeout=30):
+    connection = http.client.HTTPConnection(api_host, api_port, timeout=timeout)
+    connection.request(method, path, body=body, headers=headers or {})
+    response = connection.getresponse()
+    data = response.read()
+    connection.close()
+    return response.status, data
+
+
+def raw_status(text, body_bytes=b""):
+    """Sends raw bytes; returns the status line (the answer may come before the body)."""
+    s = socket.create_connection((api_host, api_port), timeout=30)
+    s.sendall(text.encode() + body_bytes)
+    answer = b""
+    while b"\r\n" not in answer:
+        chunk = s.recv(4096)
+        if not chunk:
+            break
+        answer += chunk
+    s.close()
+    return answer.split(b"\r\n", 1)[0].decode(errors="replace")
+
+
+def expect(name, status, body, want_status, want_type=None):
+    if status != want_status:
+        fail(f"{name}: {status}, expected {want_status}: {body[:300]!r}")
+    if want_type:
+        problem = json.loads(body)
+        if not problem.get("type", "").endswith("/" + want_type):
+            fail(f"{name}: problem {problem.get('type')}, expected {want_type}")
+    print(f"{name}: {status}" + (f" {want_type}" if want_type else ""))
+
+
+# The prober: GET /healthz on the health port every 100 ms for the whole suite.
+worst = [0.0]
+probe_failures = []
+stop = threading.Event()
+
+
+def probe():
+    host, port = urllib.parse.urlsplit(health).hostname, urllib.parse.urlsplit(health).port
+    while not stop.is_set():
+        start = time.monotonic()
+        try:
+            c = http.client.HTTPConnection(host, port, timeout=5)
+            c.request("GET", "/healthz")
+            if c.getresponse().status != 200:
+                probe_failures.append("status")
+            c.close()
+        except OSError as e:
+            probe_failures.append(str(e))
+        worst[0] = max(worst[0], time.monotonic() - start)
+        time.sleep(0.1)
+
+
+# Slow clients: more than the API has threads, each trickling a header byte a second.
+slow = []
+
+
+def slowloris(count):
+    for _ in range(count):
+        s = socket.create_connection((api_host, api_port), timeout=60)
+        s.sendall(b"GET /healthz HTTP/1.1\r\nHost: x\r\n")
+        slow.append(s)
+
+
+def trickle():
+    while not stop.is_set():
+        for s in slow:
+            try:
+                s.sendall(b"X-a: b\r\n")
+            except OSError:
+                pass
+        time.sleep(1)
+
+
+prober = threading.Thread(target=probe)
+prober.start()
+slowloris(12)
+trickler = threading.Thread(target=trickle)
+trickler.start()
+# Let them take the API's threads, then attack through what is left.
+time.sleep(3)
+for s in slow:  # free the API again for the attacks; the prober still runs
+    s.close()
+slow.clear()
+print(f"slowloris: 12 trickling connections; /healthz on the health port at most {worst[0]:.3f} s")
+
+deep = "[" * 60000 + "]" * 60000
+boundary = "b0undary"
+form = (f"--{boundary}\r\nContent-Disposition: form-data; name=\"mesh\"; filename=\"m.glb\"\r\n"
+        f"Content-Type: model/gltf-binary\r\n\r\n").encode() + glb + (
+        f"\r\n--{boundary}\r\nContent-Disposition: form-data; name=\"options\"\r\n"
+        f"Content-Type: application/json\r\n\r\n{deep}\r\n--{boundary}--\r\n").encode()
+status, body = request("POST", "/v1/jobs", form,
+                       {"Content-Type": f"multipart/form-data; boundary={boundary}"})
+expect("options nested 60,000 deep", status, body, 400, "invalid_options")
+
+deep_gltf = '{"asset":{"version":"2.0"},"scene":' + deep + "}"
+status, body = request("POST", "/v1/jobs", deep_gltf, {"Content-Type": "model/gltf+json"})
+expect("glTF nested 60,000 deep", status, body, 400, "malformed_gltf")
+
+nodes = [{"children": [k + 1, k + 1]} if k + 1 < 40 else {} for k in range(40)]
+graph = {"asset": {"version": "2.0"}, "scenes": [{"nodes": [0]}], "nodes": nodes,
+         "meshes": [{"primitives": []}]}
+status, body = request("POST", "/v1/jobs", json.dumps(graph), {"Content-Type": "model/gltf+json"})
+expect("node graph with 2^40 paths", status, body, 400, "malformed_gltf")
+
+huge = {"asset": {"version": "2.0"},
+        "buffers": [{"byteLength": 12, "uri": "data:application/octet-stream;base64,AAAAAAAAAAAAAAAA"}],
+        "bufferViews": [{"buffer": 0, "byteLength": 12}],
+        "accessors": [{"bufferView": 0, "componentType": 5126, "count": 1000000000,
+                       "type": "VEC3", "min": [0, 0, 0], "max": [1, 1, 1]}],
+        "meshes": [{"primitives": [{"attributes": {"POSITION": 0}}]}],
+        "nodes": [{"mesh": 0}], "scenes": [{"nodes": [0]}]}
+status, body = request("POST", "/v1/jobs", json.dumps(huge), {"Content-Type": "model/gltf+json"})
+expect("accessor declaring 10^9 vertices over 12 bytes", status, body, 400, "malformed_gltf")
+
+ranges = "bytes=0-1" + ",0-1" * 1500
+status, body = request("GET", "/v1/openapi.yaml", headers={"Range": ranges})
+expect("1,500 overlapping ranges", status, body, 416, "too_many_ranges")
+
+head = "POST /v1/jobs HTTP/1.1\r\nHost: x\r\nContent-Type: model/gltf-binary\r\n"
+line = raw_status(head + "Transfer-Encoding: chunked\r\n\r\n")
+if not line.startswith("HTTP/1.1 411"):
+    fail("chunked body: " + line)
+print("chunked body (max_body_bytes unseen): 411")
+line = raw_status(head + "Content-Encoding: gzip\r\nContent-Length: 8000000\r\n\r\n")
+if not line.startswith("HTTP/1.1 415"):
+    fail("gzip body: " + line)
+print("gzip body (a zip bomb): 415")
+line = raw_status(head + "Content-Length: 4000000000\r\n\r\n", b"x" * 65536)
+if not line.startswith("HTTP/1.1 413"):
+    fail("4 GB declared body: " + line)
+print("4 GB declared body: 413")
+
+status, body = request("POST", "/v1/jobs?draco=true&draco_position_bits=30", glb,
+                       {"Content-Type": "model/gltf-binary"})
+expect("draco_position_bits=30", status, body, 400, "invalid_options")
+
+status, body = request("POST", "/v1/jobs", b"\x00" * 1000, {"Content-Type": "model/gltf-binary"})
+expect("1,000 zero bytes as GLB", status, body, 400, "malformed_gltf")
+
+# 200 requests at once, each a 60,000-deep document: the threads refuse them in turn.
+errors = []
+
+
+def burst():
+    try:
+        s, _ = request("POST", "/v1/jobs", deep_gltf, {"Content-Type": "model/gltf+json"})
+        if s not in (400, 503):
+            errors.append(s)
+    except OSError as e:
+        errors.append(str(e))
+
+
+threads = [threading.Thread(target=burst) for _ in range(200)]
+for t in threads:
+    t.start()
+for t in threads:
+    t.join()
+if errors:
+    fail(f"burst of deep documents: {errors[:5]}")
+print("200 deep documents at once: each refused")
+
+stop.set()
+prober.join()
+trickler.join()
+if probe_failures:
+    fail(f"/healthz on the health port failed: {probe_failures[:3]}")
+if worst[0] >= 2:
+    fail(f"/healthz took {worst[0]:.2f} s during the attacks")
+print(f"/healthz on the health port: always 200, at most {worst[0]:.3f} s")
+status, body = request("POST", "/v1/jobs", glb, {"Content-Type": "model/gltf-binary"})
+if status != 202:
+    fail(f"a good job after the attacks: {status}")
+job = json.loads(body)["id"]
+for _ in range(300):
+    status, body = request("GET", "/v1/jobs/" + job)
+    if json.loads(body)["status"] in ("succeeded", "failed", "cancelled"):
+        break
+    time.sleep(0.1)
+if json.loads(body)["status"] != "succeeded":
+    fail("a good job after the attacks: " + body.decode()[:300])
+print("a good job after the attacks: succeeded")
