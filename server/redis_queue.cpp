@@ -32,6 +32,9 @@ std::string gone_key(const std::string& id) {
 std::string tenant_queued_key(const std::string& tenant) {
   return kPrefix + "tenant:" + tenant + ":queued";
 }
+std::string tenant_running_key(const std::string& tenant) {
+  return kPrefix + "tenant:" + tenant + ":running";
+}
 
 int64_t wall_ms() {
   return std::chrono::duration_cast<std::chrono::milliseconds>(
@@ -143,7 +146,7 @@ JobQueue::Admission RedisJobQueue::submit(std::unique_ptr<JobSpec> spec,
       const RedisReply result = eval(
           redis, redis_scripts::kSubmit,
           {kQueued, tenant_queued_key(fresh->tenant), job_key(fresh->id), spec_key(fresh->id),
-           kStream},
+           kStream, kPrefix + "seq"},
           {fresh->id, std::to_string(limits_.queue_capacity),
            std::to_string(limits_.tenant_max_queued), std::to_string(now), encoded,
            // the hash's fields
@@ -375,10 +378,11 @@ RedisJobQueue::Start RedisJobQueue::start(RedisConnection& redis, const Delivery
   const RedisReply result =
       eval(redis, redis_scripts::kStart, {job_key(delivery.id), kQueued, kStream},
            {delivery.id, std::to_string(wall_ms()), std::to_string(limits_.max_attempts), node,
-            kPrefix, delivery.entry});
+            kPrefix, delivery.entry, std::to_string(limits_.tenant_max_running)});
   const std::string what = result.element(0).text();
   attempts = static_cast<int>(result.element(1).integer());
   if (what == "run") return Start::kRun;
+  if (what == "later") return Start::kLater;
   return what == "poison" ? Start::kPoison : Start::kSkip;
 }
 
@@ -457,7 +461,7 @@ void RedisJobQueue::finish(RedisConnection& redis, const Delivery& delivery, Job
   args.insert(args.end(), fields.begin(), fields.end());
   eval(redis, redis_scripts::kFinish,
        {job_key(delivery.id), files_key(delivery.id), kFinished, kSizes, kResultBytes, kStream,
-        gone_key(delivery.id), spec_key(delivery.id), staged},
+        gone_key(delivery.id), spec_key(delivery.id), staged, tenant_running_key(job.tenant)},
        args);
   evict(redis);
 }

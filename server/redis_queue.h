@@ -43,6 +43,7 @@ struct RedisQueueLimits {
   size_t max_jobs_kept = 10000;
   double visibility_timeout_seconds = 30;
   int max_attempts = 3;
+  size_t tenant_max_running = 0;  // jobs of one tenant running at once, cluster-wide
 };
 
 class RedisJobQueue : public JobQueue {
@@ -75,9 +76,11 @@ class RedisJobQueue : public JobQueue {
   // waiting up to `block_seconds`; nullopt when there is none.
   std::optional<Delivery> claim(RedisConnection& redis, const std::string& consumer,
                                 double block_seconds);
-  enum class Start { kRun, kSkip, kPoison };
+  enum class Start { kRun, kSkip, kLater, kPoison };
   // Marks the job running on `node` and counts the attempt. kSkip: it ended or vanished
-  // meanwhile (the entry is acknowledged); kPoison: its workers died max_attempts times.
+  // meanwhile (the entry is acknowledged); kLater: its tenant runs tenant_max_running
+  // jobs already (it stays queued, behind the others); kPoison: its workers died
+  // max_attempts times.
   Start start(RedisConnection& redis, const Delivery& delivery, const std::string& node,
               int& attempts);
   // The job as a worker runs it: the snapshot plus its spec (nullptr when the spec is gone).

@@ -8,25 +8,31 @@
 
 namespace spheremap::server::redis_scripts {
 
-// KEYS: queued, tenant's queued, job hash, spec, stream. ARGV: id, capacity, tenant
-// capacity, now (ms), spec bytes, then the hash's field/value pairs.
-// Returns 0 accepted, 1 queue full, 2 tenant's queue full, 3 id taken.
+// KEYS: queued, tenant's queued, job hash, spec, stream, sequence. ARGV: id, capacity,
+// tenant capacity, now (ms), spec bytes, then the hash's field/value pairs.
+// Returns 0 accepted, 1 queue full, 2 tenant's queue full, 3 id taken. The queue orders
+// by a sequence number, not the clock: two jobs submitted in one millisecond keep their
+// order.
 inline constexpr const char* kSubmit = R"lua(
 if redis.call('ZCARD', KEYS[1]) >= tonumber(ARGV[2]) then return 1 end
 if redis.call('ZCARD', KEYS[2]) >= tonumber(ARGV[3]) then return 2 end
 if redis.call('EXISTS', KEYS[3]) == 1 then return 3 end
-redis.call('HSET', KEYS[3], unpack(ARGV, 6))
+local seq = redis.call('INCR', KEYS[6])
+redis.call('HSET', KEYS[3], 'seq', seq, unpack(ARGV, 6))
 redis.call('SET', KEYS[4], ARGV[5])
-redis.call('ZADD', KEYS[1], ARGV[4], ARGV[1])
-redis.call('ZADD', KEYS[2], ARGV[4], ARGV[1])
+redis.call('ZADD', KEYS[1], seq, ARGV[1])
+redis.call('ZADD', KEYS[2], seq, ARGV[1])
 redis.call('XADD', KEYS[5], '*', 'job', ARGV[1])
 return 0
 )lua";
 
-// KEYS: job hash, queued, stream. ARGV: id, now (ms), max attempts, node, prefix, entry.
-// Returns 'skip' (the job ended or vanished: its entry is acknowledged), 'poison' (its
-// workers died max attempts times; it is marked running so that it can be finished as
-// failed) or 'run', with the attempt's number.
+// KEYS: job hash, queued, stream. ARGV: id, now (ms), max attempts, node, prefix, entry,
+// the tenant's running cap (0 = none). Returns 'skip' (the job ended or vanished: its
+// entry is acknowledged), 'later' (its tenant already runs as many jobs as it may: the
+// job goes to the back of the stream, still queued), 'poison' (its workers died max
+// attempts times; it is marked running so that it can be finished as failed) or 'run',
+// with the attempt's number. tenant:T:running counts a tenant's jobs started and not
+// finished or released; a job reclaimed from a dead node is not counted twice.
 inline constexpr const char* kStart = R"lua(
 local status = redis.call('HGET', KEYS[1], 'status')
 if status ~= 'queued' and status ~= 'running' then
@@ -35,6 +41,17 @@ if status ~= 'queued' and status ~= 'running' then
   return {'skip', 0}
 end
 local tenant = redis.call('HGET', KEYS[1], 'tenant')
+local running = ARGV[5] .. 'tenant:' .. tenant .. ':running'
+if status == 'queued' then
+  local cap = tonumber(ARGV[7])
+  if cap > 0 and tonumber(redis.call('GET', running) or '0') >= cap then
+    redis.call('XACK', KEYS[3], 'workers', ARGV[6])
+    redis.call('XDEL', KEYS[3], ARGV[6])
+    redis.call('XADD', KEYS[3], '*', 'job', ARGV[1])
+    return {'later', 0}
+  end
+  redis.call('INCR', running)
+end
 redis.call('ZREM', KEYS[2], ARGV[1])
 redis.call('ZREM', ARGV[5] .. 'tenant:' .. tenant .. ':queued', ARGV[1])
 local attempts = redis.call('HINCRBY', KEYS[1], 'attempts', 1)
@@ -45,12 +62,11 @@ return {'run', attempts}
 )lua";
 
 // KEYS: job hash, files, finished, sizes, result_bytes, stream, gone, spec, this
-// delivery's files. ARGV: id, entry, status, now (ms), ttl (s), artifact bytes, counter
-// key, then the hash's field/value pairs. The worker wrote its artifacts under a key of
-// its own delivery; they become the job's files only if the job is still running. A job
-// no longer running (cancelled, removed, or finished by another worker that reclaimed
-// it while this one was presumed dead) keeps its state and its files; this worker's are
-// dropped.
+// delivery's files, the tenant's running count. ARGV: id, entry, status, now (ms), ttl (s),
+// artifact bytes, counter key, then the hash's field/value pairs. The worker wrote its artifacts
+// under a key of its own delivery; they become the job's files only if the job is still running. A
+// job no longer running (cancelled, removed, or finished by another worker that reclaimed it while
+// this one was presumed dead) keeps its state and its files; this worker's are dropped.
 inline constexpr const char* kFinish = R"lua(
 redis.call('XACK', KEYS[6], 'workers', ARGV[2])
 redis.call('XDEL', KEYS[6], ARGV[2])
@@ -59,6 +75,7 @@ if redis.call('HGET', KEYS[1], 'status') ~= 'running' then
   return 0
 end
 if redis.call('EXISTS', KEYS[9]) == 1 then redis.call('RENAME', KEYS[9], KEYS[2]) end
+if tonumber(redis.call('GET', KEYS[10]) or '0') > 0 then redis.call('DECR', KEYS[10]) end
 redis.call('HSET', KEYS[1], 'status', ARGV[3], 'finished_ms', ARGV[4], unpack(ARGV, 8))
 redis.call('HDEL', KEYS[1], 'cancel')
 redis.call('EXPIRE', KEYS[1], ARGV[5])
@@ -78,11 +95,13 @@ inline constexpr const char* kRelease = R"lua(
 redis.call('XACK', KEYS[3], 'workers', ARGV[2])
 redis.call('XDEL', KEYS[3], ARGV[2])
 if redis.call('HGET', KEYS[1], 'status') ~= 'running' then return 0 end
-local created = redis.call('HGET', KEYS[1], 'created_ms')
+local created = redis.call('HGET', KEYS[1], 'seq')
 local tenant = redis.call('HGET', KEYS[1], 'tenant')
 redis.call('HSET', KEYS[1], 'status', 'queued', 'progress', '{"stage":"queued"}')
 redis.call('HDEL', KEYS[1], 'started_ms', 'node')
 if ARGV[4] == '0' then redis.call('HINCRBY', KEYS[1], 'attempts', -1) end
+local running = ARGV[3] .. 'tenant:' .. tenant .. ':running'
+if tonumber(redis.call('GET', running) or '0') > 0 then redis.call('DECR', running) end
 redis.call('ZADD', KEYS[2], created, ARGV[1])
 redis.call('ZADD', ARGV[3] .. 'tenant:' .. tenant .. ':queued', created, ARGV[1])
 redis.call('XADD', KEYS[3], '*', 'job', ARGV[1])

@@ -90,6 +90,11 @@ void RedisWorkers::run_one(RedisConnection& redis, RedisConnection& beat,
   int attempts = 0;
   const RedisJobQueue::Start start = queue_.start(redis, delivery, node_, attempts);
   if (start == RedisJobQueue::Start::kSkip) return;
+  if (start == RedisJobQueue::Start::kLater) {
+    // Only jobs of tenants at their cap may be waiting: do not spin on them.
+    std::this_thread::sleep_for(50ms);
+    return;
+  }
   std::shared_ptr<Job> job;
   std::string unreadable;
   try {

@@ -23,7 +23,7 @@ StoreLimits store_limits(const ServerConfig& c) {
 RedisQueueLimits redis_limits(const ServerConfig& c) {
   return {c.queue_capacity,      c.tenant_max_queued, c.result_ttl_seconds,
           c.result_memory_bytes, c.max_jobs_kept,     c.visibility_timeout_seconds,
-          c.max_attempts};
+          c.max_attempts,        c.tenant_max_running};
 }
 
 ApiSettings api_settings(const ServerConfig& c) {

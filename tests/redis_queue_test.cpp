@@ -209,6 +209,36 @@ TEST_F(RedisQueueTest, ReleasedJobsKeepTheirPlaceAndUncountedAttempts) {
   EXPECT_EQ(attempts, 1);
 }
 
+TEST_F(RedisQueueTest, ATenantsRunningCapHoldsAcrossNodes) {
+  RedisQueueLimits limits;
+  limits.tenant_max_running = 1;
+  RedisJobQueue api(address(), limits, nullptr), node(address(), limits, nullptr);
+  std::shared_ptr<server::Job> a1, a2, b1;
+  ASSERT_EQ(api.submit(spec("a"), a1), JobQueue::Admission::kAccepted);
+  ASSERT_EQ(api.submit(spec("a"), a2), JobQueue::Admission::kAccepted);
+  ASSERT_EQ(api.submit(spec("b"), b1), JobQueue::Admission::kAccepted);
+  RedisConnection n1(address()), n2(address());
+  int attempts = 0;
+  const auto d1 = claim(node, n1, "n1");
+  ASSERT_EQ(d1.id, a1->id);
+  ASSERT_EQ(node.start(n1, d1, "n1", attempts), RedisJobQueue::Start::kRun);
+  // Another node gets a's second job: a already runs one, so it waits, still queued...
+  const auto d2 = claim(node, n2, "n2");
+  ASSERT_EQ(d2.id, a2->id);
+  EXPECT_EQ(node.start(n2, d2, "n2", attempts), RedisJobQueue::Start::kLater);
+  EXPECT_EQ(api.find(a2->id).job->status, server::JobStatus::kQueued);
+  // ...and b's job runs meanwhile.
+  const auto d3 = claim(node, n2, "n2");
+  ASSERT_EQ(d3.id, b1->id);
+  EXPECT_EQ(node.start(n2, d3, "n2", attempts), RedisJobQueue::Start::kRun);
+  // a's first job ends: its second may start.
+  auto run = node.load(n1, a1->id, false);
+  node.finish(n1, d1, *run, server::JobStatus::kSucceeded);
+  const auto d4 = claim(node, n1, "n1");
+  ASSERT_EQ(d4.id, a2->id);
+  EXPECT_EQ(node.start(n1, d4, "n1", attempts), RedisJobQueue::Start::kRun);
+}
+
 TEST_F(RedisQueueTest, ResultsOverTheCapAreEvictedOldestFirstAndSay410) {
   RedisQueueLimits limits;
   limits.result_memory_bytes = 1500;
@@ -223,6 +253,7 @@ TEST_F(RedisQueueTest, ResultsOverTheCapAreEvictedOldestFirstAndSay410) {
     auto run = queue.load(redis, d.id, false);
     run->artifacts = {artifact("sphere.glb", std::string(600, 'x'))};
     queue.finish(redis, d, *run, server::JobStatus::kSucceeded);
+    std::this_thread::sleep_for(std::chrono::milliseconds(3));  // distinct end times
   }
   const auto oldest = queue.find(jobs[0]->id);
   EXPECT_FALSE(oldest.job);
