@@ -7,6 +7,7 @@
 
 #include <cstddef>
 #include <string>
+#include <vector>
 
 #include "api/api_keys.h"
 #include "api/job_queue.h"
@@ -27,7 +28,8 @@ struct ApiSettings {
   double keep_alive_timeout_seconds = 5;
   double read_timeout_seconds = 30;
   std::string cors_origins = "*";
-  int workers = 0;  // on this node, for /metrics
+  std::vector<std::string> trusted_proxies;  // peers whose X-Forwarded-For is believed
+  int workers = 0;                           // on this node, for /metrics
 };
 
 class Backend {

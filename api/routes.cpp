@@ -5,6 +5,7 @@
 #include <charconv>
 #include <cmath>
 
+#include "api/client_address.h"
 #include "api/job_events.h"
 #include "api/job_request.h"
 #include "api/job_view.h"
@@ -31,7 +32,7 @@ std::string tenant_of(const Backend& service, const httplib::Request& request) {
   if (service.api_keys().enabled())
     return "key:" +
            service.api_keys().tenant_for(request.get_header_value("Authorization")).value_or("");
-  return "address:" + request.remote_addr;
+  return "address:" + client_address(service.settings(), request);
 }
 
 // The job of the path's first capture, or a 404 / 410 problem. With API keys another
@@ -435,7 +436,7 @@ void install_api(httplib::Server& http, Backend& service) {
              std::chrono::duration<double, std::milli>(Clock::now() - request_start).count())},
         {"bytes_in", request.body.size()},
         {"bytes_out", response.body.size()},
-        {"remote", request.remote_addr}};
+        {"remote", client_address(service.settings(), request)}};
     if (response.has_header("Spheremap-Job"))
       line["job"] = response.get_header_value("Spheremap-Job");
     log_event(std::move(line));

@@ -53,6 +53,8 @@ jobs (shutdown_grace_seconds) and exits 0.
                             per tenant (API key, or client address): jobs waiting (16),
                             mapping at once (0 = no cap), results kept (256 MiB)
   --cors-origins LIST       origins whose pages may call the API (default *)
+  --trusted-proxies LIST    reverse proxies whose X-Forwarded-For names the client
+                            (comma-separated addresses; default none)
   --worker-isolation process|thread
                             each job in a child process (default), or in the server
   --worker-memory-bytes N, --worker-cpu-seconds S

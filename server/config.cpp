@@ -52,6 +52,7 @@ const std::vector<Setting>& settings() {
       {"tenant_max_running", &ServerConfig::tenant_max_running, 0, 1024},
       {"tenant_result_memory_bytes", &ServerConfig::tenant_result_memory_bytes, 0, 1e12},
       {"cors_origins", &ServerConfig::cors_origins},
+      {"trusted_proxies", &ServerConfig::trusted_proxies},
       {"worker_isolation", &ServerConfig::worker_isolation},
       {"worker_executable", &ServerConfig::worker_executable},
       {"worker_memory_bytes", &ServerConfig::worker_memory_bytes, 0, 1e15},

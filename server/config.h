@@ -47,6 +47,10 @@ struct ServerConfig {
   // Origins whose pages may call the API (CORS): "*" (default), a comma-separated list, or
   // "" for none.
   std::string cors_origins = "*";
+  // Addresses of reverse proxies in front of the service, comma-separated: a request from
+  // one of them is the client's named last in X-Forwarded-For (not a proxy of this list)
+  // for tenants, quotas and logs. "" = none: the peer's address is the client's.
+  std::string trusted_proxies;
   // "process" (default): each job in a child process (worker_process.h); "thread": in the
   // server process (no isolation; a crash in the engine takes the server down).
   std::string worker_isolation = "process";

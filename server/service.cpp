@@ -3,6 +3,7 @@
 #include <signal.h>
 
 #include <algorithm>
+#include <sstream>
 
 #include "api/log.h"
 #include "server/job_runner.h"
@@ -38,6 +39,12 @@ ApiSettings api_settings(const ServerConfig& c) {
   s.keep_alive_timeout_seconds = c.keep_alive_timeout_seconds;
   s.read_timeout_seconds = c.read_timeout_seconds;
   s.cors_origins = c.cors_origins;
+  std::stringstream proxies(c.trusted_proxies);
+  for (std::string proxy; std::getline(proxies, proxy, ',');) {
+    proxy.erase(0, proxy.find_first_not_of(' '));
+    proxy.erase(proxy.find_last_not_of(' ') + 1);
+    if (!proxy.empty()) s.trusted_proxies.push_back(proxy);
+  }
   s.workers = c.effective_workers();
   return s;
 }

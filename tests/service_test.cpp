@@ -15,6 +15,7 @@
 #include <sstream>
 #include <thread>
 
+#include "api/client_address.h"
 #include "core/io/glb_writer.h"
 #include "core/io/gltf_reader.h"
 #include "core/map/map_check.h"
@@ -1094,3 +1095,27 @@ TEST(ServerConfig, TheDocumentedFileHoldsTheDefaults) {
 
 }  // namespace
 }  // namespace spheremap::server
+
+// Behind trusted proxies the client is the rightmost X-Forwarded-For entry that is not
+// one of them; from anyone else the header is ignored, and junk in it is never taken.
+TEST(ClientAddress, TrustsOnlyConfiguredProxies) {
+  spheremap::api::ApiSettings settings;
+  settings.trusted_proxies = {"10.0.0.2", "10.0.0.3"};
+  httplib::Request request;
+  request.remote_addr = "10.0.0.2";
+  request.headers.emplace("X-Forwarded-For", "6.6.6.6, 203.0.113.7, 10.0.0.3");
+  EXPECT_EQ(spheremap::api::client_address(settings, request), "203.0.113.7");
+  request.remote_addr = "198.51.100.1";  // not a proxy of ours: its header is its word
+  EXPECT_EQ(spheremap::api::client_address(settings, request), "198.51.100.1");
+  request.remote_addr = "10.0.0.2";
+  request.headers.clear();
+  request.headers.emplace("X-Forwarded-For", "evil\r\nX: y, 2001:db8::1");
+  EXPECT_EQ(spheremap::api::client_address(settings, request), "2001:db8::1");
+  request.headers.clear();
+  request.headers.emplace("X-Forwarded-For", std::string(100, 'a'));
+  EXPECT_EQ(spheremap::api::client_address(settings, request), "10.0.0.2");
+  settings.trusted_proxies.clear();
+  request.headers.clear();
+  request.headers.emplace("X-Forwarded-For", "203.0.113.7");
+  EXPECT_EQ(spheremap::api::client_address(settings, request), "10.0.0.2");
+}
