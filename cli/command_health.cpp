@@ -14,12 +14,17 @@ int run_health(int argc, char** argv) {
   Arguments args(argc, argv, 2, {"host", "port", "timeout"}, {"help"});
   if (args.flag("help")) {
     std::cout << "Usage: spheremap health [--host H] [--port N] [--timeout S]\n\n"
-                 "Exit 0 when the service at H:N (default 127.0.0.1 and $SPHEREMAP_PORT or 8080)\n"
-                 "answers GET /readyz with 200 within S seconds (default 3), else 1.\n";
+                 "Exit 0 when the service at H:N answers GET /readyz with 200 within S seconds\n"
+                 "(default 3), else 1. Default H:N: 127.0.0.1 and $SPHEREMAP_HEALTH_PORT when it\n"
+                 "is a port (a worker node has no API port), else $SPHEREMAP_PORT, else 8080.\n";
     return kExitOk;
   }
+  // The image's HEALTHCHECK runs this with no flags, for API replicas and worker nodes
+  // alike: the health port when one is set, else the API port.
+  const char* env_health = std::getenv("SPHEREMAP_HEALTH_PORT");
   const char* env_port = std::getenv("SPHEREMAP_PORT");
-  const long long default_port = env_port ? std::atoll(env_port) : 8080;
+  long long default_port = env_port ? std::atoll(env_port) : 8080;
+  if (env_health && std::atoll(env_health) > 0) default_port = std::atoll(env_health);
   httplib::Client client(args.text("host", "127.0.0.1"),
                          static_cast<int>(args.integer("port", default_port, 1, 65535)));
   const double timeout = args.number("timeout", 3, 0.1, 600);
