@@ -125,13 +125,16 @@ code=$(curl -s -o /dev/null -w '%{http_code}' "$api_b/v1/jobs/$id")
 [ "$code" = 404 ] || fail "a deleted job through b: $code"
 echo "1. submitted to a, polled and downloaded through b: identical ($(wc -c < "$tmp/from_a.glb") bytes); deleted through a, gone from b"
 
-# 2. Cancel through the other replica.
+# 2. Progress as Server-Sent Events from the other replica, then cancel through it.
 id=$(submit "$api_a" "$slow" "quality=high")
 wait_status "$api_b" "$id" running 30
+curl -s -N -m 2 "$api_b/v1/jobs/$id/events" > "$tmp/events.txt"
+grep -q '^event: progress' "$tmp/events.txt" || fail "no progress events through b: $(head -c 300 "$tmp/events.txt")"
+grep -q '"status":"running"' "$tmp/events.txt" || fail "the events show no running job"
 code=$(curl -s -o /dev/null -w '%{http_code}' -X DELETE "$api_b/v1/jobs/$id")
 [ "$code" = 202 ] || fail "DELETE of a running job through b: $code"
 wait_status "$api_a" "$id" cancelled 5
-echo "2. a running job cancelled through the other replica"
+echo "2. a job submitted to a streamed its progress through b, and was cancelled through b"
 
 # 3. A worker node killed mid-job: its job is finished by the other node.
 j1=$(submit "$api_a" "$slow" "quality=high")
