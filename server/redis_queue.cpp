@@ -323,6 +323,22 @@ StoreCounts RedisJobQueue::counts() {
   });
 }
 
+std::string RedisJobQueue::publish_limits() {
+  const nlohmann::json ours = {{"queue_capacity", limits_.queue_capacity},
+                               {"tenant_max_queued", limits_.tenant_max_queued},
+                               {"tenant_max_running", limits_.tenant_max_running},
+                               {"result_ttl_seconds", limits_.result_ttl_seconds},
+                               {"result_memory_bytes", limits_.result_memory_bytes},
+                               {"max_jobs_kept", limits_.max_jobs_kept},
+                               {"visibility_timeout_seconds", limits_.visibility_timeout_seconds},
+                               {"max_attempts", limits_.max_attempts}};
+  return with_redis([&](RedisConnection& redis) {
+    const RedisReply before =
+        redis.command({"SET", kPrefix + "limits", ours.dump(), "GET", "EX", "604800"});
+    return before.is_nil() || before.text() == ours.dump() ? std::string() : before.text();
+  });
+}
+
 // --- the workers' side --------------------------------------------------------------
 
 void RedisJobQueue::ensure_group(RedisConnection& redis) {

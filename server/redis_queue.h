@@ -96,6 +96,11 @@ class RedisJobQueue : public JobQueue {
   void release(RedisConnection& redis, const Delivery& delivery, bool count_attempt);
 
   const RedisQueueLimits& limits() const { return limits_; }
+  // Every process on one Redis must apply the same limits (API replicas at admission,
+  // worker nodes when they store results). Publishes this process's and returns the
+  // limits the previous process to start published when they differ ("" when they agree,
+  // or when none are known yet). Throws QueueUnavailable.
+  std::string publish_limits();
   const RedisAddress& address() const { return pool_.address(); }
 
  private:

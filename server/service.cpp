@@ -82,6 +82,17 @@ Service::Service(ServerConfig config)
     redis_ = std::make_unique<RedisJobQueue>(RedisAddress::parse(config_.queue),
                                              redis_limits(config_), observer);
     queue_ = redis_.get();
+    try {
+      const std::string theirs = redis_->publish_limits();
+      if (!theirs.empty())
+        log_event({{"event", "limits_differ"},
+                   {"detail",
+                    "the process started before this one on the same Redis had other queue "
+                    "or result limits; give every replica and worker the same settings"},
+                   {"previous", nlohmann::json::parse(theirs, nullptr, false)}});
+    } catch (const QueueUnavailable&) {
+      // Redis not up yet: the service waits for it; the check is a warning only.
+    }
     if (config_.effective_workers() > 0)
       redis_workers_ = std::make_unique<RedisWorkers>(
           *redis_, config_.effective_workers(), run_limits(config_), worker_limits(config_),

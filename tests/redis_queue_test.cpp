@@ -95,6 +95,20 @@ class RedisQueueTest : public ::testing::Test {
       if (auto d = queue.claim(redis, consumer, 0.1)) return *d;
     throw std::runtime_error("nothing to claim");
   }
+  // Submits a job, claims, starts and finishes it as succeeded with one artifact of
+  // `bytes` bytes, as a worker would; returns the job.
+  static std::shared_ptr<server::Job> run_to_end(RedisJobQueue& queue, RedisConnection& redis,
+                                                 size_t bytes) {
+    std::shared_ptr<server::Job> job;
+    EXPECT_EQ(queue.submit(spec(), job), JobQueue::Admission::kAccepted);
+    const auto d = claim(queue, redis, "n1");
+    int attempts = 0;
+    EXPECT_EQ(queue.start(redis, d, "n1", attempts), RedisJobQueue::Start::kRun);
+    auto run = queue.load(redis, d.id, false);
+    run->artifacts = {artifact("sphere.glb", std::string(bytes, 'x'))};
+    queue.finish(redis, d, *run, server::JobStatus::kSucceeded);
+    return job;
+  }
   static server::Artifact artifact(std::string name, std::string bytes) {
     const size_t size = bytes.size();
     return {std::move(name), "application/octet-stream", std::move(bytes), size};
@@ -246,13 +260,7 @@ TEST_F(RedisQueueTest, ResultsOverTheCapAreEvictedOldestFirstAndSay410) {
   RedisConnection redis(address());
   std::vector<std::shared_ptr<server::Job>> jobs(3);
   for (auto& job : jobs) {
-    ASSERT_EQ(queue.submit(spec(), job), JobQueue::Admission::kAccepted);
-    const auto d = claim(queue, redis, "n1");
-    int attempts = 0;
-    ASSERT_EQ(queue.start(redis, d, "n1", attempts), RedisJobQueue::Start::kRun);
-    auto run = queue.load(redis, d.id, false);
-    run->artifacts = {artifact("sphere.glb", std::string(600, 'x'))};
-    queue.finish(redis, d, *run, server::JobStatus::kSucceeded);
+    job = run_to_end(queue, redis, 600);
     std::this_thread::sleep_for(std::chrono::milliseconds(3));  // distinct end times
   }
   const auto oldest = queue.find(jobs[0]->id);
@@ -274,21 +282,27 @@ TEST_F(RedisQueueTest, ResultsLargerThanTheCapFailAs507) {
   RedisQueueLimits limits;
   limits.result_memory_bytes = 100;
   RedisJobQueue queue(address(), limits, nullptr);
-  std::shared_ptr<server::Job> job;
-  ASSERT_EQ(queue.submit(spec(), job), JobQueue::Admission::kAccepted);
   RedisConnection redis(address());
-  const auto d = claim(queue, redis, "n1");
-  int attempts = 0;
-  ASSERT_EQ(queue.start(redis, d, "n1", attempts), RedisJobQueue::Start::kRun);
-  auto run = queue.load(redis, d.id, false);
-  run->artifacts = {artifact("sphere.glb", std::string(600, 'x'))};
-  queue.finish(redis, d, *run, server::JobStatus::kSucceeded);
+  const auto job = run_to_end(queue, redis, 600);
   const auto found = queue.find(job->id).job;
   ASSERT_TRUE(found);
   EXPECT_EQ(found->status, server::JobStatus::kFailed);
   ASSERT_TRUE(found->error);
   EXPECT_EQ(found->error->status, 507);
   EXPECT_EQ(found->error->problem, "result_too_large");
+}
+
+// The processes of one cluster publish their limits; one that differs from the process
+// started before it hears so (and logs it).
+TEST_F(RedisQueueTest, DifferentLimitsAreNoticed) {
+  RedisQueueLimits api_limits, worker_limits;
+  api_limits.result_memory_bytes = 128u << 20;
+  RedisJobQueue api(address(), api_limits, nullptr);
+  RedisJobQueue worker(address(), worker_limits, nullptr), same(address(), worker_limits, nullptr);
+  EXPECT_EQ(api.publish_limits(), "");  // the first
+  const std::string previous = worker.publish_limits();
+  EXPECT_NE(previous.find("134217728"), std::string::npos) << previous;
+  EXPECT_EQ(same.publish_limits(), "");
 }
 
 TEST_F(RedisQueueTest, RedisOutOfReachIsQueueUnavailable) {
