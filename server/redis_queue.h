@@ -115,7 +115,6 @@ class RedisJobQueue : public JobQueue {
   mutable RedisPool pool_;
   std::atomic<bool> accepting_{true};
   mutable std::atomic<int64_t> last_ping_ok_ms_{0}, last_ping_ms_{0};
-  std::atomic<bool> group_ready_{false};
 };
 
 }  // namespace spheremap::server

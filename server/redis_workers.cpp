@@ -135,7 +135,6 @@ void RedisWorkers::run_one(RedisConnection& redis, RedisConnection& beat,
   {
     std::lock_guard lock(mutex_);
     jobs_.push_back(job.get());
-    ++running_;
   }
   if (observer_) observer_(job, JobStatus::kRunning);
   // The companion: heartbeat, progress and the client's cancel, every 250 ms; woken at
@@ -164,7 +163,6 @@ void RedisWorkers::run_one(RedisConnection& redis, RedisConnection& beat,
   {
     std::lock_guard lock(mutex_);
     jobs_.erase(std::find(jobs_.begin(), jobs_.end(), job.get()));
-    --running_;
   }
   idle_cv_.notify_all();
 
@@ -206,13 +204,13 @@ void RedisWorkers::stop(double grace_seconds) {
   {
     std::unique_lock lock(mutex_);
     idle_cv_.wait_for(lock, std::chrono::duration<double>(grace_seconds),
-                      [&] { return running_ == 0; });
+                      [&] { return jobs_.empty(); });
   }
   release_now();
   {
     // A worker process stops within 100 ms of its cancel; Redis may need a few seconds.
     std::unique_lock lock(mutex_);
-    idle_cv_.wait_for(lock, 10s, [&] { return running_ == 0; });
+    idle_cv_.wait_for(lock, 10s, [&] { return jobs_.empty(); });
   }
   abandoned_ = true;  // whatever still waits for Redis is left pending for another node
   for (std::thread& t : threads_) t.join();

@@ -43,7 +43,10 @@ class RedisWorkers {
   void stop(double grace_seconds);
   // Ends the grace period now (a second signal).
   void release_now();
-  size_t running() const { return running_; }
+  size_t running() const {
+    std::lock_guard lock(mutex_);
+    return jobs_.size();
+  }
 
  private:
   void work(int index);
@@ -61,8 +64,7 @@ class RedisWorkers {
   const Observer observer_;
   const std::string node_;  // host:pid, the consumer names' stem
   std::atomic<bool> stopping_{false}, releasing_{false}, abandoned_{false};
-  std::atomic<size_t> running_{0};
-  std::mutex mutex_;
+  mutable std::mutex mutex_;
   std::condition_variable idle_cv_;
   std::vector<Job*> jobs_;  // running here now (guarded by mutex_)
   std::vector<std::thread> threads_;
