@@ -10,6 +10,8 @@
 #include <vector>
 
 #include "api/api_keys.h"
+#include "api/connection_limits.h"
+#include "api/intake.h"
 #include "api/job_queue.h"
 #include "api/service_metrics.h"
 
@@ -27,6 +29,7 @@ struct ApiSettings {
   double sync_timeout_seconds = 30;
   double keep_alive_timeout_seconds = 5;
   double read_timeout_seconds = 30;
+  ConnectionLimits connection;  // its `exempt` = trusted_proxies
   std::string cors_origins = "*";
   std::vector<std::string> trusted_proxies;  // peers whose X-Forwarded-For is believed
   int workers = 0;                           // on this node, for /metrics
@@ -39,6 +42,7 @@ class Backend {
   virtual JobQueue& queue() = 0;
   virtual const ApiKeys& api_keys() const = 0;
   virtual ServiceMetrics& metrics() = 0;
+  virtual Intake& intake() = 0;       // where submitted meshes are read and checked
   virtual bool ready() const = 0;     // new jobs may be submitted (/readyz)
   virtual bool draining() const = 0;  // told to stop: new jobs get 503 shutting_down
 };

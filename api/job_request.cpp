@@ -105,7 +105,8 @@ Body split_body(const httplib::Request& request) {
 }  // namespace
 
 std::unique_ptr<JobSpec> read_job_request(const httplib::Request& request,
-                                          const ApiSettings& config) {
+                                          const ApiSettings& config,
+                                          const IntakeDeadline& deadline) {
   Body body = split_body(request);
   JobOptions options = parse_job_options(body.options);
   options.gltf.max_vertices = config.max_vertices;
@@ -129,7 +130,9 @@ std::unique_ptr<JobSpec> read_job_request(const httplib::Request& request,
       throw Problem(422, "not_mappable", "Mesh cannot be mapped", e.what() + hint, extra);
     throw Problem(400, "malformed_gltf", "Malformed glTF", e.what() + hint, extra);
   }
+  deadline.check("reading the glTF");
   spec->prepared = prepare_mesh(spec->input, options.prepare);
+  deadline.check("welding and the topology checks");
   const auto failures = input_failures(spec->prepared, &stats);
   if (!failures.empty()) {
     nlohmann::json list = nlohmann::json::array();

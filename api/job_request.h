@@ -9,6 +9,7 @@
 #include <memory>
 
 #include "api/backend.h"
+#include "api/intake.h"
 #include "api/job.h"
 
 namespace spheremap::api {
@@ -16,7 +17,9 @@ namespace spheremap::api {
 // The 415 detail for a mesh sent as a form (curl's default for --data-binary).
 extern const char* const kFormEncodedHint;
 
+// Checks `deadline` between its stages (options, glTF read, weld and topology).
 std::unique_ptr<JobSpec> read_job_request(const httplib::Request& request,
-                                          const ApiSettings& config);
+                                          const ApiSettings& config,
+                                          const IntakeDeadline& deadline);
 
 }  // namespace spheremap::api

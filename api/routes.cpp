@@ -69,7 +69,9 @@ std::shared_ptr<Job> submit(Backend& service, const httplib::Request& request) {
   }
   std::unique_ptr<JobSpec> spec;
   try {
-    spec = read_job_request(request, service.settings());
+    service.intake().run([&](const IntakeDeadline& deadline) {
+      spec = read_job_request(request, service.settings(), deadline);
+    });
   } catch (const Problem& p) {
     service.metrics().rejected(p.extra.value("check", p.slug));
     throw;
@@ -330,10 +332,15 @@ static void install_probes(httplib::Server& http, Backend& service) {
            }));
 }
 
-void install_health(httplib::Server& http, Backend& service) {
+void install_health(GuardedServer& http, Backend& service) {
   // Two threads, and short timeouts: a probe is a small GET from a kubelet or a load
-  // balancer, and nothing here may be held long by whoever reaches the port.
+  // balancer, and nothing here may be held long by whoever reaches the port. No cap per
+  // address: the probes all come from one.
   http.new_task_queue = [] { return new httplib::ThreadPool(2); };
+  ConnectionLimits limits;
+  limits.header_timeout_seconds = limits.body_timeout_seconds = 2;
+  limits.max_connections_per_address = 0;
+  http.set_connection_limits(limits);
   http.set_payload_max_length(0);
   http.set_read_timeout(std::chrono::seconds(2));
   http.set_write_timeout(std::chrono::seconds(2));
@@ -342,8 +349,12 @@ void install_health(httplib::Server& http, Backend& service) {
   install_probes(http, service);
 }
 
-void install_api(httplib::Server& http, Backend& service) {
+void install_api(GuardedServer& http, Backend& service) {
   const ApiSettings& config = service.settings();
+  ConnectionLimits limits = config.connection;
+  limits.exempt = config.trusted_proxies;
+  limits.max_body_bytes = config.max_body_bytes;
+  http.set_connection_limits(std::move(limits));
   const size_t http_threads = static_cast<size_t>(config.http_threads);
   http.new_task_queue = [http_threads] { return new httplib::ThreadPool(http_threads); };
   http.set_payload_max_length(config.max_body_bytes);

@@ -35,6 +35,8 @@ const std::vector<Setting>& settings() {
       {"workers", &ServerConfig::workers, -1, 1024},
       {"threads_per_job", &ServerConfig::threads_per_job, 0, 1024},
       {"http_threads", &ServerConfig::http_threads, 2, 1024},
+      {"intake_threads", &ServerConfig::intake_threads, 0, 1024},
+      {"intake_timeout_seconds", &ServerConfig::intake_timeout_seconds, 0.1, 3600},
       {"queue_capacity", &ServerConfig::queue_capacity, 0, 1e6},
       {"max_body_bytes", &ServerConfig::max_body_bytes, 1024, 4e9},
       {"max_vertices", &ServerConfig::max_vertices, 4, 1e8},
@@ -47,6 +49,11 @@ const std::vector<Setting>& settings() {
       {"shutdown_grace_seconds", &ServerConfig::shutdown_grace_seconds, 0, 3600},
       {"keep_alive_timeout_seconds", &ServerConfig::keep_alive_timeout_seconds, 0, 3600},
       {"read_timeout_seconds", &ServerConfig::read_timeout_seconds, 0.1, 3600},
+      {"header_timeout_seconds", &ServerConfig::header_timeout_seconds, 0.1, 3600},
+      {"body_timeout_seconds", &ServerConfig::body_timeout_seconds, 0.1, 86400},
+      {"max_header_count", &ServerConfig::max_header_count, 8, 10000},
+      {"max_header_bytes", &ServerConfig::max_header_bytes, 1024, 1 << 20},
+      {"max_connections_per_address", &ServerConfig::max_connections_per_address, 0, 1e6},
       {"api_keys", &ServerConfig::api_keys},
       {"tenant_max_queued", &ServerConfig::tenant_max_queued, 1, 1e6},
       {"tenant_max_running", &ServerConfig::tenant_max_running, 0, 1024},
@@ -122,6 +129,10 @@ int ServerConfig::effective_threads_per_job() const {
                              : std::max(1, cores() / std::max(1, effective_workers()));
 }
 
+int ServerConfig::effective_intake_threads() const {
+  return intake_threads > 0 ? intake_threads : cores();
+}
+
 size_t ServerConfig::effective_worker_memory_bytes() const {
   if (worker_memory_bytes > 0) return worker_memory_bytes;
   const long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGESIZE);
@@ -139,6 +150,7 @@ nlohmann::json ServerConfig::to_json() const {
     std::visit([&](auto field) { out[s.name] = this->*field; }, s.field);
   out["workers"] = effective_workers();
   out["threads_per_job"] = effective_threads_per_job();
+  out["intake_threads"] = effective_intake_threads();
   out["worker_memory_bytes"] = effective_worker_memory_bytes();
   out["worker_cpu_seconds"] = effective_worker_cpu_seconds();
   return out;

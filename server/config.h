@@ -22,14 +22,16 @@ struct ServerConfig {
   std::string queue = "memory://";
   double visibility_timeout_seconds = 30;  // redis: a silent worker's job is reclaimed after
   int max_attempts = 3;                    // redis: starts of a job whose worker keeps dying
-  int workers = -1;                   // jobs mapped at once; -1 = the machine's cores; 0 = none
-                                      // (an API-only node; redis queue only)
-  int threads_per_job = 0;            // engine threads per job; 0 = cores / workers (at least 1)
-  int http_threads = 16;              // connections served at once (requests only, no mesh work)
-  size_t queue_capacity = 32;         // jobs waiting for a worker; more get 429
-  size_t max_body_bytes = 64u << 20;  // queued inputs stay under queue_capacity x this
-  size_t max_vertices = 2'000'000;    // of the glTF as sent (before welding)
-  size_t max_faces = 4'000'000;       // triangles of the glTF as sent
+  int workers = -1;                    // jobs mapped at once; -1 = the machine's cores; 0 = none
+                                       // (an API-only node; redis queue only)
+  int threads_per_job = 0;             // engine threads per job; 0 = cores / workers (at least 1)
+  int http_threads = 16;               // connections served at once (requests only, no mesh work)
+  int intake_threads = 0;              // submitted meshes read and checked at once; 0 = cores
+  double intake_timeout_seconds = 30;  // for one submission's wait and reading (503 beyond)
+  size_t queue_capacity = 32;          // jobs waiting for a worker; more get 429
+  size_t max_body_bytes = 64u << 20;   // queued inputs stay under queue_capacity x this
+  size_t max_vertices = 2'000'000;     // of the glTF as sent (before welding)
+  size_t max_faces = 4'000'000;        // triangles of the glTF as sent
   double job_time_limit_seconds = 300;
   double result_ttl_seconds = 3600;          // finished jobs are kept this long...
   size_t result_memory_bytes = 1024u << 20;  // ...and within this many artifact bytes
@@ -38,6 +40,12 @@ struct ServerConfig {
   double shutdown_grace_seconds = 30;        // on SIGTERM: time for queued and running jobs
   double keep_alive_timeout_seconds = 5;
   double read_timeout_seconds = 30;  // a client that stalls while sending is dropped
+  // Whole-request limits of a connection (api/connection_limits.h): 408 / 431 / 429.
+  double header_timeout_seconds = 10;      // first byte to the end of the headers
+  double body_timeout_seconds = 120;       // end of the headers to the body's last byte
+  size_t max_header_count = 100;           // request line and header lines
+  size_t max_header_bytes = 32u << 10;     // all of them together
+  size_t max_connections_per_address = 8;  // served at once; 0 = no cap
   // A file of `TENANT KEY` lines: every /v1 route then needs `Authorization: Bearer KEY`
   // and a job is seen only by its tenant. "" = no keys (ids are the only handle).
   std::string api_keys;
@@ -62,6 +70,7 @@ struct ServerConfig {
   // The resolved worker and thread counts for this machine.
   int effective_workers() const;
   int effective_threads_per_job() const;
+  int effective_intake_threads() const;
   size_t effective_worker_memory_bytes() const;
   double effective_worker_cpu_seconds() const;
   nlohmann::json to_json() const;  // with the resolved counts, for the start-up log

@@ -50,11 +50,11 @@ int serve(const ServerConfig& config, Role role) {
   }
   Service& service = *started;
   const bool api = role == Role::kApi;
-  httplib::Server http;
+  api::GuardedServer http;
   if (api) api::install_api(http, service);
   // The health port, when asked for: probes answered by threads of their own, however
   // many clients hold the API's connections (slowloris, a full pool, a stuck proxy).
-  httplib::Server health;
+  api::GuardedServer health;
   int health_port = -1;
   if (config.health_port >= 0) {
     api::install_health(health, service);

@@ -38,6 +38,11 @@ ApiSettings api_settings(const ServerConfig& c) {
   s.sync_timeout_seconds = c.sync_timeout_seconds;
   s.keep_alive_timeout_seconds = c.keep_alive_timeout_seconds;
   s.read_timeout_seconds = c.read_timeout_seconds;
+  s.connection.header_timeout_seconds = c.header_timeout_seconds;
+  s.connection.body_timeout_seconds = c.body_timeout_seconds;
+  s.connection.max_header_count = c.max_header_count;
+  s.connection.max_header_bytes = c.max_header_bytes;
+  s.connection.max_connections_per_address = c.max_connections_per_address;
   s.cors_origins = c.cors_origins;
   std::stringstream proxies(c.trusted_proxies);
   for (std::string proxy; std::getline(proxies, proxy, ',');) {
@@ -72,7 +77,8 @@ WorkerLimits worker_limits(const ServerConfig& c) {
 Service::Service(ServerConfig config)
     : config_(std::move(config)),
       settings_(api_settings(config_)),
-      api_keys_(load_api_keys(config_.api_keys)) {
+      api_keys_(load_api_keys(config_.api_keys)),
+      intake_(config_.effective_intake_threads(), config_.intake_timeout_seconds) {
   // A worker process that dies while we write its request must not kill the server.
   signal(SIGPIPE, SIG_IGN);
   auto observer = [this](const std::shared_ptr<Job>& job, JobStatus status) {

@@ -32,6 +32,7 @@ class Service : public Backend {
   JobQueue& queue() override { return *queue_; }
   const ApiKeys& api_keys() const override { return api_keys_; }
   ServiceMetrics& metrics() override { return metrics_; }
+  Intake& intake() override { return intake_; }
   bool ready() const override { return queue_->accepting(); }
   bool draining() const override { return drained_; }
 
@@ -53,6 +54,7 @@ class Service : public Backend {
   const ApiSettings settings_;  // config_'s part the routes apply
   const ApiKeys api_keys_;      // loaded from config_.api_keys at start (ConfigError if bad)
   ServiceMetrics metrics_;
+  Intake intake_;
   std::unique_ptr<JobStore> memory_;      // memory://
   std::unique_ptr<RedisJobQueue> redis_;  // redis://
   std::unique_ptr<RedisWorkers> redis_workers_;

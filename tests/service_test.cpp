@@ -694,6 +694,27 @@ TEST(Service, InvalidMeshesGet422WithTheirCheck) {
   EXPECT_NE(prometheus.find("spheremap_rejections_total{reason=\"genus\"} 1"), std::string::npos);
 }
 
+// On the real service: a mesh that takes longer to read and weld than the intake
+// deadline gets 503 intake_timeout with Retry-After, and the service answers on.
+TEST(Service, Answers503WhenReadingOutlastsTheDeadline) {
+  server::ServerConfig config;
+  config.workers = 1;
+  config.worker_isolation = "thread";
+  config.intake_timeout_seconds = 0.1;
+  TestServer server(config);
+  auto client = server.client();
+  // 327,680 triangles: about half a second to read and weld here, far more than 0.1 s.
+  const std::string big = glb_of(testing::icosphere(7));
+  auto slow = client.Post("/v1/jobs", big, "model/gltf-binary");
+  ASSERT_TRUE(slow);
+  EXPECT_EQ(slow->status, 503);
+  EXPECT_NE(slow->body.find("intake_timeout"), std::string::npos) << slow->body;
+  EXPECT_EQ(slow->get_header_value("Retry-After"), "30");
+  auto small = client.Post("/v1/jobs", glb_of(testing::icosphere(1)), "model/gltf-binary");
+  ASSERT_TRUE(small);
+  EXPECT_EQ(small->status, 202);
+}
+
 TEST(Service, OversizeGets413) {
   server::ServerConfig config = small_config();
   config.max_body_bytes = 30000;

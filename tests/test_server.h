@@ -38,7 +38,7 @@ class TestServer {
 
  private:
   std::unique_ptr<server::Service> service_;
-  httplib::Server http_;
+  api::GuardedServer http_;
   int port_ = 0;
   std::thread listener_;
 };

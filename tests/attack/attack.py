@@ -5,6 +5,7 @@ answer every time within 2 s. Prints one line per attack; exits 1 on the first f
 Usage: attack.py API_URL HEALTH_URL GLB_FILE"""
 import http.client
 import json
+import os
 import socket
 import sys
 import threading
@@ -17,8 +18,8 @@ glb = open(glb_path, "rb").read()
 
 
 def fail(message):
-    print("FAIL: " + message)
-    sys.exit(1)
+    print("FAIL: " + message, flush=True)
+    os._exit(1)  # not sys.exit: the prober and trickler threads would keep the process up
 
 
 def request(method, path, body=None, headers=None, timeout=30):
@@ -76,13 +77,17 @@ def probe():
         time.sleep(0.1)
 
 
-# Slow clients: more than the API has threads, each trickling a header byte a second.
+# Slow clients from one address (127.0.0.2: 127.0.0.1 is exempt from the per-address cap),
+# more than the API has threads, each trickling a header line a second: the first
+# max_connections_per_address are served until header_timeout_seconds ends them with
+# 408, the others get 429 at once; meanwhile the API port itself still answers.
 slow = []
+SLOW_SOURCE = ("127.0.0.2", 0)
 
 
 def slowloris(count):
     for _ in range(count):
-        s = socket.create_connection((api_host, api_port), timeout=60)
+        s = socket.create_connection((api_host, api_port), timeout=60, source_address=SLOW_SOURCE)
         s.sendall(b"GET /healthz HTTP/1.1\r\nHost: x\r\n")
         slow.append(s)
 
@@ -97,17 +102,60 @@ def trickle():
         time.sleep(1)
 
 
+def answer_of(s, seconds):
+    s.settimeout(seconds)
+    try:
+        return s.recv(4096).split(b"\r\n", 1)[0].decode(errors="replace")
+    except OSError:
+        return ""
+
+
 prober = threading.Thread(target=probe)
 prober.start()
+start = time.monotonic()
 slowloris(12)
 trickler = threading.Thread(target=trickle)
 trickler.start()
-# Let them take the API's threads, then attack through what is left.
-time.sleep(3)
-for s in slow:  # free the API again for the attacks; the prober still runs
+time.sleep(0.5)
+status, body = request("GET", "/healthz", timeout=5)
+if status != 200:
+    fail(f"/healthz on the API port during slowloris: {status}")
+answers = [answer_of(s, 6) for s in slow]
+took = time.monotonic() - start
+for s in slow:
     s.close()
 slow.clear()
-print(f"slowloris: 12 trickling connections; /healthz on the health port at most {worst[0]:.3f} s")
+refused = sum(a.startswith("HTTP/1.1 429") for a in answers)
+timed_out = sum(a.startswith("HTTP/1.1 408") for a in answers)
+if refused != 9 or timed_out != 3:
+    fail(f"slowloris: {refused} answered 429 and {timed_out} 408, expected 9 and 3: {answers}")
+if took > 4:
+    fail(f"slowloris: the last trickling connection was ended after {took:.1f} s")
+print(f"slowloris: 12 trickling connections from one address: 9 refused at once (429), 3 ended "
+      f"after the 2 s header deadline (408) by {took:.1f} s; the API port answered meanwhile; "
+      f"/healthz on the health port at most {worst[0]:.3f} s")
+
+many = "GET /healthz HTTP/1.1\r\nHost: x\r\n" + "".join(f"X-{k}: v\r\n" for k in range(5000))
+line = raw_status(many + "\r\n")
+if not line.startswith("HTTP/1.1 431"):
+    fail("5,000 header lines: " + line)
+print("5,000 header lines: 431")
+s = socket.create_connection((api_host, api_port), timeout=30)
+s.sendall(b"POST /v1/jobs HTTP/1.1\r\nHost: x\r\nContent-Type: model/gltf-binary\r\n"
+          b"Content-Length: 100000\r\n\r\nglTF")
+line = ""
+for _ in range(60):
+    try:
+        s.sendall(b"x")
+    except OSError:
+        pass
+    line = answer_of(s, 0.1)
+    if line:
+        break
+s.close()
+if not line.startswith("HTTP/1.1 408"):
+    fail("body trickled a byte per 100 ms: " + line)
+print("body trickled a byte per 100 ms: 408 after the 2 s body deadline")
 
 deep = "[" * 60000 + "]" * 60000
 boundary = "b0undary"

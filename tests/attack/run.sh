@@ -16,7 +16,8 @@ fail() { echo "FAIL: $*"; tail -n 5 "$tmp/server.log"; exit 1; }
 "$make_meshes" "$tmp" > /dev/null || fail "make_test_meshes"
 prlimit --as=2147483648 "$spheremap" serve --port 0 --health-port 0 --http-threads 4 \
   --workers 1 --worker-memory-bytes 1073741824 --max-body-bytes 8388608 \
-  --read-timeout-seconds 5 2> "$tmp/server.log" &
+  --read-timeout-seconds 5 --header-timeout-seconds 2 --body-timeout-seconds 2 \
+  --max-connections-per-address 3 2> "$tmp/server.log" &
 server=$!
 for _ in $(seq 200); do
   grep -q '"event":"listening"' "$tmp/server.log" && break

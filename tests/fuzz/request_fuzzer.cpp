@@ -75,7 +75,9 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   config.max_vertices = 200000;  // the fuzzer's memory cap, not the service's
   config.max_faces = 400000;
   try {
-    spheremap::api::read_job_request(request, config);
+    const spheremap::api::IntakeDeadline no_deadline(
+        spheremap::api::IntakeDeadline::Clock::time_point::max(), 0);
+    spheremap::api::read_job_request(request, config, no_deadline);
   } catch (const spheremap::api::Problem& problem) {
     if (problem.status < 400 || problem.status >= 500) __builtin_trap();
   }

@@ -338,7 +338,14 @@ export interface components {
          *     time_limit (422), out_of_memory (507), worker_crashed (500, the signal named;
          *     with a Redis queue after max_attempts starts), result_too_large (507: the
          *     artifacts exceed result_memory_bytes), worker_unavailable (503), internal (500);
-         *     queue_full, tenant_quota (429); too_many_streams (503);
+         *     queue_full, tenant_quota (429); too_many_streams (503); too_many_ranges (416);
+         *     intake_busy, intake_timeout (503 with Retry-After: no intake thread was free, or
+         *     reading the mesh outlasted intake_timeout_seconds). Answered on the connection
+         *     before any route: header_timeout, body_timeout (408: the headers or the body
+         *     did not arrive within header_timeout_seconds / body_timeout_seconds),
+         *     too_many_headers, headers_too_large (431), too_many_connections (429 with
+         *     Retry-After: 1, over max_connections_per_address), too_large (413, a declared
+         *     Content-Length over max_body_bytes, before the body is read);
          *     queue_unavailable (503 with Retry-After: the Redis queue cannot be reached; nothing
          *     was accepted or changed); shutting_down (503); internal (500).
          */

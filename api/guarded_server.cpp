@@ -1,0 +1,113 @@
+#include "api/guarded_server.h"
+
+#include <poll.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+
+#include "api/guarded_stream.h"
+#include "api/problem.h"
+
+namespace spheremap::api {
+namespace {
+
+using Clock = GuardedStream::Clock;
+
+// A reverse proxy on the same host connects from here; a local client could exhaust the
+// machine by other means anyway.
+bool is_loopback(const std::string& address) {
+  return address == "127.0.0.1" || address == "::1" || address == "::ffff:127.0.0.1";
+}
+
+// Waits up to `timeout` for a next request, in short steps so a stopping server is seen.
+bool next_request_arrives(const std::atomic<socket_t>& server_socket, const GuardedStream& stream,
+                          Clock::duration timeout) {
+  if (stream.has_buffered()) return true;
+  const Clock::time_point until = Clock::now() + timeout;
+  while (server_socket != INVALID_SOCKET && Clock::now() < until) {
+    pollfd entry{stream.socket(), POLLIN, 0};
+    if (::poll(&entry, 1, 50) > 0) return true;
+  }
+  return false;
+}
+
+// Ends a connection so that an answer written just before reaches the client: the
+// request bytes it already sent are read and dropped (closing with unread bytes would
+// reset the connection and could discard the answer), at most 256 KiB, without waiting.
+void close_connection(socket_t socket) {
+  ::shutdown(socket, SHUT_WR);
+  char sink[4096];
+  for (int i = 0; i < 64 && ::recv(socket, sink, sizeof sink, MSG_DONTWAIT) > 0; ++i) {
+  }
+  ::close(socket);
+}
+
+void answer_too_many_connections(socket_t socket, size_t cap) {
+  const std::string body =
+      problem_json(Problem(429, "too_many_connections", "Too many connections",
+                           "this address already has max_connections_per_address (" +
+                               std::to_string(cap) +
+                               ") connections being served; reuse one "
+                               "(keep-alive) or retry after it ends"))
+          .dump() +
+      "\n";
+  const std::string answer =
+      "HTTP/1.1 429 Too Many Requests\r\nContent-Type: application/problem+json\r\n"
+      "Retry-After: 1\r\nContent-Length: " +
+      std::to_string(body.size()) + "\r\nConnection: close\r\n\r\n" + body;
+  (void)!::send(socket, answer.data(), answer.size(), MSG_NOSIGNAL | MSG_DONTWAIT);
+}
+
+}  // namespace
+
+bool GuardedServer::admit(const std::string& address) {
+  if (limits_.max_connections_per_address == 0 || is_loopback(address) ||
+      std::find(limits_.exempt.begin(), limits_.exempt.end(), address) != limits_.exempt.end())
+    return true;
+  std::lock_guard lock(mutex_);
+  size_t& count = connections_[address];
+  if (count >= limits_.max_connections_per_address) {
+    if (count == 0) connections_.erase(address);
+    return false;
+  }
+  ++count;
+  return true;
+}
+
+void GuardedServer::release(const std::string& address) {
+  std::lock_guard lock(mutex_);
+  const auto entry = connections_.find(address);
+  if (entry == connections_.end()) return;
+  if (--entry->second == 0) connections_.erase(entry);
+}
+
+bool GuardedServer::process_and_close_socket(socket_t socket) {
+  const auto io_timeout =
+      std::chrono::seconds(read_timeout_sec_) + std::chrono::microseconds(read_timeout_usec_);
+  GuardedStream stream(socket, limits_, io_timeout);
+  std::string address;
+  int port = 0;
+  stream.get_remote_ip_and_port(address, port);
+  if (!admit(address)) {
+    answer_too_many_connections(socket, limits_.max_connections_per_address);
+    close_connection(socket);
+    return false;
+  }
+  // The library's keep-alive loop, with one stream for the whole connection.
+  bool served = false;
+  for (size_t left = keep_alive_max_count_; left > 0; --left) {
+    if (!next_request_arrives(svr_sock_, stream, std::chrono::seconds(keep_alive_timeout_sec_)))
+      break;
+    stream.begin_request();
+    bool closed = false;
+    served = process_request(stream, left == 1, closed, nullptr);
+    if (!served || closed || stream.refused()) break;
+  }
+  release(address);
+  close_connection(socket);
+  return served;
+}
+
+}  // namespace spheremap::api

@@ -1,0 +1,39 @@
+// cpp-httplib's Server with each connection served through a GuardedStream: header and
+// body deadlines, header line and byte caps (connection_limits.h), a cap on connections
+// served at once per client address, and pipelined requests kept (cpp-httplib 0.11 reads
+// each request through a fresh buffer and drops bytes read ahead).
+//
+// It replaces the library's per-connection loop (Server::process_and_close_socket, a
+// virtual the library calls for every accepted socket) and nothing else: routing,
+// request parsing and response writing stay the library's (Server::process_request).
+#pragma once
+
+#include <httplib.h>
+
+#include <map>
+#include <mutex>
+#include <string>
+
+#include "api/connection_limits.h"
+
+namespace spheremap::api {
+
+class GuardedServer : public httplib::Server {
+ public:
+  GuardedServer() = default;
+  // Set before listening.
+  void set_connection_limits(ConnectionLimits limits) { limits_ = std::move(limits); }
+  const ConnectionLimits& connection_limits() const { return limits_; }
+
+ private:
+  bool process_and_close_socket(socket_t socket) override;
+  // Counts a connection from `address`; false when that address is at its cap.
+  bool admit(const std::string& address);
+  void release(const std::string& address);
+
+  ConnectionLimits limits_;
+  std::mutex mutex_;
+  std::map<std::string, size_t> connections_;  // served now, per counted address
+};
+
+}  // namespace spheremap::api
