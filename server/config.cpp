@@ -63,6 +63,7 @@ const std::vector<Setting>& settings() {
       {"worker_isolation", &ServerConfig::worker_isolation},
       {"worker_executable", &ServerConfig::worker_executable},
       {"worker_memory_bytes", &ServerConfig::worker_memory_bytes, 0, 1e15},
+      {"jobs_memory_bytes", &ServerConfig::jobs_memory_bytes, 0, 1e15},
       {"worker_cpu_seconds", &ServerConfig::worker_cpu_seconds, 0, 1e7},
   };
   return table;
@@ -133,6 +134,12 @@ int ServerConfig::effective_intake_threads() const {
   return intake_threads > 0 ? intake_threads : cores();
 }
 
+size_t ServerConfig::effective_jobs_memory_bytes() const {
+  if (jobs_memory_bytes > 0) return jobs_memory_bytes;
+  const size_t three_quarters = ServerConfig{}.effective_worker_memory_bytes();
+  return three_quarters > 0 ? three_quarters : size_t{4} << 30;
+}
+
 size_t ServerConfig::effective_worker_memory_bytes() const {
   if (worker_memory_bytes > 0) return worker_memory_bytes;
   const long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGESIZE);
@@ -152,6 +159,7 @@ nlohmann::json ServerConfig::to_json() const {
   out["threads_per_job"] = effective_threads_per_job();
   out["intake_threads"] = effective_intake_threads();
   out["worker_memory_bytes"] = effective_worker_memory_bytes();
+  out["jobs_memory_bytes"] = effective_jobs_memory_bytes();
   out["worker_cpu_seconds"] = effective_worker_cpu_seconds();
   return out;
 }

@@ -64,7 +64,10 @@ struct ServerConfig {
   std::string worker_isolation = "process";
   std::string worker_executable;   // "" = the server's own binary
   size_t worker_memory_bytes = 0;  // address space of a worker; 0 = 3/4 of physical memory
-  double worker_cpu_seconds = 0;   // CPU time of a worker; 0 = (2 x job limit + 60 s) x threads
+  // Expected peak memory of this node's running jobs together (server/memory_budget.h);
+  // 0 = 3/4 of physical memory. A job that does not fit waits.
+  size_t jobs_memory_bytes = 0;
+  double worker_cpu_seconds = 0;  // CPU time of a worker; 0 = (2 x job limit + 60 s) x threads
 
   bool shared_queue() const { return queue.starts_with("redis://"); }
   // The resolved worker and thread counts for this machine.
@@ -72,6 +75,7 @@ struct ServerConfig {
   int effective_threads_per_job() const;
   int effective_intake_threads() const;
   size_t effective_worker_memory_bytes() const;
+  size_t effective_jobs_memory_bytes() const;
   double effective_worker_cpu_seconds() const;
   nlohmann::json to_json() const;  // with the resolved counts, for the start-up log
 };

@@ -6,6 +6,7 @@
 #include <optional>
 
 #include "api/log.h"
+#include "server/job_memory.h"
 
 namespace spheremap::server {
 namespace {
@@ -27,8 +28,9 @@ void log_job(const char* what, const std::string& id, const std::string& detail 
 }  // namespace
 
 RedisWorkers::RedisWorkers(RedisJobQueue& queue, int count, RunLimits run, WorkerLimits process,
-                           bool isolation_thread, Observer observer)
+                           bool isolation_thread, MemoryBudget& budget, Observer observer)
     : queue_(queue),
+      budget_(budget),
       run_(run),
       process_(std::move(process)),
       isolation_thread_(isolation_thread),
@@ -153,6 +155,7 @@ void RedisWorkers::run_one(RedisConnection& redis, RedisConnection& beat,
       }
     }
   });
+  const auto charge = charge_job(budget_, *job);
   const JobStatus status = process ? process->run(*job, run_) : run_job(*job, run_);
   {
     std::lock_guard lock(companion_mutex);

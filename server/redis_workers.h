@@ -24,6 +24,7 @@
 #include <vector>
 
 #include "server/job_runner.h"
+#include "server/memory_budget.h"
 #include "server/redis_queue.h"
 #include "server/worker_process.h"
 
@@ -33,9 +34,10 @@ class RedisWorkers {
  public:
   using Observer = std::function<void(const std::shared_ptr<Job>&, JobStatus)>;
 
-  // `isolation_thread`: run jobs in this process (worker_isolation "thread").
+  // `isolation_thread`: run jobs in this process (worker_isolation "thread"). Each job is
+  // charged against `budget` (the node's) before it runs.
   RedisWorkers(RedisJobQueue& queue, int count, RunLimits run, WorkerLimits process,
-               bool isolation_thread, Observer observer);
+               bool isolation_thread, MemoryBudget& budget, Observer observer);
   ~RedisWorkers();  // stop(0)
 
   // Claims no more jobs; waits up to `grace_seconds` for running ones, then puts them
@@ -58,6 +60,7 @@ class RedisWorkers {
   bool persist(Action action);
 
   RedisJobQueue& queue_;
+  MemoryBudget& budget_;
   const RunLimits run_;
   const WorkerLimits process_;
   const bool isolation_thread_;

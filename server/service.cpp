@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "api/log.h"
+#include "server/job_memory.h"
 #include "server/job_runner.h"
 #include "server/worker_process.h"
 
@@ -78,7 +79,8 @@ Service::Service(ServerConfig config)
     : config_(std::move(config)),
       settings_(api_settings(config_)),
       api_keys_(load_api_keys(config_.api_keys)),
-      intake_(config_.effective_intake_threads(), config_.intake_timeout_seconds) {
+      intake_(config_.effective_intake_threads(), config_.intake_timeout_seconds),
+      budget_(config_.effective_jobs_memory_bytes()) {
   // A worker process that dies while we write its request must not kill the server.
   signal(SIGPIPE, SIG_IGN);
   auto observer = [this](const std::shared_ptr<Job>& job, JobStatus status) {
@@ -102,7 +104,7 @@ Service::Service(ServerConfig config)
     if (config_.effective_workers() > 0)
       redis_workers_ = std::make_unique<RedisWorkers>(
           *redis_, config_.effective_workers(), run_limits(config_), worker_limits(config_),
-          config_.worker_isolation == "thread", observer);
+          config_.worker_isolation == "thread", budget_, observer);
     return;
   }
   if (config_.effective_workers() == 0)
@@ -120,11 +122,17 @@ void Service::work() {
   const RunLimits limits = run_limits(config_);
   JobStore& store = *memory_;
   if (config_.worker_isolation == "thread") {
-    while (std::shared_ptr<Job> job = store.next()) store.finish(job, run_job(*job, limits));
+    while (std::shared_ptr<Job> job = store.next()) {
+      const auto charge = charge_job(budget_, *job);
+      store.finish(job, run_job(*job, limits));
+    }
     return;
   }
   WorkerProcess process(worker_limits(config_));
-  while (std::shared_ptr<Job> job = store.next()) store.finish(job, process.run(*job, limits));
+  while (std::shared_ptr<Job> job = store.next()) {
+    const auto charge = charge_job(budget_, *job);
+    store.finish(job, process.run(*job, limits));
+  }
 }
 
 void Service::observe(const std::shared_ptr<Job>& job, JobStatus status) {

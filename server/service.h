@@ -12,6 +12,7 @@
 #include "server/api_types.h"
 #include "server/config.h"
 #include "server/job_store.h"
+#include "server/memory_budget.h"
 #include "server/redis_queue.h"
 #include "server/redis_workers.h"
 
@@ -55,6 +56,7 @@ class Service : public Backend {
   const ApiKeys api_keys_;      // loaded from config_.api_keys at start (ConfigError if bad)
   ServiceMetrics metrics_;
   Intake intake_;
+  MemoryBudget budget_;                   // this node's running jobs, together
   std::unique_ptr<JobStore> memory_;      // memory://
   std::unique_ptr<RedisJobQueue> redis_;  // redis://
   std::unique_ptr<RedisWorkers> redis_workers_;

@@ -715,6 +715,31 @@ TEST(Service, Answers503WhenReadingOutlastsTheDeadline) {
   EXPECT_EQ(small->status, 202);
 }
 
+// With a memory budget smaller than any job, two workers map one job at a time: the
+// second waits, saying so in its progress, and both succeed.
+TEST(Service, JobsOverTheMemoryBudgetWaitTheirTurn) {
+  server::ServerConfig config = small_config();
+  config.jobs_memory_bytes = 1;
+  TestServer server(config);
+  auto client = server.client();
+  auto first =
+      post_glb(client, glb_of(testing::icosphere(5)), "/v1/jobs?outputs=remesh&resolution=512");
+  auto second = post_glb(client, glb_of(testing::icosphere(2)));
+  ASSERT_EQ(first->status, 202);
+  ASSERT_EQ(second->status, 202);
+  const std::string a = body_json(first)["id"], b = body_json(second)["id"];
+  bool seen_waiting = false;
+  for (int k = 0; k < 3000; ++k) {
+    const json job = body_json(client.Get(("/v1/jobs/" + b).c_str()));
+    if (job["progress"]["stage"] == "waiting_for_memory") seen_waiting = true;
+    if (job["status"] != "queued" && job["status"] != "running") break;
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  EXPECT_TRUE(seen_waiting);
+  EXPECT_EQ(wait_for(client, a)["status"], "succeeded");
+  EXPECT_EQ(wait_for(client, b)["status"], "succeeded");
+}
+
 TEST(Service, OversizeGets413) {
   server::ServerConfig config = small_config();
   config.max_body_bytes = 30000;

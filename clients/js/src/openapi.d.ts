@@ -301,7 +301,7 @@ export interface components {
                 faces?: number;
             };
             progress: {
-                /** @description queued, starting, hierarchy, optimize, polish, project, smooth, repair, fallback, verify, writing, remesh, uv, morph, or the final status */
+                /** @description queued, starting, waiting_for_memory (jobs_memory_bytes of the node is taken; it starts when a running job ends), hierarchy, optimize, polish, project, smooth, repair, fallback, verify, writing, remesh, uv, morph, or the final status */
                 stage?: string;
                 level?: number;
                 levels?: number;

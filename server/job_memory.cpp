@@ -1,0 +1,54 @@
+#include "server/job_memory.h"
+
+#include <algorithm>
+
+#include "api/log.h"
+
+namespace spheremap::server {
+
+size_t estimated_job_bytes(const api::JobSpec& spec) {
+  // Polygons as the fan triangulation the engine maps: a face of n corners is n - 2.
+  const size_t triangles = spec.input.indices.size() - 2 * spec.input.face_count();
+  const auto wants = [&](const char* output) {
+    return std::find(spec.outputs.begin(), spec.outputs.end(), output) != spec.outputs.end();
+  };
+  size_t bytes = (16u << 20) + 400 * triangles;
+  if (wants("remesh")) {
+    const size_t side = static_cast<size_t>(std::max(spec.remesh_resolution, 1));
+    bytes += (96u << 20) + 400 * side * side;
+  }
+  if (wants("uv")) bytes += 100 * triangles;
+  if (wants("morph")) bytes += 100 * triangles;
+  return bytes;
+}
+
+std::optional<MemoryBudget::Charge> charge_job(MemoryBudget& budget, api::Job& job) {
+  size_t bytes;
+  {
+    std::lock_guard lock(job.mutex);
+    bytes = job.spec ? estimated_job_bytes(*job.spec) : 0;
+  }
+  bool told = false;
+  auto charge = budget.acquire(bytes, [&] {
+    if (!told) {
+      told = true;
+      {
+        std::lock_guard lock(job.mutex);
+        job.progress.stage = "waiting_for_memory";
+      }
+      api::log_event({{"event", "memory_wait"},
+                      {"job", job.id},
+                      {"estimate_bytes", bytes},
+                      {"in_use_bytes", budget.in_use()},
+                      {"budget_bytes", budget.total()}});
+    }
+    return job.cancel.load();
+  });
+  if (told) {
+    std::lock_guard lock(job.mutex);
+    job.progress.stage = "starting";
+  }
+  return charge;
+}
+
+}  // namespace spheremap::server

@@ -1,0 +1,27 @@
+// A job's expected peak memory, charged against the node's MemoryBudget before it runs.
+//
+// Fitted to peak resident memory of `spheremap map` / `remesh` (GNU time, 2 threads,
+// 2026-11-23; BENCHMARKS.md "Memory per job"): map 11.6 MB at 5,856 triangles (spot),
+// 40 MB at 96,966 (horse), 100 MB at 268,686 (igea), 427 MB at 1,310,720 (generated
+// fingers): about 8 MB + 320 bytes per triangle. The remesh adds 92 MB (horse) at
+// resolution 256 and 415 MB (horse) / 372 MB (igea) at 1024: about 80 MB + 330 bytes
+// per resolution squared. uv and morph keep a few more copies of the vertices.
+// The figures here round those up (the estimate should rather wait than overcommit).
+#pragma once
+
+#include <cstddef>
+#include <optional>
+
+#include "api/job.h"
+#include "server/memory_budget.h"
+
+namespace spheremap::server {
+
+size_t estimated_job_bytes(const api::JobSpec& spec);
+
+// Charges `job` its estimate against `budget`, waiting while it does not fit (the job's
+// progress stage is then "waiting_for_memory", and the wait is logged). nullopt when the
+// job is cancelled meanwhile; the caller runs it anyway, and it ends as cancelled.
+std::optional<MemoryBudget::Charge> charge_job(MemoryBudget& budget, api::Job& job);
+
+}  // namespace spheremap::server

@@ -1,0 +1,102 @@
+// The node's memory budget for running jobs (server/memory_budget.h): charges add up to
+// at most the budget, waiters are served in order of arrival (a large job is not
+// overtaken for ever), a waiter can give up, and a job above the whole budget runs alone.
+#include "server/memory_budget.h"
+
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <mutex>
+#include <thread>
+#include <vector>
+
+#include "server/job_memory.h"
+
+namespace spheremap {
+namespace {
+
+using server::MemoryBudget;
+
+const auto never = [] { return false; };
+
+TEST(MemoryBudget, ChargesAddUpToTheBudgetAndComeBack) {
+  MemoryBudget budget(100);
+  auto a = budget.acquire(60, never);
+  ASSERT_TRUE(a);
+  EXPECT_EQ(budget.in_use(), 60u);
+  {
+    auto b = budget.acquire(40, never);
+    ASSERT_TRUE(b);
+    EXPECT_EQ(budget.in_use(), 100u);
+  }
+  EXPECT_EQ(budget.in_use(), 60u);
+  // Above the whole budget: charged the whole budget, so it waits for everything else.
+  std::atomic<bool> got{false};
+  std::thread huge([&] {
+    auto c = budget.acquire(1000, never);
+    EXPECT_EQ(c->bytes(), 100u);
+    got = true;
+  });
+  std::this_thread::sleep_for(std::chrono::milliseconds(150));
+  EXPECT_FALSE(got);
+  a.reset();
+  huge.join();
+  EXPECT_TRUE(got);
+  EXPECT_EQ(budget.in_use(), 0u);
+}
+
+TEST(MemoryBudget, WaitersAreServedInOrderOfArrival) {
+  MemoryBudget budget(100);
+  auto first = budget.acquire(70, never);
+  std::vector<int> order;
+  std::mutex order_mutex;
+  // The large one arrives first and must not be overtaken by the small one, which
+  // would fit now (and cannot run beside the large one: 80 + 30 > 100).
+  std::thread large([&] {
+    auto c = budget.acquire(80, never);
+    std::lock_guard lock(order_mutex);
+    order.push_back(80);
+  });
+  std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  std::thread small([&] {
+    auto c = budget.acquire(30, never);
+    std::lock_guard lock(order_mutex);
+    order.push_back(30);
+  });
+  std::this_thread::sleep_for(std::chrono::milliseconds(150));
+  {
+    std::lock_guard lock(order_mutex);
+    EXPECT_TRUE(order.empty());
+  }
+  first.reset();
+  large.join();
+  small.join();
+  EXPECT_EQ(order, (std::vector<int>{80, 30}));
+}
+
+TEST(MemoryBudget, AWaiterThatGivesUpLeavesTheLine) {
+  MemoryBudget budget(100);
+  auto held = budget.acquire(100, never);
+  std::atomic<bool> cancel{false};
+  std::thread waiter([&] { EXPECT_FALSE(budget.acquire(10, [&] { return cancel.load(); })); });
+  std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  cancel = true;
+  waiter.join();
+  held.reset();
+  EXPECT_TRUE(budget.acquire(100, never));  // nobody left ahead of it
+}
+
+TEST(JobMemory, EstimatesGrowWithTrianglesAndTheRemesh) {
+  api::JobSpec spec;
+  spec.input.positions.resize(4);
+  spec.input.indices = {0, 1, 2, 0, 2, 3, 0, 3, 1, 1, 3, 2};
+  spec.input.offsets = {0, 3, 6, 9, 12};
+  const size_t small = server::estimated_job_bytes(spec);
+  EXPECT_EQ(small, (16u << 20) + 400 * 4);
+  spec.outputs = {"sphere", "remesh"};
+  spec.remesh_resolution = 1024;
+  EXPECT_EQ(server::estimated_job_bytes(spec), small + (96u << 20) + 400 * 1024 * 1024);
+}
+
+}  // namespace
+}  // namespace spheremap
