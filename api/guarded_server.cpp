@@ -83,7 +83,7 @@ void GuardedServer::release(const std::string& address) {
   if (--entry->second == 0) connections_.erase(entry);
 }
 
-bool GuardedServer::process_and_close_socket(socket_t socket) {
+bool GuardedServer::serve_connection(socket_t socket) {
   const auto io_timeout =
       std::chrono::seconds(read_timeout_sec_) + std::chrono::microseconds(read_timeout_usec_);
   GuardedStream stream(socket, limits_, io_timeout);

@@ -25,8 +25,13 @@ class GuardedServer : public httplib::Server {
   void set_connection_limits(ConnectionLimits limits) { limits_ = std::move(limits); }
   const ConnectionLimits& connection_limits() const { return limits_; }
 
+  // Serves one accepted connection to its end and closes it: what the listener does for
+  // every socket it accepts (public for the connection fuzzer, which hands it one end of
+  // a socket pair; the server must be bound, or no second request is read).
+  bool serve_connection(socket_t socket);
+
  private:
-  bool process_and_close_socket(socket_t socket) override;
+  bool process_and_close_socket(socket_t socket) override { return serve_connection(socket); }
   // Counts a connection from `address`; false when that address is at its cap.
   bool admit(const std::string& address);
   void release(const std::string& address);

@@ -21,10 +21,12 @@ if [ "${SPHEREMAP_SKIP_SANITIZERS:-0}" != 1 ]; then
   (cd build-asan && ASAN_OPTIONS=detect_leaks=1 ctest --output-on-failure -j "$(nproc)")
 fi
 # libFuzzer (clang, ASan + UBSan) for a fixed time from seeds: the glTF reader, and the
-# whole request path (content type, query, body, multipart parts) with inputs up to 4 MB.
+# whole request path (content type, query, body, multipart parts) with inputs up to 4 MB,
+# and the bytes of a connection through the connection layer and the HTTP parser.
 # A crash fails the run; its input is in build-fuzz/crashes/ (SPHEREMAP_SKIP_FUZZ=1 skips).
 if [ "${SPHEREMAP_SKIP_FUZZ:-0}" != 1 ]; then
   tests/fuzz/run.sh "${SPHEREMAP_FUZZ_SECONDS:-60}" request_fuzzer
+  tests/fuzz/run.sh "${SPHEREMAP_FUZZ_SECONDS:-60}" connection_fuzzer
   tests/fuzz/run.sh "${SPHEREMAP_FUZZ_SECONDS:-60}" gltf_fuzzer
 fi
 # The container: build the image, map a mesh in it, SIGTERM (docker/smoke-test.sh;

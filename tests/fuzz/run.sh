@@ -25,6 +25,12 @@ if [ "$target" = request_fuzzer ]; then  # submissions as the tests send them
     printf '\n--\n{"quality": "fast", "largest_component": true}'; } > "$seeds/multipart"
   printf '\002mesh=0\n{"asset":{"version":"2.0"},"buffers":[{"uri":"a%%20b.bin","byteLength":4}]}\n--\na b.bin\nABCD' > "$seeds/gltf_parts"
   printf '\001\n{"asset":{"version":"2.0"},"extensionsRequired":["EXT_meshopt_compression"],"buffers":[{"byteLength":8,"extensions":{"EXT_meshopt_compression":{"fallback":true}}}]}' > "$seeds/meshopt"
+elif [ "$target" = connection_fuzzer ]; then  # requests as clients send them
+  printf 'GET /v1/jobs/0123456789abcdef0123456789abcdef HTTP/1.1\r\nHost: x\r\n\r\nGET /healthz HTTP/1.1\r\nHost: x\r\nConnection: close\r\n\r\n' > "$seeds/pipelined"
+  printf 'POST /v1/jobs HTTP/1.1\r\nHost: x\r\nContent-Type: model/gltf-binary\r\nContent-Length: 8\r\n\r\nglTFglTF' > "$seeds/post"
+  printf 'POST /v1/jobs HTTP/1.1\r\nHost: x\r\nContent-Type: multipart/form-data; boundary=b\r\nContent-Length: 98\r\n\r\n--b\r\nContent-Disposition: form-data; name="mesh"; filename="m.glb"\r\n\r\nglTF\r\n--b--\r\n' > "$seeds/multipart"
+  printf 'POST /v1/jobs HTTP/1.1\r\nHost: x\r\nTransfer-Encoding: chunked\r\n\r\n4\r\nglTF\r\n0\r\n\r\n' > "$seeds/chunked"
+  printf 'GET /v1/openapi.yaml HTTP/1.1\r\nHost: x\r\nRange: bytes=0-1,2-3\r\nX-a: b\r\nX-b: c\r\n\r\n' > "$seeds/headers"
 elif [ "$target" = options_fuzzer ]; then  # the options the tests and the README use
   printf '%s' '{"draco": true, "draco_position_bits": 16, "layout": "welded"}' > "$seeds/a.json"
   printf '%s' '{"method": "paper", "max_iterations": 200, "time_limit_seconds": 0.5}' > "$seeds/b.json"
