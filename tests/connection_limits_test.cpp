@@ -18,6 +18,7 @@
 namespace spheremap {
 namespace {
 
+using testing::connect_from;
 using testing::TestServer;
 using Clock = std::chrono::steady_clock;
 
@@ -30,21 +31,6 @@ server::ServerConfig limits_config() {
   config.body_timeout_seconds = 0.5;
   config.worker_isolation = "thread";
   return config;
-}
-
-// A TCP connection to the test server from `source` (any 127.x.y.z address reaches it).
-int connect_from(int port, const char* source) {
-  const int fd = socket(AF_INET, SOCK_STREAM, 0);
-  sockaddr_in local{};
-  local.sin_family = AF_INET;
-  inet_pton(AF_INET, source, &local.sin_addr);
-  EXPECT_EQ(bind(fd, reinterpret_cast<sockaddr*>(&local), sizeof local), 0);
-  sockaddr_in address{};
-  address.sin_family = AF_INET;
-  address.sin_port = htons(static_cast<uint16_t>(port));
-  address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  EXPECT_EQ(connect(fd, reinterpret_cast<sockaddr*>(&address), sizeof address), 0);
-  return fd;
 }
 
 void send_text(int fd, const std::string& text) {

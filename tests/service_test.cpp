@@ -58,12 +58,8 @@ server::ServerConfig small_config() {
 
 // A raw TCP client that can stop half-way.
 int connect_to(int port) {
-  const int fd = socket(AF_INET, SOCK_STREAM, 0);
-  sockaddr_in address{};
-  address.sin_family = AF_INET;
-  address.sin_port = htons(static_cast<uint16_t>(port));
-  address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  EXPECT_EQ(connect(fd, reinterpret_cast<sockaddr*>(&address), sizeof address), 0);
+  const int fd = testing::connect_from(port, "127.0.0.1");
+  EXPECT_GE(fd, 0);
   return fd;
 }
 

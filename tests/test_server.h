@@ -2,7 +2,11 @@
 // and cpp-httplib server as `spheremap serve`, without the signal handling.
 #pragma once
 
+#include <arpa/inet.h>
 #include <httplib.h>
+#include <netinet/in.h>
+#include <sys/socket.h>
+#include <unistd.h>
 
 #include <memory>
 #include <thread>
@@ -42,5 +46,20 @@ class TestServer {
   int port_ = 0;
   std::thread listener_;
 };
+
+// A TCP connection to the test server from `source` (any 127.x.y.z address reaches it).
+inline int connect_from(int port, const char* source) {
+  const int fd = socket(AF_INET, SOCK_STREAM, 0);
+  sockaddr_in local{};
+  local.sin_family = AF_INET;
+  inet_pton(AF_INET, source, &local.sin_addr);
+  if (bind(fd, reinterpret_cast<sockaddr*>(&local), sizeof local) != 0) return close(fd), -1;
+  sockaddr_in address{};
+  address.sin_family = AF_INET;
+  address.sin_port = htons(static_cast<uint16_t>(port));
+  address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  if (connect(fd, reinterpret_cast<sockaddr*>(&address), sizeof address) != 0) return close(fd), -1;
+  return fd;
+}
 
 }  // namespace spheremap::testing
