@@ -93,6 +93,7 @@ bool GuardedServer::serve_connection(socket_t socket) {
   if (!admit(address)) {
     answer_too_many_connections(socket, limits_.max_connections_per_address);
     close_connection(socket);
+    if (observer_) observer_("too_many_connections", address);
     return false;
   }
   // The library's keep-alive loop, with one stream for the whole connection.
@@ -107,6 +108,7 @@ bool GuardedServer::serve_connection(socket_t socket) {
   }
   release(address);
   close_connection(socket);
+  if (stream.refused() && observer_) observer_(stream.refusal(), address);
   return served;
 }
 

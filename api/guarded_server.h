@@ -10,6 +10,7 @@
 
 #include <httplib.h>
 
+#include <functional>
 #include <map>
 #include <mutex>
 #include <string>
@@ -24,6 +25,10 @@ class GuardedServer : public httplib::Server {
   // Set before listening.
   void set_connection_limits(ConnectionLimits limits) { limits_ = std::move(limits); }
   const ConnectionLimits& connection_limits() const { return limits_; }
+  // Told of every connection the limits end (the problem's slug, the peer's address), for
+  // the log and the metrics: no handler and no request log sees those.
+  using RefusalObserver = std::function<void(const std::string& slug, const std::string& address)>;
+  void set_refusal_observer(RefusalObserver observer) { observer_ = std::move(observer); }
 
   // Serves one accepted connection to its end and closes it: what the listener does for
   // every socket it accepts (public for the connection fuzzer, which hands it one end of
@@ -37,6 +42,7 @@ class GuardedServer : public httplib::Server {
   void release(const std::string& address);
 
   ConnectionLimits limits_;
+  RefusalObserver observer_;
   std::mutex mutex_;
   std::map<std::string, size_t> connections_;  // served now, per counted address
 };

@@ -169,6 +169,7 @@ void GuardedStream::refuse(int status, const char* reason, const std::string& sl
                              std::to_string(body.size()) + "\r\nConnection: close\r\n\r\n" + body;
   write(answer.data(), answer.size());
   refused_ = true;
+  refusal_ = slug;
 }
 
 ssize_t GuardedStream::write(const char* ptr, size_t size) {

@@ -33,6 +33,8 @@ class GuardedStream final : public httplib::Stream {
   bool has_buffered() const { return begin_ < end_; }
   // A limit was broken and answered: the connection must close.
   bool refused() const { return refused_; }
+  // Its problem slug ("header_timeout", ...), once refused.
+  const std::string& refusal() const { return refusal_; }
 
   bool is_readable() const override;
   bool is_writable() const override;
@@ -63,6 +65,7 @@ class GuardedStream final : public httplib::Stream {
   std::string line_start_;  // its first bytes, lower case: enough to see Content-Length
   unsigned long long declared_length_ = 0;
   bool refused_ = false;
+  std::string refusal_;
   std::array<char, 4096> buffer_{};
   size_t begin_ = 0, end_ = 0;  // unread bytes are buffer_[begin_, end_)
 };

@@ -355,6 +355,10 @@ void install_api(GuardedServer& http, Backend& service) {
   limits.exempt = config.trusted_proxies;
   limits.max_body_bytes = config.max_body_bytes;
   http.set_connection_limits(std::move(limits));
+  http.set_refusal_observer([&service](const std::string& slug, const std::string& address) {
+    service.metrics().rejected(slug);
+    log_event({{"event", "connection_refused"}, {"problem", slug}, {"remote", address}});
+  });
   const size_t http_threads = static_cast<size_t>(config.http_threads);
   http.new_task_queue = [http_threads] { return new httplib::ThreadPool(http_threads); };
   http.set_payload_max_length(config.max_body_bytes);

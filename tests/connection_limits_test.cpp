@@ -73,6 +73,11 @@ TEST(ConnectionLimits, HeadersTrickledPastTheDeadlineGet408) {
   EXPECT_EQ(status_line(answer), "HTTP/1.1 408 Request Timeout");
   EXPECT_NE(answer.find("header_timeout"), std::string::npos);
   EXPECT_LT(std::chrono::duration<double>(Clock::now() - start).count(), 2.0);
+  // Counted where operators look (no request log line exists for it).
+  auto client = server.client();
+  EXPECT_NE(
+      client.Get("/metrics")->body.find("spheremap_rejections_total{reason=\"header_timeout\"} 1"),
+      std::string::npos);
 }
 
 TEST(ConnectionLimits, BodyTrickledPastTheDeadlineGets408) {
