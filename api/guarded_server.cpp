@@ -15,6 +15,8 @@ namespace {
 
 using Clock = GuardedStream::Clock;
 
+thread_local const GuardedStream* serving = nullptr;
+
 // A reverse proxy on the same host connects from here; a local client could exhaust the
 // machine by other means anyway.
 bool is_loopback(const std::string& address) {
@@ -83,19 +85,25 @@ void GuardedServer::release(const std::string& address) {
   if (--entry->second == 0) connections_.erase(entry);
 }
 
+const GuardedStream* GuardedServer::stream_of_this_thread() {
+  return serving;
+}
+
 bool GuardedServer::serve_connection(socket_t socket) {
   const auto io_timeout =
       std::chrono::seconds(read_timeout_sec_) + std::chrono::microseconds(read_timeout_usec_);
   GuardedStream stream(socket, limits_, io_timeout);
-  std::string address;
-  int port = 0;
-  stream.get_remote_ip_and_port(address, port);
+  const std::string& address = stream.peer_address();
   if (!admit(address)) {
     answer_too_many_connections(socket, limits_.max_connections_per_address);
     close_connection(socket);
     if (observer_) observer_("too_many_connections", address);
     return false;
   }
+  stream.on_refusal([this, &address](const std::string& slug) {
+    if (observer_) observer_(slug, address);
+  });
+  serving = &stream;
   // The library's keep-alive loop, with one stream for the whole connection.
   bool served = false;
   for (size_t left = keep_alive_max_count_; left > 0; --left) {
@@ -106,9 +114,9 @@ bool GuardedServer::serve_connection(socket_t socket) {
     served = process_request(stream, left == 1, closed, nullptr);
     if (!served || closed || stream.refused()) break;
   }
+  serving = nullptr;
   release(address);
   close_connection(socket);
-  if (stream.refused() && observer_) observer_(stream.refusal(), address);
   return served;
 }
 

@@ -16,6 +16,7 @@
 #include <string>
 
 #include "api/connection_limits.h"
+#include "api/guarded_stream.h"
 
 namespace spheremap::api {
 
@@ -34,6 +35,11 @@ class GuardedServer : public httplib::Server {
   // every socket it accepts (public for the connection fuzzer, which hands it one end of
   // a socket pair; the server must be bound, or no second request is read).
   bool serve_connection(socket_t socket);
+
+  // The connection this thread is serving now (nullptr off a connection thread): what the
+  // request logger reads for requests the library gives up on before routing, which carry
+  // neither a start time nor a remote address of their own.
+  static const GuardedStream* stream_of_this_thread();
 
  private:
   bool process_and_close_socket(socket_t socket) override { return serve_connection(socket); }

@@ -51,11 +51,14 @@ void name_of(const sockaddr_storage& address, socklen_t length, std::string& ip,
 
 GuardedStream::GuardedStream(socket_t socket, const ConnectionLimits& limits,
                              Clock::duration io_timeout)
-    : socket_(socket), limits_(limits), io_timeout_(io_timeout) {}
+    : socket_(socket), limits_(limits), io_timeout_(io_timeout) {
+  int port = 0;
+  get_remote_ip_and_port(peer_address_, port);
+}
 
 void GuardedStream::begin_request() {
   phase_ = Phase::kHeaders;
-  phase_start_ = Clock::now();
+  phase_start_ = request_start_ = Clock::now();
   header_bytes_ = header_lines_ = line_length_ = 0;
   line_start_.clear();
   declared_length_ = 0;
@@ -167,6 +170,7 @@ void GuardedStream::refuse(int status, const char* reason, const std::string& sl
   const std::string answer = "HTTP/1.1 " + std::to_string(status) + " " + reason +
                              "\r\nContent-Type: application/problem+json\r\nContent-Length: " +
                              std::to_string(body.size()) + "\r\nConnection: close\r\n\r\n" + body;
+  if (on_refusal_) on_refusal_(slug);
   write(answer.data(), answer.size());
   refused_ = true;
   refusal_ = slug;

@@ -13,6 +13,7 @@
 
 #include <array>
 #include <chrono>
+#include <functional>
 #include <string>
 
 #include "api/connection_limits.h"
@@ -29,6 +30,15 @@ class GuardedStream final : public httplib::Stream {
 
   // Starts the next request on the connection: the header clock runs from now.
   void begin_request();
+  // When the current request's first bytes were there (begin_request).
+  Clock::time_point request_start() const { return request_start_; }
+  // The peer's numeric address ("" if the socket has none).
+  const std::string& peer_address() const { return peer_address_; }
+  // Called with the problem slug as a limit is broken, before the answer is written, so
+  // whatever it records is there before the client can see the answer.
+  void on_refusal(std::function<void(const std::string& slug)> callback) {
+    on_refusal_ = std::move(callback);
+  }
   // Bytes of a next request are already here (no need to wait for the socket).
   bool has_buffered() const { return begin_ < end_; }
   // A limit was broken and answered: the connection must close.
@@ -59,6 +69,9 @@ class GuardedStream final : public httplib::Stream {
   Clock::duration io_timeout_;
   Phase phase_ = Phase::kHeaders;
   Clock::time_point phase_start_ = Clock::now();
+  Clock::time_point request_start_ = phase_start_;
+  std::string peer_address_;
+  std::function<void(const std::string&)> on_refusal_;
   size_t header_bytes_ = 0;
   size_t header_lines_ = 0;
   size_t line_length_ = 0;  // bytes of the current header line before its '\n'

@@ -250,8 +250,6 @@ httplib::Server::Handler guarded(Body body) {
   };
 }
 
-thread_local Clock::time_point request_start;
-
 // The methods a known path answers, for 405 + Allow ("" for a path we do not serve).
 // Plain string tests: std::regex trips GCC 12's maybe-uninitialized warning under ASan.
 std::string allowed_methods(const std::string& path) {
@@ -375,7 +373,6 @@ void install_api(GuardedServer& http, Backend& service) {
 
   http.set_pre_routing_handler([&service](const httplib::Request& request,
                                           httplib::Response& response) {
-    request_start = Clock::now();
     // With API keys every /v1 route but the API's own description needs a valid key,
     // checked before any body is read. Preflights carry no credentials (CORS).
     if (service.api_keys().enabled() && request.path.starts_with("/v1/") &&
@@ -440,18 +437,27 @@ void install_api(GuardedServer& http, Backend& service) {
     response.set_header("Access-Control-Max-Age", "600");
   });
   http.set_logger([&service](const httplib::Request& request, const httplib::Response& response) {
+    // A request the connection limits refused is logged and counted once, as
+    // connection_refused; the library still calls this for it, with a status of its own.
+    const GuardedStream* stream = GuardedServer::stream_of_this_thread();
+    if (stream && stream->refused()) return;
     service.metrics().request(response.status);
+    // Timed from the request's first bytes, which the connection saw. Requests the
+    // library gives up on before routing (a malformed request line) carry no remote
+    // address: the connection has it.
+    const Clock::time_point started = stream ? stream->request_start() : Clock::now();
+    std::string remote = client_address(service.settings(), request);
+    if (remote.empty() && stream) remote = stream->peer_address();
     nlohmann::json line = {
         {"event", "request"},
         {"method", request.method},
         {"path", request.path},
         {"status", response.status},
-        {"ms",
-         rounded_seconds(
-             std::chrono::duration<double, std::milli>(Clock::now() - request_start).count())},
+        {"ms", rounded_seconds(
+                   std::chrono::duration<double, std::milli>(Clock::now() - started).count())},
         {"bytes_in", request.body.size()},
         {"bytes_out", response.body.size()},
-        {"remote", client_address(service.settings(), request)}};
+        {"remote", remote}};
     if (response.has_header("Spheremap-Job"))
       line["job"] = response.get_header_value("Spheremap-Job");
     log_event(std::move(line));

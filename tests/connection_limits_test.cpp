@@ -73,11 +73,32 @@ TEST(ConnectionLimits, HeadersTrickledPastTheDeadlineGet408) {
   EXPECT_EQ(status_line(answer), "HTTP/1.1 408 Request Timeout");
   EXPECT_NE(answer.find("header_timeout"), std::string::npos);
   EXPECT_LT(std::chrono::duration<double>(Clock::now() - start).count(), 2.0);
-  // Counted where operators look (no request log line exists for it).
+  // Counted where operators look, once: as a rejection, not also as a response of the
+  // library's own (it reports a refused request as a 400).
   auto client = server.client();
-  EXPECT_NE(
-      client.Get("/metrics")->body.find("spheremap_rejections_total{reason=\"header_timeout\"} 1"),
-      std::string::npos);
+  const std::string metrics = client.Get("/metrics")->body;
+  EXPECT_NE(metrics.find("spheremap_rejections_total{reason=\"header_timeout\"} 1"),
+            std::string::npos);
+  EXPECT_EQ(metrics.find("spheremap_http_responses_total{code=\"400\"}"), std::string::npos);
+}
+
+TEST(ConnectionLimits, ARequestRefusedBeforeRoutingIsLoggedWithItsPeerAndDuration) {
+  TestServer server(limits_config());
+  ::testing::internal::CaptureStderr();
+  const int fd = connect_from(server.port(), "127.0.0.2");
+  send_text(fd, "NONSENSE\r\n\r\n");
+  const std::string answer = read_all(fd, 2);
+  close(fd);
+  // Read until the server closes (after logging) or 2 s pass: the line is written.
+  const std::string log = ::testing::internal::GetCapturedStderr();
+  EXPECT_EQ(status_line(answer), "HTTP/1.1 400 Bad Request");
+  const size_t at = log.find("\"event\":\"request\"");
+  ASSERT_NE(at, std::string::npos) << log;
+  const std::string line = log.substr(at, log.find('\n', at) - at);
+  EXPECT_NE(line.find("\"remote\":\"127.0.0.2\""), std::string::npos) << line;
+  const size_t ms = line.find("\"ms\":");
+  ASSERT_NE(ms, std::string::npos) << line;
+  EXPECT_LT(std::stod(line.substr(ms + 5)), 10'000.0) << line;
 }
 
 TEST(ConnectionLimits, BodyTrickledPastTheDeadlineGets408) {
