@@ -121,25 +121,39 @@ class CollapsibleMesh {
   mutable std::vector<std::array<uint32_t, 2>> pairs_;
 };
 
-struct Collapse {
-  uint32_t u, v;
-  std::vector<uint32_t> ring;  // input ids, oriented
+// The collapses in order, their rings (input ids, oriented) in one flat array.
+struct CollapseLog {
+  struct Entry {
+    uint32_t u, v;
+    uint32_t ring_begin, ring_end;  // into rings
+  };
+  std::vector<Entry> entries;
+  std::vector<uint32_t> rings;
+
+  void add(uint32_t u, uint32_t v, const std::vector<uint32_t>& ring) {
+    const auto begin = static_cast<uint32_t>(rings.size());
+    rings.insert(rings.end(), ring.begin(), ring.end());
+    entries.push_back({u, v, begin, static_cast<uint32_t>(rings.size())});
+  }
+  std::span<const uint32_t> ring(const Entry& e) const {
+    return {rings.data() + e.ring_begin, e.ring_end - e.ring_begin};
+  }
 };
+
+// Alive vertices by (shortest squared edge, id), kept sorted across rounds: a round
+// changes the keys of the vertices it touched only, so it re-sorts those and merges
+// them back instead of sorting every alive vertex again (that sort and a scan of all n
+// vertices per round were a fifth of the hierarchy's time at 100K faces).
+using Order = std::vector<std::pair<double, uint32_t>>;
 
 // One round: an independent set of collapses (touched = u and its ring), vertices
 // taken in order of their shortest edge, each trying its ring shortest edge first.
 // `keys` caches each vertex's shortest squared edge; only vertices a collapse touched
-// need a new one, so the round refreshes those at its end.
+// need a new one, so the round refreshes those at its end, and `order` with them.
 size_t collapse_round(CollapsibleMesh& mesh, std::span<const Vec3> x, bool geometric_test,
-                      std::vector<Collapse>& log, std::vector<char>& touched,
-                      std::vector<double>& keys) {
-  const uint32_t n = static_cast<uint32_t>(x.size());
+                      CollapseLog& log, std::vector<char>& touched, std::vector<double>& keys,
+                      Order& order) {
   std::vector<uint32_t> ring;
-  std::vector<std::pair<double, uint32_t>> order;
-  order.reserve(mesh.alive_vertices());
-  for (uint32_t u = 0; u < n; ++u)
-    if (mesh.alive(u)) order.push_back({keys[u], u});
-  std::sort(order.begin(), order.end());
   std::vector<uint32_t> touched_list;
   std::vector<std::pair<double, uint32_t>> candidates;
   size_t collapsed = 0;
@@ -153,7 +167,7 @@ size_t collapse_round(CollapsibleMesh& mesh, std::span<const Vec3> x, bool geome
     for (const auto& [length2, v] : candidates) {
       if (!mesh.link_condition(v, ring)) continue;
       if (geometric_test && !mesh.keeps_geometry(u, v)) continue;
-      log.push_back({u, v, ring});
+      log.add(u, v, ring);
       mesh.collapse(u, v);
       touched[u] = 1;
       touched_list.push_back(u);
@@ -162,14 +176,29 @@ size_t collapse_round(CollapsibleMesh& mesh, std::span<const Vec3> x, bool geome
       break;
     }
   }
-  for (uint32_t w : touched_list) touched[w] = 0;
-  // Keys of the touched vertices, in parallel (each writes its own).
-  const long long count = static_cast<long long>(touched_list.size());
+  // The order without the touched vertices (removed or re-keyed)...
+  std::erase_if(
+      order, [&](const std::pair<double, uint32_t>& entry) { return touched[entry.second] != 0; });
+  // ...and the touched ones still alive, once each, with their new keys.
+  std::vector<uint32_t> rekeyed;
+  for (uint32_t w : touched_list)
+    if (touched[w]) {
+      touched[w] = 0;
+      if (mesh.alive(w)) rekeyed.push_back(w);
+    }
+  const long long count = static_cast<long long>(rekeyed.size());
 #pragma omp parallel for schedule(static) if (count > 20000)
   for (long long k = 0; k < count; ++k) {
-    const uint32_t w = touched_list[static_cast<size_t>(k)];
-    if (mesh.alive(w)) keys[w] = mesh.min_edge_length2(w);
+    const uint32_t w = rekeyed[static_cast<size_t>(k)];
+    keys[w] = mesh.min_edge_length2(w);  // each writes its own
   }
+  Order merged;
+  merged.reserve(rekeyed.size());
+  for (uint32_t w : rekeyed) merged.push_back({keys[w], w});
+  std::sort(merged.begin(), merged.end());
+  const size_t kept = order.size();
+  order.insert(order.end(), merged.begin(), merged.end());
+  std::inplace_merge(order.begin(), order.begin() + static_cast<std::ptrdiff_t>(kept), order.end());
   return collapsed;
 }
 
@@ -187,15 +216,21 @@ CollapseHierarchy build_hierarchy(std::span<const Vec3> positions,
   const size_t n = positions.size();
   CollapsibleMesh mesh(positions, triangles);
   CollapseHierarchy h;
-  std::vector<Collapse> log;
+  CollapseLog log;
   std::vector<std::vector<Triangle>> snapshots;  // input ids, finest first
   std::vector<uint32_t> sizes{static_cast<uint32_t>(n)};
   bool geometric_test = true;
   std::vector<char> touched(n, 0);
   std::vector<double> keys(n);
-  for (uint32_t u = 0; u < n; ++u) keys[u] = mesh.min_edge_length2(u);
+  Order order(n);
+  for (uint32_t u = 0; u < n; ++u) {
+    keys[u] = mesh.min_edge_length2(u);
+    order[u] = {keys[u], u};
+  }
+  std::sort(order.begin(), order.end());
   while (mesh.alive_vertices() > 4) {
-    const size_t collapsed = collapse_round(mesh, positions, geometric_test, log, touched, keys);
+    const size_t collapsed =
+        collapse_round(mesh, positions, geometric_test, log, touched, keys, order);
     if (collapsed == 0) {
       if (!geometric_test) throw std::runtime_error("hierarchy: no collapsible edge left");
       geometric_test = false;
@@ -216,7 +251,8 @@ CollapseHierarchy build_hierarchy(std::span<const Vec3> positions,
   h.old_to_new.assign(n, 0);
   for (uint32_t v = 0; v < n; ++v)
     if (mesh.alive(v)) h.new_to_old.push_back(v);
-  for (auto it = log.rbegin(); it != log.rend(); ++it) h.new_to_old.push_back(it->u);
+  for (auto it = log.entries.rbegin(); it != log.entries.rend(); ++it)
+    h.new_to_old.push_back(it->u);
   for (uint32_t id = 0; id < n; ++id) h.old_to_new[h.new_to_old[id]] = id;
 
   h.level_sizes.assign(sizes.rbegin(), sizes.rend());
@@ -226,16 +262,16 @@ CollapseHierarchy build_hierarchy(std::span<const Vec3> positions,
   h.collapse_target.assign(n, 0);
   h.ring_offsets.assign(n + 1, 0);
   for (uint32_t id = 4; id < n; ++id) {
-    const Collapse& c = log[n - 1 - id];
+    const CollapseLog::Entry& c = log.entries[n - 1 - id];
     h.collapse_target[id] = h.old_to_new[c.v];
-    h.ring_offsets[id + 1] = static_cast<uint32_t>(c.ring.size());
+    h.ring_offsets[id + 1] = c.ring_end - c.ring_begin;
   }
   for (size_t id = 0; id < n; ++id) h.ring_offsets[id + 1] += h.ring_offsets[id];
   h.rings.resize(h.ring_offsets.back());
   for (uint32_t id = 4; id < n; ++id) {
-    const Collapse& c = log[n - 1 - id];
-    for (size_t k = 0; k < c.ring.size(); ++k)
-      h.rings[h.ring_offsets[id] + k] = h.old_to_new[c.ring[k]];
+    const std::span<const uint32_t> ring = log.ring(log.entries[n - 1 - id]);
+    for (size_t k = 0; k < ring.size(); ++k)
+      h.rings[h.ring_offsets[id] + k] = h.old_to_new[ring[k]];
   }
   return h;
 }
