@@ -108,7 +108,10 @@ class CoarseToFine {
   // itself, so thin parts are opened while they are a few triangles wide instead of being
   // squeezed and opened by local moves at full resolution. Leaves result_.sphere empty
   // (the caller falls back to the fast map) when a level cannot be made fold-free.
-  void run_optimized() {
+  // relieve_hot_spots: each level's optimization starts by relieving what the insertions
+  // squeezed (StretchOptions::relieve_hot_spots).
+  void run_optimized(bool relieve_hot_spots) {
+    relieve_hot_spots_ = relieve_hot_spots;
     smoothing_ = options_.smoothing;
     result_.levels.clear();
     result_.sphere.clear();
@@ -243,6 +246,7 @@ class CoarseToFine {
                                                : represented_scale(l, triangles);
     StretchOptions stretch = options_.stretch;
     stretch.threads = smoothing_.threads;
+    stretch.relieve_hot_spots = relieve_hot_spots_ && options_.stretch.relieve_hot_spots;
     if (options_.quality == Quality::kHigh) {
       stretch.max_sweeps *= 10;
       stretch.relative_decrease *= 0.1;
@@ -403,6 +407,7 @@ class CoarseToFine {
   // Per level but the finest: the fine surface area each vertex stands for.
   std::vector<std::vector<double>> represented_;
   SmoothingOptions smoothing_;
+  bool relieve_hot_spots_ = true;
 };
 
 // The smoothing of each attempt: the caller's first, then the other measured settings
@@ -479,14 +484,22 @@ void map_coarse_to_fine(const PolygonMesh& mesh, std::span<const Triangle> trian
   const MapOptions& options = session.options();
   if (options.optimize) {
     CoarseToFine optimized(mesh, triangles, session, result, options.level_growth);
-    ++result.attempts;
-    optimized.run_optimized();
-    if (result.stop_reason == StopReason::kCancelled) return;
-    result.optimized = true;
-    if (!result.sphere.empty() &&
-        (result.stop_reason == StopReason::kTimeLimit ||
-         verify_map(result.sphere, triangles, mesh, result.inward).bijective))
-      return;
+    // With the hot spots relieved first, then (rarely needed) without: the relieved map
+    // is 8-20% faster, but the levels come out different, and on one corpus mesh of
+    // thirty (beast from Draco) an insertion then fails where the other map's does not.
+    for (const bool relieve : {true, false}) {
+      if (!relieve && !options.stretch.relieve_hot_spots) break;
+      ++result.attempts;
+      result.stop_reason = StopReason::kFoldsRemain;  // the default: a run sets another
+      optimized.run_optimized(relieve);
+      if (result.stop_reason == StopReason::kCancelled) return;
+      result.optimized = true;
+      if (!result.sphere.empty() &&
+          (result.stop_reason == StopReason::kTimeLimit ||
+           verify_map(result.sphere, triangles, mesh, result.inward).bijective))
+        return;
+      if (session.should_stop()) break;
+    }
     result.optimized = false;  // what follows is the Lai-Cheng map of each level
   }
   const bool mapped = map_directly(mesh, triangles, session, result);

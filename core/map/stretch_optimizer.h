@@ -21,6 +21,9 @@
 // the step), then Armijo backtracking, then renormalized. Vertices move one colour class
 // at a time (no two adjacent), so the result is bit-identical for any thread count, and
 // every triangle stays valid (§B1) after every move: a fold-free map stays fold-free.
+// Before the sweeps of a whole-mesh call, the vertices of triangles whose energy density
+// is far above the median (what an insertion squeezed) are moved alone until they are
+// relieved, so the sweeps start from a map without such spikes.
 #pragma once
 
 #include <functional>
@@ -37,6 +40,9 @@ struct StretchOptions {
   double relative_decrease = 1e-3;  // stop when a sweep lowers the energy by less than this
   double active_tolerance = 1e-3;   // a vertex stays active while it moves > this x its edges
   int threads = 0;                  // 0 = all cores
+  // Before the sweeps, move only the vertices of triangles far above the median energy
+  // until none is left (a whole-mesh optimization only, `start` empty).
+  bool relieve_hot_spots = true;
 };
 
 struct StretchStats {
