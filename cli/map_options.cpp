@@ -20,7 +20,7 @@ const std::set<std::string> kMapFlags = {"no-centroid", "largest-component", "no
 const char* const kMapOptionsHelp = R"(Mapping options:
   --quality Q               standard (default): every level of the hierarchy stretch-optimized
                             as it grows (Praun-Hoppe quality at a fraction of its time); fast:
-                            a 10x looser stop rule (20-35% less time, stretch 3-15% higher);
+                            a 10x looser stop rule (20-50% less time, stretch 1-20% higher);
                             high: optimized further (about 3x the time, lower stretch)
   --no-optimize             map each level by Lai-Cheng smoothing only (engine v1: thin parts
                             squeezed, often not float32-safe; the automatic fallback)
