@@ -172,7 +172,7 @@ JobOptions parse_job_options(const nlohmann::json& options) {
   if (!draco)
     out.draco_position_bits = 0;
   else if (out.draco_position_bits == 0)
-    out.draco_position_bits = 14;
+    out.draco_position_bits = kDracoBitsAutomatic;
   return out;
 }
 

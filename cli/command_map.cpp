@@ -30,7 +30,8 @@ scene in world space, unless --mesh picks one mesh.
   --mesh INDEX|NAME         glTF: map only this mesh (by index or name)
   --draco                   .glb/.gltf: compress with Draco (KHR_draco_mesh_compression,
                             required; positions and normals only)
-  --draco-position-bits N   quantization of Draco positions (default 14)
+  --draco-position-bits N   quantization of Draco positions, 8-20 bits (default: the
+                            fewest of 14, 16, 18, 20 whose file is still bijective)
   --layout L                original (default): the input's own vertices, so attributes such as
                             UVs stay aligned with the input file; welded: one vertex per surface
                             point
@@ -71,8 +72,13 @@ int run_map(int argc, char** argv) {
   const bool obj = output.size() > 4 && output.ends_with(".obj");
   if (!glb && !obj)
     throw UsageError("-o must name a .glb, .gltf or .obj file, got '" + output + "'");
-  const int draco_bits =
-      args.flag("draco") ? static_cast<int>(args.integer("draco-position-bits", 14, 8, 20)) : 0;
+  int draco_bits = 0;
+  if (args.flag("draco"))
+    draco_bits = args.has("draco-position-bits")
+                     ? static_cast<int>(args.integer("draco-position-bits", 14, 8, 20))
+                     : kDracoBitsAutomatic;
+  else if (args.has("draco-position-bits"))
+    throw UsageError("--draco-position-bits needs --draco");
   if (draco_bits && !glb) throw UsageError("--draco needs a .glb or .gltf output");
 
   double last_print = 0;

@@ -56,6 +56,7 @@ for command in map remesh uv morph info health; do
       *) args=("$tmp/o.obj" -o "$output") ;;
     esac
     [ "$option" = mesh ] && continue  # glTF only; called below on a GLB
+    [ "$option" = draco-position-bits ] && extra+=(--draco)  # needs --draco
     [ "$command/$option" = health/port ] && extra=(--port 1)
     err=$("$spheremap" "$command" "${args[@]}" "${extra[@]}" 2>&1 > /dev/null)
     usage_error "$err" && fail "$command ${extra[*]}: $err"

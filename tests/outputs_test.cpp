@@ -6,11 +6,15 @@
 #include <random>
 
 #include "core/io/gltf_reader.h"
+#include "core/map/certification.h"
+#include "core/map/map_check.h"
+#include "core/mesh/sphere_geometry.h"
 #include "core/mesh/topology.h"
 #include "core/mesh/weld.h"
 #include "core/outputs/map_outputs.h"
 #include "core/outputs/octahedral.h"
 #include "core/outputs/remesh.h"
+#include "core/outputs/sphere_asset.h"
 #include "core/outputs/sphere_locator.h"
 #include "core/outputs/surface_distance.h"
 #include "core/outputs/texcoords.h"
@@ -158,6 +162,61 @@ TEST(MapOutputs, AssetsOfAMappedHorseshoe) {
   EXPECT_NE(morph.glb.find("\"targets\""), std::string::npos);
   EXPECT_NE(morph.glb.find("\"path\":\"weights\""), std::string::npos);
   EXPECT_EQ(read_gltf(bytes(morph.glb)).vertex_count(), mapped.prepared.welded.mesh.vertex_count());
+}
+
+// An icosphere with one triangle split by a vertex 1e-4 of the way from a corner to the
+// centre, mapped by central projection (it is convex): three spherical triangles below
+// the 14-bit Draco grid (cells of 1.2e-4), certified in double and float32. (The optimized map
+// would not do: it gives a surface sliver more room than its area.)
+MappedMesh projected_icosphere_with_a_tiny_fan() {
+  PolygonMesh mesh = testing::icosphere(2);
+  const std::array<uint32_t, 3> t = {mesh.indices[0], mesh.indices[1], mesh.indices[2]};
+  const Vec3 corner = mesh.positions[t[0]];
+  const Vec3 centre =
+      (mesh.positions[t[0]] + mesh.positions[t[1]] + mesh.positions[t[2]]) * (1.0 / 3);
+  const auto tiny = static_cast<uint32_t>(mesh.positions.size());
+  mesh.positions.push_back(corner + 1e-4 * (centre - corner));
+  mesh.indices[2] = tiny;  // (t0, t1, tiny)
+  for (const std::array<uint32_t, 3> face :
+       {std::array{t[1], t[2], tiny}, std::array{t[2], t[0], tiny}}) {
+    mesh.indices.insert(mesh.indices.end(), face.begin(), face.end());
+    mesh.offsets.push_back(mesh.offsets.back() + 3);
+  }
+  MappedMesh mapped = map_mesh(mesh, {}, {});
+  const PolygonMesh& welded = mapped.prepared.welded.mesh;
+  for (size_t v = 0; v < welded.vertex_count(); ++v)
+    mapped.map.sphere[v] = normalized_or(welded.positions[v], Vec3{});
+  const std::vector<Triangle> triangles = fan_triangulate(welded).triangles;
+  mapped.map.check = check_map(mapped.map.sphere, triangles);
+  mapped.float32_check = check_map(rounded_to_float32(mapped.map.sphere), triangles);
+  return mapped;
+}
+
+TEST(SphereAsset, DracoPicksTheFewestBitsThatKeepTheFileBijective) {
+  const MappedMesh mapped = projected_icosphere_with_a_tiny_fan();
+  const PolygonMesh& input = mapped.prepared.welded.mesh;
+  ASSERT_TRUE(clean(mapped.map.check));
+  ASSERT_TRUE(clean(mapped.float32_check));
+  // Asked for 14 bits, the file folds (or degenerates) and is not certified, and says so.
+  const SphereAsset at14 = sphere_asset(input, mapped, {}, SphereLayout::kOriginal, 14);
+  EXPECT_FALSE(clean(at14.written));
+  EXPECT_FALSE(at14.metrics["bijective"].get<bool>());
+  EXPECT_EQ(at14.metrics["draco_position_bits"], 14);
+  // Left to choose, it takes more bits and the file is certified as written.
+  const SphereAsset automatic =
+      sphere_asset(input, mapped, {}, SphereLayout::kOriginal, kDracoBitsAutomatic);
+  EXPECT_TRUE(clean(automatic.written));
+  EXPECT_TRUE(automatic.metrics["bijective"].get<bool>());
+  const int bits = automatic.metrics["draco_position_bits"].get<int>();
+  EXPECT_GT(bits, 14);
+  EXPECT_FALSE(clean(sphere_asset(input, mapped, {}, SphereLayout::kOriginal, bits - 2).written));
+  EXPECT_NE(automatic.glb.find("KHR_draco_mesh_compression"), std::string::npos);
+  // A map that fits the 14-bit grid keeps 14 bits.
+  const PolygonMesh plain = testing::icosphere(2);
+  const SphereAsset coarse = sphere_asset(plain, map_mesh(plain, {}, {}), {},
+                                          SphereLayout::kOriginal, kDracoBitsAutomatic);
+  EXPECT_EQ(coarse.metrics["draco_position_bits"], 14);
+  EXPECT_TRUE(clean(coarse.written));
 }
 
 }  // namespace

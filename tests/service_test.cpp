@@ -205,6 +205,13 @@ TEST(Service, MultipartWithOptionsMakesDraco) {
   const PolygonMesh read =
       read_gltf({reinterpret_cast<const uint8_t*>(sphere->body.data()), sphere->body.size()});
   EXPECT_EQ(read.vertex_count(), 218u);
+  EXPECT_EQ(done["metrics"]["draco_position_bits"], 16);
+  // Without bits the service picks them: 14 where that grid keeps the map bijective.
+  auto automatic = post_glb(client, glb_of(testing::quad_cube(6)), "/v1/jobs?draco=true");
+  ASSERT_EQ(automatic->status, 202) << automatic->body;
+  const json chosen = wait_for(client, body_json(automatic)["id"]);
+  ASSERT_EQ(chosen["status"], "succeeded") << chosen.dump(2);
+  EXPECT_EQ(chosen["metrics"]["draco_position_bits"], 14);
 }
 
 // A .gltf whose buffer is a separate file, as exporters ship it: the file goes along as

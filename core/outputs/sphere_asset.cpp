@@ -25,8 +25,17 @@ SphereAsset sphere_asset(const PolygonMesh& input, const MappedMesh& mapped,
   if (appearance && !appearance->empty() && layout == SphereLayout::kOriginal &&
       draco_position_bits == 0)
     look = {appearance, &input, dropped_faces(input, mapped)};
-  WrittenGlb file =
-      sphere_glb(sphere_mesh(input, mapped, layout), mapped.map.inward, draco_position_bits, look);
+  const PolygonMesh sphere = sphere_mesh(input, mapped, layout);
+  WrittenGlb file;
+  if (draco_position_bits == kDracoBitsAutomatic) {
+    for (const int bits : kDracoAutomaticBits) {
+      file = sphere_glb(sphere, mapped.map.inward, bits, look);
+      draco_position_bits = bits;
+      if (clean(file.check)) break;
+    }
+  } else {
+    file = sphere_glb(sphere, mapped.map.inward, draco_position_bits, look);
+  }
   SphereAsset asset;
   asset.written = file.check;
   asset.metrics = metrics_json(mapped, options);
@@ -36,6 +45,7 @@ SphereAsset sphere_asset(const PolygonMesh& input, const MappedMesh& mapped,
     asset.metrics["problem"] = {{"type", verdict.problem}, {"detail", verdict.detail}};
   asset.metrics["bijective_as_written"] = clean(file.check);
   asset.metrics["folds_as_written"] = file.check.folds;
+  if (draco_position_bits != 0) asset.metrics["draco_position_bits"] = draco_position_bits;
   file.glb.json["meshes"][0]["extras"] = without_timings(asset.metrics);
   asset.glb = serialize_glb(file.glb);
   return asset;

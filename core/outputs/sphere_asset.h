@@ -22,7 +22,16 @@ struct SphereAsset {
   MapCheck written;        // the file decoded again (float32, Draco-quantized) and checked
 };
 
-// The spherical mesh of `mapped` in `layout`; Draco when draco_position_bits > 0. With
+// Draco's position quantization when the caller did not choose one: the fewest of
+// kDracoAutomaticBits whose file is still certified (the last when none is). The grid
+// of 14 bits (Draco's usual default) has cells of 1.2e-4 on the unit sphere; a map whose
+// smallest spherical triangles are far smaller folds once snapped to it (beast: 8 folds
+// at 14 bits, min area 7e-9), and each 2 bits more cut the cell by 4.
+constexpr int kDracoBitsAutomatic = -1;
+constexpr int kDracoAutomaticBits[] = {14, 16, 18, 20};
+
+// The spherical mesh of `mapped` in `layout`; Draco when draco_position_bits is not 0
+// (kDracoBitsAutomatic: chosen as above; metrics name the bits used). With
 // the `appearance` read beside `input` (a glTF), layout kOriginal and no Draco, the file
 // keeps the input's materials, textures, attributes, names and nodes.
 SphereAsset sphere_asset(const PolygonMesh& input, const MappedMesh& mapped,

@@ -268,8 +268,8 @@ export interface components {
             layout: "original" | "welded";
             /** @default false */
             draco: boolean;
-            /** @default 14 */
-            draco_position_bits: number;
+            /** @description Draco position quantization; default: the fewest of 14, 16, 18, 20 bits whose file is still bijective (metrics.draco_position_bits names it) */
+            draco_position_bits?: number;
             /**
              * @description also a comma-separated string; sphere is always made. remesh adds remesh.glb and geometry_image.png, uv adds uv.glb, morph adds morph.glb; their metrics go into metrics.json
              * @default [
