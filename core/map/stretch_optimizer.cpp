@@ -337,15 +337,22 @@ double relieve_hot_spots(StretchProblem& problem, std::span<Vec3> q, int threads
   double updates = 0;
   std::vector<char> seen(n, 0);
   std::vector<uint32_t> candidates;
+  // A pass visits the hot vertices only (a few percent), grouped by colour.
+  std::vector<uint32_t> colour(n, 0);
+  for (uint32_t c = 0; c < problem.classes().size(); ++c)
+    for (uint32_t v : problem.classes()[c]) colour[v] = c;
+  std::vector<std::vector<uint32_t>> hot_by_colour(problem.classes().size());
   for (size_t pass = 0; pass < kMaxHotPasses && !hot_list.empty(); ++pass) {
     if (should_stop()) break;
+    for (auto& members : hot_by_colour) members.clear();
+    for (uint32_t v : hot_list) hot_by_colour[colour[v]].push_back(v);
     // One colour class at a time, as in a sweep: no two moving vertices share a triangle.
-    for (const std::vector<uint32_t>& members : problem.classes()) {
+    for (const std::vector<uint32_t>& members : hot_by_colour) {
       const long long count = static_cast<long long>(members.size());
-#pragma omp parallel for schedule(dynamic, 64) num_threads(threads) if (count >= 4096)
+#pragma omp parallel for schedule(dynamic, 16) num_threads(threads) if (count >= 256)
       for (long long k = 0; k < count; ++k) {
         const uint32_t v = members[static_cast<size_t>(k)];
-        moved[v] = hot[v] ? problem.move_vertex(q, v) : 0;
+        moved[v] = problem.move_vertex(q, v);
       }
     }
     updates += static_cast<double>(hot_list.size());
