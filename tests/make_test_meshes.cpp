@@ -1,7 +1,8 @@
 // Writes the generated test meshes as GLB files for the shell tests and the load bench
 // (no corpus needed): make_test_meshes OUTDIR -> OUTDIR/{icosphere2,icosphere4,horseshoe,
 // torus,textured_horseshoe}.glb; with --stress [--million], the stress set as OBJ (bench/quality);
-// with --stress-glb, the stress set as GLB (the service's slow jobs in tests and benches).
+// with --stress-glb, the stress set as GLB (the service's slow jobs in tests and benches);
+// with --random COUNT SEED, random_stress_meshes as OBJ (the stress probe).
 #include <cstdio>
 #include <string>
 
@@ -12,8 +13,17 @@
 int main(int argc, char** argv) {
   using namespace spheremap;
   const std::string flag = argc >= 3 ? argv[2] : "";
+  if (flag == "--random" && argc == 5) {
+    const std::string dir = argv[1];
+    for (const testing::NamedMesh& m : testing::random_stress_meshes(
+             std::stoi(argv[3]), static_cast<unsigned>(std::stoul(argv[4]))))
+      write_mesh_file(dir + "/" + m.name + ".obj", m.mesh);
+    return 0;
+  }
   if (argc < 2 || argc > 4 || (argc >= 3 && flag != "--stress" && flag != "--stress-glb")) {
-    std::fprintf(stderr, "usage: make_test_meshes OUTDIR [--stress [--million] | --stress-glb]\n");
+    std::fprintf(stderr,
+                 "usage: make_test_meshes OUTDIR [--stress [--million] | --stress-glb | --random "
+                 "COUNT SEED]\n");
     return 1;
   }
   const std::string dir = argv[1];

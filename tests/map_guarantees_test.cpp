@@ -5,7 +5,6 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
-#include <random>
 
 #include "core/io/mesh_file.h"
 #include "core/map/certification.h"
@@ -138,28 +137,15 @@ TEST(MapGuarantees, ZeroAreaSurfaceTriangleStillMapsCertified) {
   EXPECT_GT(m.map.check.min_signed_area, 1e-10);
 }
 
-// Random shapes beyond any corpus: 1-9 limbs in random directions, 2-10 times the body's
-// radius long and 0.03-0.08 thick, on triangle and quad spheres, then swirled, twisted and
-// stretched at random. Every default map is certified.
+// Random shapes beyond any corpus (testing::random_stress_meshes: 1-30 limbs on triangle
+// and quad spheres, swirled, twisted, stretched). Every default map is certified, on the
+// stretch-optimized path.
 TEST(MapGuarantees, RandomLimbedShapesAreCertified) {
-  for (int seed = 0; seed < 30; ++seed) {
-    std::mt19937 rng(static_cast<unsigned>(seed));
-    std::uniform_real_distribution<double> u(-1, 1);
-    std::vector<Vec3> directions;
-    for (int k = 0; k < 1 + seed % 9; ++k) {
-      const Vec3 d{u(rng), u(rng), u(rng)};
-      directions.push_back(d * (1.0 / norm(d)));
-    }
-    PolygonMesh mesh =
-        testing::with_limbs(seed % 2 ? testing::icosphere(4) : testing::quad_sphere(24), directions,
-                            2 + 4 * (1 + u(rng)), 0.03 + 0.025 * (1 + u(rng)));
-    mesh = testing::swirled(mesh, 0.5 * u(rng));
-    mesh = testing::twisted(mesh, 0.3 * u(rng));
-    mesh = testing::scaled(mesh, {1 + 0.5 * u(rng), 1 + 0.5 * u(rng), 1 + 0.5 * u(rng)});
-    const MappedMesh m = map_mesh(mesh, {}, {});
+  for (const testing::NamedMesh& shape : testing::random_stress_meshes(30, 0)) {
+    const MappedMesh m = map_mesh(shape.mesh, {}, {});
     const Certification verdict = certify(m, m.float32_check);
-    EXPECT_TRUE(verdict.certified) << "seed " << seed << ": " << verdict.detail;
-    EXPECT_TRUE(m.map.optimized) << "seed " << seed;
+    EXPECT_TRUE(verdict.certified) << shape.name << ": " << verdict.detail;
+    EXPECT_TRUE(m.map.optimized) << shape.name;
   }
 }
 

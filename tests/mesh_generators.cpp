@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <random>
 #include <tuple>
 #include <vector>
 
@@ -265,6 +266,32 @@ std::vector<NamedMesh> stress_meshes(bool with_million) {
   out.push_back({"stress_long_tube", capped_tube(16, 600, 300)});
   if (with_million)
     out.push_back({"stress_fingers_1m", swirled(with_limbs(icosphere(8), fingers, 5, 0.1), 0.35)});
+  return out;
+}
+
+std::vector<NamedMesh> random_stress_meshes(int count, unsigned seed) {
+  std::mt19937 rng(seed);
+  auto uniform = [&](double lo, double hi) {
+    return std::uniform_real_distribution<double>(lo, hi)(rng);
+  };
+  std::normal_distribution<double> gaussian;
+  std::vector<NamedMesh> out;
+  for (int k = 0; k < count; ++k) {
+    std::vector<Vec3> limbs(static_cast<size_t>(uniform(1, 31)));
+    for (Vec3& d : limbs) {
+      d = {gaussian(rng), gaussian(rng), gaussian(rng)};
+      d = d * (1 / norm(d));
+    }
+    const double base = uniform(0, 3);
+    PolygonMesh mesh = with_limbs(base < 1   ? icosphere(4)
+                                  : base < 2 ? quad_sphere(24)
+                                             : icosphere(5),
+                                  limbs, uniform(0.5, 10), uniform(0.03, 0.25));
+    mesh = swirled(std::move(mesh), uniform(-0.6, 0.6));
+    mesh = twisted(std::move(mesh), uniform(-0.3, 0.3));
+    mesh = scaled(std::move(mesh), {uniform(0.3, 1.5), uniform(0.3, 1.5), uniform(0.3, 1.5)});
+    out.push_back({"random_" + std::to_string(seed) + "_" + std::to_string(k), std::move(mesh)});
+  }
   return out;
 }
 

@@ -47,6 +47,10 @@ struct NamedMesh {
 // The stress set: fingers (curled), spikes, a twisted blade, quad limbs, a very long
 // tube, and `with_million`: fingers on 1.3M triangles.
 std::vector<NamedMesh> stress_meshes(bool with_million);
+// `count` shapes drawn from `seed` (the same seed, the same shapes): a triangle or quad
+// sphere (5K-20K faces) with 1-30 limbs in random directions (0.5-10 long, 0.03-0.25
+// thick), swirled, twisted and stretched by random amounts: shapes no one tuned for.
+std::vector<NamedMesh> random_stress_meshes(int count, unsigned seed);
 
 // Torus (genus 1) of `around` x `along` quads.
 PolygonMesh torus(int around, int along);

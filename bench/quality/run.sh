@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # The quality table of BENCHMARKS.md: every valid corpus mesh and the generated stress set,
-# mapped at --quality fast, standard and high, judged beside Praun & Hoppe's SphereParam
+# and three random limbed shapes (make_test_meshes --random 3 1), mapped at --quality
+# fast, standard and high, judged beside Praun & Hoppe's SphereParam
 # (fastest and default effort) by the same code (bench/quality_bench.cpp): time, cost in
 # CSR sweeps, stretch L2, mean |log area|, dilatation K, float32 bijectivity, remesh
 # Hausdorff at 131,072 triangles.
@@ -18,12 +19,14 @@ ph_tool=$(realpath -m ../shared/tools/praun-hoppe/sphere_param.sh)
 scripts/build.sh > /dev/null
 mkdir -p "$out/meshes" "$out/ph"
 build/tests/make_test_meshes "$out/meshes" --stress
+rm -f "$out"/meshes/random_*.obj
+build/tests/make_test_meshes "$out/meshes" --random 3 1  # shapes no one tuned for
 meshes=()
 for m in box spot_control cylinder knight horse_quad spot_quad duck spot cheburashka hand beast \
          armadillo horse scorpion igea; do
   [ -f "$corpus/$m.obj" ] && meshes+=("$corpus/$m.obj")
 done
-for m in "$out"/meshes/stress_*.obj; do meshes+=("$m"); done
+for m in "$out"/meshes/stress_*.obj "$out"/meshes/random_*.obj; do meshes+=("$m"); done
 echo "Machine: $(nproc) cores, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | xargs); $(date -u +%Y-%m-%d)" >&2
 : > "$out/results.jsonl"
 for mesh in "${meshes[@]}"; do
