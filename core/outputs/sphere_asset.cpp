@@ -31,7 +31,8 @@ SphereAsset sphere_asset(const PolygonMesh& input, const MappedMesh& mapped,
     for (const int bits : kDracoAutomaticBits) {
       file = sphere_glb(sphere, mapped.map.inward, bits, look);
       draco_position_bits = bits;
-      if (clean(file.check)) break;
+      // More bits cannot help a map that is not certified in float32 already.
+      if (clean(file.check) || !clean(mapped.float32_check)) break;
     }
   } else {
     file = sphere_glb(sphere, mapped.map.inward, draco_position_bits, look);

@@ -23,7 +23,8 @@ struct SphereAsset {
 };
 
 // Draco's position quantization when the caller did not choose one: the fewest of
-// kDracoAutomaticBits whose file is still certified (the last when none is). The grid
+// kDracoAutomaticBits whose file is still certified (the last when none is; 14 when the
+// map is not certified in float32, which no grid can mend). The grid
 // of 14 bits (Draco's usual default) has cells of 1.2e-4 on the unit sphere; a map whose
 // smallest spherical triangles are far smaller folds once snapped to it (beast: 8 folds
 // at 14 bits, min area 7e-9), and each 2 bits more cut the cell by 4.
