@@ -1,5 +1,7 @@
 #include "core/map/hierarchy.h"
 
+#include "core/map/collapse_cost.h"
+
 #include <algorithm>
 #include <stdexcept>
 
@@ -50,12 +52,19 @@ class CollapsibleMesh {
     }
   }
 
-  // Squared length of u's shortest edge (every edge of u is in two of its triangles).
-  double min_edge_length2(uint32_t u) const {
+  // Each vertex of u's ring once: the corner after u in each of u's triangles.
+  template <class Visit>
+  void for_each_neighbor(uint32_t u, Visit&& visit) const {
+    for (uint32_t t : incident_[u]) {
+      const Triangle& tri = tris_[t];
+      visit(tri[tri[0] == u ? 1 : (tri[1] == u ? 2 : 0)]);
+    }
+  }
+
+  // The cost of u's cheapest collapse onto a neighbour.
+  double cheapest_collapse(uint32_t u, const CollapseCost& cost) const {
     double best = INFINITY;
-    for (uint32_t t : incident_[u])
-      for (uint32_t w : tris_[t])
-        if (w != u) best = std::min(best, squared_norm(x_[w] - x_[u]));
+    for_each_neighbor(u, [&](uint32_t w) { best = std::min(best, cost(u, w)); });
     return best;
   }
 
@@ -140,72 +149,66 @@ struct CollapseLog {
   }
 };
 
-// Alive vertices by (shortest squared edge, id), kept sorted across rounds: a round
-// changes the keys of the vertices it touched only, so it re-sorts those and merges
-// them back instead of sorting every alive vertex again (that sort and a scan of all n
-// vertices per round were a fifth of the hierarchy's time at 100K faces).
+// Alive vertices by (cheapest collapse cost, id), kept sorted across rounds: a round
+// changes the keys of the vertices around its collapses only, so it re-sorts those and
+// merges them back instead of sorting every alive vertex again (that sort and a scan of
+// all n vertices per round were a fifth of the hierarchy's time at 100K faces).
 using Order = std::vector<std::pair<double, uint32_t>>;
 
-// The new shortest squared edge of each vertex of u's ring after u -> v: w lost its edge
-// to u and gained one to v, so unless the edge to u was its shortest (or tied with it),
-// the new key is the old one or |w - v|^2. Measured on horse: recomputing every touched
-// vertex's key from its triangles was a sixth of the hierarchy's time; now about one
-// ring vertex in five needs it. (Each vertex is in at most one ring per round, so the
-// keys are exactly those a recomputation at the round's end would give.)
-void rekey_ring(const CollapsibleMesh& mesh, std::span<const Vec3> x, uint32_t u, uint32_t v,
-                std::span<const uint32_t> ring, std::vector<double>& keys) {
-  for (uint32_t w : ring) {
-    if (w != v && keys[w] < squared_norm(x[u] - x[w]))
-      keys[w] = std::min(keys[w], squared_norm(x[v] - x[w]));
-    else
-      keys[w] = mesh.min_edge_length2(w);
-  }
-}
-
-// One round: an independent set of collapses (touched = u and its ring), vertices
-// taken in order of their shortest edge, each trying its ring shortest edge first.
-// `keys` caches each vertex's shortest squared edge; only vertices a collapse touched
-// need a new one, so the round refreshes those at its end, and `order` with them.
-size_t collapse_round(CollapsibleMesh& mesh, std::span<const Vec3> x, bool geometric_test,
-                      CollapseLog& log, std::vector<char>& touched, std::vector<double>& keys,
-                      Order& order) {
+// One round: an independent set of collapses (touched = u and its ring), vertices taken
+// in order of their cheapest collapse, each trying its ring cheapest first. `keys`
+// caches each vertex's cheapest collapse; a collapse u -> v changes the keys of v and
+// its neighbours only (v's quadric grew, the ring's edges changed), so the round
+// refreshes those at its end, and `order` with them.
+size_t collapse_round(CollapsibleMesh& mesh, CollapseCost& cost, bool geometric_test,
+                      CollapseLog& log, std::vector<char>& touched, std::vector<char>& stale,
+                      std::vector<double>& keys, Order& order) {
   std::vector<uint32_t> ring;
-  std::vector<uint32_t> touched_list;
+  std::vector<uint32_t> stale_list;
   std::vector<std::pair<double, uint32_t>> candidates;
+  auto mark_stale = [&](uint32_t w) {
+    if (!stale[w]) stale[w] = 1, stale_list.push_back(w);
+  };
   size_t collapsed = 0;
   for (const auto& [key, u] : order) {
     if (mesh.alive_vertices() <= 4) break;
     if (mesh.star_touched(u, touched)) continue;
     mesh.ordered_ring(u, ring);
     candidates.clear();
-    for (uint32_t w : ring) candidates.push_back({squared_norm(x[w] - x[u]), w});
+    for (uint32_t w : ring) candidates.push_back({cost(u, w), w});
     std::sort(candidates.begin(), candidates.end());
-    for (const auto& [length2, v] : candidates) {
+    for (const auto& [price, v] : candidates) {
       if (!mesh.link_condition(v, ring)) continue;
       if (geometric_test && !mesh.keeps_geometry(u, v)) continue;
       log.add(u, v, ring);
       mesh.collapse(u, v);
+      cost.merge(u, v);
       touched[u] = 1;
-      touched_list.push_back(u);
-      for (uint32_t w : ring) touched[w] = 1, touched_list.push_back(w);
-      rekey_ring(mesh, x, u, v, ring, keys);
+      mark_stale(u);
+      for (uint32_t w : ring) touched[w] = 1;
+      mark_stale(v);
+      mesh.for_each_neighbor(v, mark_stale);
       ++collapsed;
       break;
     }
   }
-  // The order without the touched vertices (removed or re-keyed)...
-  std::erase_if(
-      order, [&](const std::pair<double, uint32_t>& entry) { return touched[entry.second] != 0; });
-  // ...and the touched ones still alive, once each, with their new keys.
-  std::vector<uint32_t> rekeyed;
-  for (uint32_t w : touched_list)
-    if (touched[w]) {
-      touched[w] = 0;
-      if (mesh.alive(w)) rekeyed.push_back(w);
-    }
+  // The order without the stale vertices (removed or re-keyed)...
+  std::erase_if(order,
+                [&](const std::pair<double, uint32_t>& entry) { return stale[entry.second] != 0; });
+  // ...and the stale ones still alive, once each, with their new keys (every touched
+  // vertex is stale: u, and its ring, now v's neighbours).
   Order merged;
-  merged.reserve(rekeyed.size());
-  for (uint32_t w : rekeyed) merged.push_back({keys[w], w});
+  for (uint32_t w : stale_list) {
+    stale[w] = touched[w] = 0;
+    if (mesh.alive(w)) merged.push_back({0, w});
+  }
+  // The keys in parallel: reading the mesh and quadrics is most of the round's time.
+  const long long count = static_cast<long long>(merged.size());
+#pragma omp parallel for schedule(static) if (count > 4096)
+  for (long long k = 0; k < count; ++k) {
+    auto& [key, w] = merged[static_cast<size_t>(k)];
+    key = keys[w] = mesh.cheapest_collapse(w, cost);  // each writes its own
+  }
   std::sort(merged.begin(), merged.end());
   const size_t kept = order.size();
   order.insert(order.end(), merged.begin(), merged.end());
@@ -231,17 +234,18 @@ CollapseHierarchy build_hierarchy(std::span<const Vec3> positions,
   std::vector<std::vector<Triangle>> snapshots;  // input ids, finest first
   std::vector<uint32_t> sizes{static_cast<uint32_t>(n)};
   bool geometric_test = true;
-  std::vector<char> touched(n, 0);
+  std::vector<char> touched(n, 0), stale(n, 0);
   std::vector<double> keys(n);
+  CollapseCost cost(positions, triangles);
   Order order(n);
   for (uint32_t u = 0; u < n; ++u) {
-    keys[u] = mesh.min_edge_length2(u);
+    keys[u] = mesh.cheapest_collapse(u, cost);
     order[u] = {keys[u], u};
   }
   std::sort(order.begin(), order.end());
   while (mesh.alive_vertices() > 4) {
     const size_t collapsed =
-        collapse_round(mesh, positions, geometric_test, log, touched, keys, order);
+        collapse_round(mesh, cost, geometric_test, log, touched, stale, keys, order);
     if (collapsed == 0) {
       if (!geometric_test) throw std::runtime_error("hierarchy: no collapsible edge left");
       geometric_test = false;

@@ -1,9 +1,9 @@
 // The half-edge collapse hierarchy (ALGORITHM §B4.1, PROTOTYPE-FINDINGS §6 step 1).
 //
 // Vertices are removed by collapses u -> v in rounds down to a tetrahedron. Each round
-// collapses an independent set (no two collapses touch the same 1-ring), shortest
-// edges first; a collapse must pass the link condition |ring(u) ∩ ring(v)| = 2 and, until
-// a round accepts nothing, must not flip or degenerate the 3D triangles around u.
+// collapses an independent set (no two collapses touch the same 1-ring), cheapest first
+// by quadric error (collapse_cost.h); a collapse must pass the link condition |ring(u) ∩ ring(v)| =
+// 2 and, until a round accepts nothing, must not flip or degenerate the 3D triangles around u.
 // Rounds are grouped into levels of about level_growth x vertices (4 by default).
 //
 // Vertices are renumbered so that every level is a prefix: new ids 0..3 are the
