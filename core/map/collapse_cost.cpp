@@ -7,7 +7,7 @@ namespace spheremap {
 // The squared edge length's weight next to the mean squared plane distance: the plane
 // term decides wherever a collapse moves the surface by more than a hundredth of the edge.
 // Chosen on the stress set and random limbed shapes (not the corpus): 1e-3 and 1e-5 gave
-// the same or worse stretch there (BENCHMARKS.md, "The hierarchy's order").
+// the same or worse stretch there (BENCHMARKS.md, "What we measured on the way").
 constexpr double kEdgeLengthWeight = 1e-4;
 
 CollapseCost::CollapseCost(std::span<const Vec3> positions, std::span<const Triangle> triangles)
