@@ -156,13 +156,13 @@ struct CollapseLog {
 using Order = std::vector<std::pair<double, uint32_t>>;
 
 // One round: an independent set of collapses (touched = u and its ring), vertices taken
-// in order of their cheapest collapse, each trying its ring cheapest first. `keys`
-// caches each vertex's cheapest collapse; a collapse u -> v changes the keys of v and
+// in order of their cheapest collapse (the key in `order`), each trying its ring cheapest
+// first. A collapse u -> v changes the keys of v and
 // its neighbours only (v's quadric grew, the ring's edges changed), so the round
 // refreshes those at its end, and `order` with them.
 size_t collapse_round(CollapsibleMesh& mesh, CollapseCost& cost, bool geometric_test,
                       CollapseLog& log, std::vector<char>& touched, std::vector<char>& stale,
-                      std::vector<double>& keys, Order& order) {
+                      Order& order) {
   std::vector<uint32_t> ring;
   std::vector<uint32_t> stale_list;
   std::vector<std::pair<double, uint32_t>> candidates;
@@ -207,7 +207,7 @@ size_t collapse_round(CollapsibleMesh& mesh, CollapseCost& cost, bool geometric_
 #pragma omp parallel for schedule(static) if (count > 4096)
   for (long long k = 0; k < count; ++k) {
     auto& [key, w] = merged[static_cast<size_t>(k)];
-    key = keys[w] = mesh.cheapest_collapse(w, cost);  // each writes its own
+    key = mesh.cheapest_collapse(w, cost);  // each writes its own
   }
   std::sort(merged.begin(), merged.end());
   const size_t kept = order.size();
@@ -235,17 +235,14 @@ CollapseHierarchy build_hierarchy(std::span<const Vec3> positions,
   std::vector<uint32_t> sizes{static_cast<uint32_t>(n)};
   bool geometric_test = true;
   std::vector<char> touched(n, 0), stale(n, 0);
-  std::vector<double> keys(n);
   CollapseCost cost(positions, triangles);
   Order order(n);
   for (uint32_t u = 0; u < n; ++u) {
-    keys[u] = mesh.cheapest_collapse(u, cost);
-    order[u] = {keys[u], u};
+    order[u] = {mesh.cheapest_collapse(u, cost), u};
   }
   std::sort(order.begin(), order.end());
   while (mesh.alive_vertices() > 4) {
-    const size_t collapsed =
-        collapse_round(mesh, cost, geometric_test, log, touched, stale, keys, order);
+    const size_t collapsed = collapse_round(mesh, cost, geometric_test, log, touched, stale, order);
     if (collapsed == 0) {
       if (!geometric_test) throw std::runtime_error("hierarchy: no collapsible edge left");
       geometric_test = false;
