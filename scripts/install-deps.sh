@@ -3,7 +3,7 @@
 # Idempotent: installs nothing when everything is already there.
 set -euo pipefail
 packages=(build-essential cmake ninja-build pkg-config nlohmann-json3-dev libgtest-dev libdraco-dev
-  libcpp-httplib-dev libhiredis-dev redis-server libmeshoptimizer-dev zlib1g-dev libpng-dev libturbojpeg0-dev clang-format curl
+  libcpp-httplib-dev libhiredis-dev redis-server libmeshoptimizer-dev libeigen3-dev zlib1g-dev libpng-dev libturbojpeg0-dev clang-format curl
   # headless Chromium drives the web page in the tests (with npm playwright-core)
   chromium
   # the libFuzzer targets (tests/fuzz) build with clang and its fuzzer runtime

@@ -128,6 +128,39 @@ PolygonMesh capped_tube(int around, int along, double length) {
   return m;
 }
 
+PolygonMesh prism(std::span<const std::array<double, 2>> outline, double height, bool fan_caps) {
+  PolygonMesh m;
+  const auto n = static_cast<uint32_t>(outline.size());
+  for (double z : {-height / 2, height / 2})
+    for (const auto& [x, y] : outline) m.positions.push_back({x, y, z});
+  for (uint32_t i = 0; i < n; ++i) {
+    const uint32_t j = (i + 1) % n;
+    const uint32_t side[4] = {i, j, n + j, n + i};
+    m.add_face(side);
+  }
+  if (!fan_caps) {
+    std::vector<uint32_t> bottom, top;
+    for (uint32_t i = n; i-- > 0;) bottom.push_back(i);
+    for (uint32_t i = 0; i < n; ++i) top.push_back(n + i);
+    m.add_face(bottom);
+    m.add_face(top);
+    return m;
+  }
+  Vec3 centre;
+  for (const auto& [x, y] : outline) centre += Vec3{x, y, 0};
+  centre = (1.0 / n) * centre;
+  const auto low = static_cast<uint32_t>(m.positions.size());
+  m.positions.push_back({centre.x, centre.y, -height / 2});
+  m.positions.push_back({centre.x, centre.y, height / 2});
+  for (uint32_t i = 0; i < n; ++i) {
+    const uint32_t j = (i + 1) % n;
+    const uint32_t bottom[3] = {low, j, i}, top[3] = {low + 1, n + i, n + j};
+    m.add_face(bottom);
+    m.add_face(top);
+  }
+  return m;
+}
+
 PolygonMesh horseshoe() {
   PolygonMesh m = capped_tube(12, 30, 12);
   for (Vec3& p : m.positions) {
@@ -264,6 +297,16 @@ std::vector<NamedMesh> stress_meshes(bool with_million) {
   out.push_back({"stress_blade", twisted(scaled(icosphere(5), {0.02, 0.6, 6}), 0.25)});
   out.push_back({"stress_quad_limbs", with_limbs(quad_sphere(48), axes, 4, 0.15)});
   out.push_back({"stress_long_tube", capped_tube(16, 600, 300)});
+  // CAD parts: long side slivers between fans, and non-convex polygon caps.
+  std::vector<std::array<double, 2>> circle, star;
+  for (int k = 0; k < 256; ++k)
+    circle.push_back({std::cos(2 * M_PI * k / 256), std::sin(2 * M_PI * k / 256)});
+  for (int k = 0; k < 64; ++k) {
+    const double r = k % 2 == 0 ? 1.0 : 0.1;
+    star.push_back({r * std::cos(2 * M_PI * k / 64), r * std::sin(2 * M_PI * k / 64)});
+  }
+  out.push_back({"stress_cad_cylinder", prism(circle, 3, true)});
+  out.push_back({"stress_cad_star", prism(star, 0.5, false)});
   if (with_million)
     out.push_back({"stress_fingers_1m", swirled(with_limbs(icosphere(8), fingers, 5, 0.1), 0.35)});
   return out;

@@ -40,12 +40,17 @@ PolygonMesh twisted(PolygonMesh mesh, double radians_per_unit);
 PolygonMesh scaled(PolygonMesh mesh, const Vec3& factors);
 // quad_cube(n) projected onto the unit sphere (quad-dominant sphere).
 PolygonMesh quad_sphere(int n);
+// A prism over the closed plane polygon `outline` (counter-clockwise), z from -height / 2
+// to height / 2, as CAD exporters write one: one band of side quads, each cap a fan of
+// triangles from a centre vertex (fan_caps) or one polygon.
+PolygonMesh prism(std::span<const std::array<double, 2>> outline, double height, bool fan_caps);
 struct NamedMesh {
   std::string name;
   PolygonMesh mesh;
 };
 // The stress set: fingers (curled), spikes, a twisted blade, quad limbs, a very long
-// tube, and `with_million`: fingers on 1.3M triangles.
+// tube, two CAD prisms (a 256-sided cylinder with fan caps, a 32-pointed star with
+// polygon caps), and `with_million`: fingers on 1.3M triangles.
 std::vector<NamedMesh> stress_meshes(bool with_million);
 // `count` shapes drawn from `seed` (the same seed, the same shapes): a triangle or quad
 // sphere (5K-20K faces) with 1-30 limbs in random directions (0.5-10 long, 0.03-0.25

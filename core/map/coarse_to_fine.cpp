@@ -247,11 +247,16 @@ class CoarseToFine {
     StretchOptions stretch = options_.stretch;
     stretch.threads = smoothing_.threads;
     stretch.relieve_hot_spots = relieve_hot_spots_ && options_.stretch.relieve_hot_spots;
+    // Newton steps where a factorization is cheap (measured on horse, standard: levels up
+    // to 3,000 vertices cost 12% more time; 12,000 cost 2.9x).
+    stretch.newton_max_vertices = 3000;
     if (options_.quality == Quality::kHigh) {
       stretch.max_sweeps *= 10;
       stretch.relative_decrease *= 0.1;
+      stretch.newton_max_vertices = 20000;
     } else if (options_.quality == Quality::kFast) {
       stretch.relative_decrease *= 10;
+      stretch.newton_max_vertices = 1000;
     }
     const double start = session_.elapsed();
     session_.report({.stage = "optimize", .level = l, .levels = levels - 1, .vertices = n});
@@ -262,6 +267,7 @@ class CoarseToFine {
     result_.stretch_vertex_updates += stats.vertex_updates;
     LevelReport& report = result_.levels.back();
     report.optimize_sweeps = stats.sweeps;
+    report.newton_steps = stats.newton_steps;
     report.energy = stats.final_energy;
     report.min_area = check_map(std::span<const Vec3>(q_.data(), n), triangles).min_signed_area;
     session_.report({.stage = "optimize",

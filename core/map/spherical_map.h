@@ -90,6 +90,7 @@ struct LevelReport {
   size_t folds = 0;            // at the end of the level
   double min_area = 0;         // smallest signed spherical triangle area at the end of the level
   size_t optimize_sweeps = 0;  // standard/high: stretch optimization sweeps
+  size_t newton_steps = 0;     // whole-level Newton steps after the sweeps (small levels)
   double energy = 0;           // standard/high: stretch energy per unit area at the end
 };
 

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "core/map/map_check.h"
+#include "core/map/stretch_newton.h"
 #include "core/map/vertex_coloring.h"
 #include "core/mesh/parallel.h"
 #include "core/mesh/sphere_geometry.h"
@@ -273,6 +274,19 @@ class StretchProblem {
   }
 
   size_t triangle_count() const { return triangles_.size(); }
+  std::span<const Triangle> triangles() const { return triangles_; }
+
+  double surface_total() const { return surface_total_; }
+
+  // Every triangle's energy terms without the scale, for a whole-map Newton step.
+  std::vector<TriangleEnergy> triangle_energies() const {
+    std::vector<TriangleEnergy> out(triangles_.size());
+    for (size_t t = 0; t < triangles_.size(); ++t) {
+      const auto& w = weights_[t];
+      out[t] = {{w[0], w[1], w[2]}, surface_area_[t] / 8, options_.lambda / (8 * inverse_area_[t])};
+    }
+    return out;
+  }
 
   // Vertices adjacent through a triangle, for the active set.
   template <class Visit>
@@ -431,6 +445,15 @@ StretchStats optimize_stretch(std::span<const Vec3> x, std::span<const Triangle>
     if (still == 0) {
       ++stats.sweeps;
       break;
+    }
+  }
+  if (start.empty() && n <= options.newton_max_vertices) {
+    const std::vector<TriangleEnergy> energies = problem.triangle_energies();
+    while (stats.newton_steps < options.max_newton_steps && !should_stop()) {
+      ++stats.newton_steps;
+      const double decrease =
+          newton_step(problem.triangles(), energies, problem.surface_total(), q, threads);
+      if (!(decrease > 10 * options.relative_decrease)) break;
     }
   }
   stats.final_energy = problem.rescale(q, threads);

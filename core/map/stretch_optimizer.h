@@ -21,9 +21,10 @@
 // the step), then Armijo backtracking, then renormalized. Vertices move one colour class
 // at a time (no two adjacent), so the result is bit-identical for any thread count, and
 // every triangle stays valid (§B1) after every move: a fold-free map stays fold-free.
-// Before the sweeps of a whole-mesh call, the vertices of triangles whose energy density
-// is far above the median (what an insertion squeezed) are moved alone until they are
-// relieved, so the sweeps start from a map without such spikes.
+// After the sweeps of a whole-mesh call on a small mesh, Newton steps move all vertices at
+// once (stretch_newton.h). Before the sweeps of a whole-mesh call, the vertices of triangles whose
+// energy density is far above the median (what an insertion squeezed) are moved alone until they
+// are relieved, so the sweeps start from a map without such spikes.
 #pragma once
 
 #include <functional>
@@ -43,11 +44,17 @@ struct StretchOptions {
   // Before the sweeps, move only the vertices of triangles far above the median energy
   // until none is left (a whole-mesh optimization only, `start` empty).
   bool relieve_hot_spots = true;
+  // After the sweeps of a whole-mesh call on at most this many vertices, Newton steps of
+  // all vertices at once (stretch_newton.h) while each lowers the energy by over 10x
+  // relative_decrease, at most max_newton_steps: they converge where the sweeps crawl.
+  size_t newton_max_vertices = 0;
+  size_t max_newton_steps = 8;
 };
 
 struct StretchStats {
   size_t sweeps = 0;
   double vertex_updates = 0;                    // Newton steps taken, all sweeps
+  size_t newton_steps = 0;                      // whole-map Newton steps after the sweeps
   double initial_energy = 0, final_energy = 0;  // per unit surface area (1 + lambda: isometry)
 };
 

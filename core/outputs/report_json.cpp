@@ -76,6 +76,7 @@ nlohmann::json metrics_json(const MappedMesh& mapped, const MapOptions& options)
                       {"folds", l.folds},
                       {"min_area", l.min_area},
                       {"optimize_sweeps", l.optimize_sweeps},
+                      {"newton_steps", l.newton_steps},
                       {"energy", l.energy}});
   return {
       {"method", options.method == Method::kPaper ? "paper" : "coarse-to-fine"},
