@@ -212,18 +212,20 @@ double first_cubic_root(double a0, double a1, double a2, double a3, double limit
   // change on each piece, in order, and bisect the first.
   std::array<double, 4> cuts{0, limit, limit, limit};
   size_t count = 1;
+  auto add = [&](double t) {
+    if (t > 0 && t < limit) cuts[count++] = t;
+  };
   if (a3 != 0) {
     const double disc = 4 * a2 * a2 - 12 * a3 * a1;
     if (disc >= 0) {
       const double r = std::sqrt(disc);
-      for (double t : {(-2 * a2 - r) / (6 * a3), (-2 * a2 + r) / (6 * a3)})
-        if (t > 0 && t < limit) cuts[count++] = t;
+      const double t1 = (-2 * a2 - r) / (6 * a3), t2 = (-2 * a2 + r) / (6 * a3);
+      add(std::min(t1, t2));  // ascending, so no sort
+      add(std::max(t1, t2));
     }
   } else if (a2 != 0) {
-    const double t = -a1 / (2 * a2);
-    if (t > 0 && t < limit) cuts[count++] = t;
+    add(-a1 / (2 * a2));
   }
-  std::sort(cuts.begin(), cuts.begin() + static_cast<std::ptrdiff_t>(count));
   cuts[count++] = limit;
   for (size_t k = 0; k + 1 < count; ++k) {
     double lo = cuts[k], hi = cuts[k + 1];
