@@ -30,27 +30,21 @@ CollapseCost::CollapseCost(std::span<const Vec3> positions, std::span<const Tria
 }
 
 double CollapseCost::operator()(uint32_t u, uint32_t v) const {
-  const Quadric &qu = quadrics_[u], &qv = quadrics_[v];
+  Quadric q = quadrics_[u];
+  q += quadrics_[v];
   const Vec3& p = x_[v];
-  const double a00 = qu.a00 + qv.a00, a01 = qu.a01 + qv.a01, a02 = qu.a02 + qv.a02;
-  const double a11 = qu.a11 + qv.a11, a12 = qu.a12 + qv.a12, a22 = qu.a22 + qv.a22;
-  const double error = p.x * (a00 * p.x + 2 * a01 * p.y + 2 * a02 * p.z) +
-                       p.y * (a11 * p.y + 2 * a12 * p.z) + a22 * p.z * p.z +
-                       2 * ((qu.b0 + qv.b0) * p.x + (qu.b1 + qv.b1) * p.y + (qu.b2 + qv.b2) * p.z) +
-                       qu.c + qv.c;
-  const double weight = qu.weight + qv.weight;
+  // The constant terms are added last, one at a time, as the hierarchy always summed
+  // them: another rounding reorders ties (measured: a different stress-fingers hierarchy).
+  const double error = p.x * (q.a00 * p.x + 2 * q.a01 * p.y + 2 * q.a02 * p.z) +
+                       p.y * (q.a11 * p.y + 2 * q.a12 * p.z) + q.a22 * p.z * p.z +
+                       2 * (q.b0 * p.x + q.b1 * p.y + q.b2 * p.z) + quadrics_[u].c + quadrics_[v].c;
   // Rounding can take an error of 0 slightly below it.
-  const double mean = weight > 0 ? std::max(0.0, error) / weight : 0.0;
+  const double mean = q.weight > 0 ? std::max(0.0, error) / q.weight : 0.0;
   return mean + kEdgeLengthWeight * squared_norm(x_[u] - p);
 }
 
 void CollapseCost::merge(uint32_t u, uint32_t v) {
-  const Quadric& qu = quadrics_[u];
-  Quadric& qv = quadrics_[v];
-  qv.a00 += qu.a00, qv.a01 += qu.a01, qv.a02 += qu.a02;
-  qv.a11 += qu.a11, qv.a12 += qu.a12, qv.a22 += qu.a22;
-  qv.b0 += qu.b0, qv.b1 += qu.b1, qv.b2 += qu.b2;
-  qv.c += qu.c, qv.weight += qu.weight;
+  quadrics_[v] += quadrics_[u];
 }
 
 }  // namespace spheremap

@@ -37,6 +37,12 @@ class CollapseCost {
   struct Quadric {
     double a00 = 0, a01 = 0, a02 = 0, a11 = 0, a12 = 0, a22 = 0;
     double b0 = 0, b1 = 0, b2 = 0, c = 0, weight = 0;
+
+    Quadric& operator+=(const Quadric& o) {
+      a00 += o.a00, a01 += o.a01, a02 += o.a02, a11 += o.a11, a12 += o.a12, a22 += o.a22;
+      b0 += o.b0, b1 += o.b1, b2 += o.b2, c += o.c, weight += o.weight;
+      return *this;
+    }
   };
 
   std::span<const Vec3> x_;

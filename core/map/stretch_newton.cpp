@@ -29,13 +29,6 @@ Eigen::Matrix3d cross_matrix(const Vec3& a) {
   return m;
 }
 
-// An orthonormal basis (t1, t2) of the tangent plane at p, the optimizer's own.
-std::array<Vec3, 2> tangent_frame(const Vec3& p) {
-  const Vec3 axis = std::abs(p.x) < 0.6 ? Vec3{1, 0, 0} : Vec3{0, 1, 0};
-  const Vec3 t1 = normalized_or(cross(p, axis), Vec3{0, 0, 1});
-  return {t1, cross(p, t1)};
-}
-
 // The energy's three sums over the triangles: stretch N / A^2, inverse N, and A; +inf
 // when a triangle is not valid. Fixed chunks summed in order, so the result does not
 // depend on the thread count.

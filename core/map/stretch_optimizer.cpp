@@ -160,9 +160,7 @@ class StretchProblem {
     //   grad E = (k1 / A^2 + k2) grad N - 2 k1 N / A^3 a
     //   hess E = (k1 / A^2 + k2) 2 (cb + cc) I - 2 k1 / A^3 (grad N a^T + a grad N^T)
     //            + 6 k1 N / A^4 a a^T
-    const Vec3 axis = std::abs(p.x) < 0.6 ? Vec3{1, 0, 0} : Vec3{0, 1, 0};
-    const Vec3 t1 = normalized_or(cross(p, axis), Vec3{0, 0, 1});
-    const Vec3 t2 = cross(p, t1);
+    const auto [t1, t2] = tangent_frame(p);
     Vec3 grad;
     double h11 = 0, h12 = 0, h22 = 0, e0 = 0;
     for (const StarFace& face : star) {

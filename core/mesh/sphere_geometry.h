@@ -3,6 +3,7 @@
 #pragma once
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <span>
 #include <vector>
@@ -17,6 +18,14 @@ inline Vec3 normalized_or(const Vec3& v, const Vec3& fallback) {
   const double n2 = squared_norm(v);
   if (!(n2 > 1e-200) || !std::isfinite(n2)) return fallback;
   return v * (1.0 / std::sqrt(n2));
+}
+
+// An orthonormal basis (t1, t2) of the tangent plane at the unit vector p, with
+// t1 x t2 = p: the frame every optimizer step at p is taken in.
+inline std::array<Vec3, 2> tangent_frame(const Vec3& p) {
+  const Vec3 axis = std::abs(p.x) < 0.6 ? Vec3{1, 0, 0} : Vec3{0, 1, 0};
+  const Vec3 t1 = normalized_or(cross(p, axis), Vec3{0, 0, 1});
+  return {t1, cross(p, t1)};
 }
 
 inline double triple_product(const Vec3& a, const Vec3& b, const Vec3& c) {
