@@ -61,10 +61,13 @@ class CollapsibleMesh {
     }
   }
 
-  // The cost of u's cheapest collapse onto a neighbour.
-  double cheapest_collapse(uint32_t u, const CollapseCost& cost) const {
-    double best = INFINITY;
-    for_each_neighbor(u, [&](uint32_t w) { best = std::min(best, cost(u, w)); });
+  // The cost of u's cheapest collapse onto a neighbour, and that neighbour.
+  std::pair<double, uint32_t> cheapest_collapse(uint32_t u, const CollapseCost& cost) const {
+    std::pair<double, uint32_t> best{INFINITY, u};
+    for_each_neighbor(u, [&](uint32_t w) {
+      const double c = cost(u, w);
+      if (c < best.first) best = {c, w};
+    });
     return best;
   }
 
@@ -155,6 +158,19 @@ struct CollapseLog {
 // all n vertices per round were a fifth of the hierarchy's time at 100K faces).
 using Order = std::vector<std::pair<double, uint32_t>>;
 
+// Per vertex: its key (the cost of its cheapest collapse) and the neighbour it collapses
+// onto at that cost. A collapse u -> v changes only the quadric of v and the neighbours of
+// the vertices around it, so a neighbour w of v whose cheapest collapse went neither to u
+// nor to a vertex whose quadric grew keeps every cost it had, and gains or changes only
+// those onto such vertices: its new key is the old one or one of those, found with one or
+// two cost evaluations instead of one per neighbour (the same minimum over the same
+// numbers, so the same hierarchy; re-keying was most of a round's time).
+struct Keys {
+  std::vector<double> key;
+  std::vector<uint32_t> onto;
+  std::vector<char> grew;  // the quadric grew this round (a collapse target)
+};
+
 // One round: an independent set of collapses (touched = u and its ring), vertices taken
 // in order of their cheapest collapse (the key in `order`), each trying its ring cheapest
 // first. A collapse u -> v changes the keys of v and
@@ -162,9 +178,9 @@ using Order = std::vector<std::pair<double, uint32_t>>;
 // refreshes those at its end, and `order` with them.
 size_t collapse_round(CollapsibleMesh& mesh, CollapseCost& cost, bool geometric_test,
                       CollapseLog& log, std::vector<char>& touched, std::vector<char>& stale,
-                      Order& order) {
+                      Order& order, Keys& keys) {
   std::vector<uint32_t> ring;
-  std::vector<uint32_t> stale_list;
+  std::vector<uint32_t> stale_list, grown;
   std::vector<std::pair<double, uint32_t>> candidates;
   auto mark_stale = [&](uint32_t w) {
     if (!stale[w]) stale[w] = 1, stale_list.push_back(w);
@@ -183,6 +199,7 @@ size_t collapse_round(CollapsibleMesh& mesh, CollapseCost& cost, bool geometric_
       log.add(u, v, ring);
       mesh.collapse(u, v);
       cost.merge(u, v);
+      keys.grew[v] = 1, grown.push_back(v);
       touched[u] = 1;
       mark_stale(u);
       for (uint32_t w : ring) touched[w] = 1;
@@ -206,9 +223,23 @@ size_t collapse_round(CollapsibleMesh& mesh, CollapseCost& cost, bool geometric_
   const long long count = static_cast<long long>(merged.size());
 #pragma omp parallel for schedule(static) if (count > 4096)
   for (long long k = 0; k < count; ++k) {
-    auto& [key, w] = merged[static_cast<size_t>(k)];
-    key = mesh.cheapest_collapse(w, cost);  // each writes its own
+    auto& [key, w] = merged[static_cast<size_t>(k)];  // each writes its own
+    const uint32_t onto = keys.onto[w];
+    std::pair<double, uint32_t> best;
+    if (keys.grew[w] || !mesh.alive(onto) || keys.grew[onto]) {
+      best = mesh.cheapest_collapse(w, cost);
+    } else {
+      best = {keys.key[w], onto};
+      mesh.for_each_neighbor(w, [&](uint32_t t) {
+        if (!keys.grew[t]) return;
+        const double c = cost(w, t);
+        if (c < best.first) best = {c, t};
+      });
+    }
+    key = best.first;
+    keys.key[w] = best.first, keys.onto[w] = best.second;
   }
+  for (uint32_t v : grown) keys.grew[v] = 0;
   std::sort(merged.begin(), merged.end());
   const size_t kept = order.size();
   order.insert(order.end(), merged.begin(), merged.end());
@@ -237,12 +268,16 @@ CollapseHierarchy build_hierarchy(std::span<const Vec3> positions,
   std::vector<char> touched(n, 0), stale(n, 0);
   CollapseCost cost(positions, triangles);
   Order order(n);
+  Keys keys{std::vector<double>(n), std::vector<uint32_t>(n), std::vector<char>(n, 0)};
   for (uint32_t u = 0; u < n; ++u) {
-    order[u] = {mesh.cheapest_collapse(u, cost), u};
+    const auto [key, onto] = mesh.cheapest_collapse(u, cost);
+    order[u] = {key, u};
+    keys.key[u] = key, keys.onto[u] = onto;
   }
   std::sort(order.begin(), order.end());
   while (mesh.alive_vertices() > 4) {
-    const size_t collapsed = collapse_round(mesh, cost, geometric_test, log, touched, stale, order);
+    const size_t collapsed =
+        collapse_round(mesh, cost, geometric_test, log, touched, stale, order, keys);
     if (collapsed == 0) {
       if (!geometric_test) throw std::runtime_error("hierarchy: no collapsible edge left");
       geometric_test = false;
