@@ -28,6 +28,19 @@ TEST(Topology, ClosedGenusZeroMeshesPass) {
   }
 }
 
+// Far from the origin the divergence-theorem sum adds terms of (distance)^3 into a volume
+// of (size)^3: about the origin this mesh's terms are ~1e16 and its volume 4e-9.
+TEST(SignedVolume, KeepsItsSignFarFromTheOrigin) {
+  PolygonMesh mesh = testing::icosphere(3);
+  for (Vec3& p : mesh.positions) p = 1e-3 * p + Vec3{1e5, -2e5, 3e5};
+  const std::vector<Triangle> triangles = fan_triangulate(mesh).triangles;
+  const double volume = signed_volume(mesh.positions, triangles);
+  EXPECT_NEAR(volume, 4.0 / 3.0 * M_PI * 1e-9, 0.05 * 4.2e-9);
+  const std::vector<Triangle> flipped = fan_triangulate(testing::reversed(mesh)).triangles;
+  EXPECT_LT(signed_volume(mesh.positions, flipped), 0);
+  EXPECT_GT(analyze_topology(mesh).signed_volume, 0);
+}
+
 TEST(Topology, CountsFacesAndSizes) {
   const TopologyReport r = analyze_topology(testing::capped_tube(8, 20, 30));
   EXPECT_EQ(r.faces, 8u * 20 + 2);

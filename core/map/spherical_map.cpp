@@ -89,7 +89,9 @@ MapResult map_in_order(const PolygonMesh& mesh, const MapOptions& options,
 
 MapResult map_to_sphere(const PolygonMesh& input, const MapOptions& options,
                         const MapControl& control) {
-  // Map a copy in a cache-friendly vertex order, positions back in the input's order. On
+  // Map a copy in a cache-friendly vertex order, centred and scaled to the unit ball
+  // (the map does not depend on the mesh's placement or units; its arithmetic would),
+  // positions back in the input's order. On
   // the hardest shapes the outcome hinges on tiny perturbations (which vertex labels
   // which tetrahedron corner, summation orders), so a map that folds in every setting
   // of the first order is tried again (Lai-Cheng levels) in the input's own order; the
@@ -108,7 +110,9 @@ MapResult map_to_sphere(const PolygonMesh& input, const MapOptions& options,
       attempt_options.direct_iterations = 0;  // tried already
       attempt_options.optimize = false;
     }
-    MapResult result = map_in_order(reordered(input, *order), attempt_options, control);
+    PolygonMesh mesh = reordered(input, *order);
+    center_and_scale(mesh.positions);
+    MapResult result = map_in_order(mesh, attempt_options, control);
     attempts += result.attempts, iterations += result.iterations;
     work += result.fine_iteration_equivalents;
     result.attempts = attempts, result.iterations = iterations;

@@ -1,6 +1,7 @@
 #include "core/mesh/mesh.h"
 
 #include <algorithm>
+#include <cmath>
 #include <unordered_set>
 
 namespace spheremap {
@@ -75,11 +76,38 @@ VertexTriangles vertex_triangles(std::span<const Triangle> triangles, size_t ver
   return vt;
 }
 
+// About the bounding box's centre: each term is then of the size of the mesh, not of its
+// distance from the origin (a mesh far from the origin summed terms of 1e12 into a volume
+// of 1e-15, and got its orientation by chance).
 double signed_volume(std::span<const Vec3> positions, std::span<const Triangle> triangles) {
+  const Vec3 center = bounding_box_center(positions);
   double six_volume = 0;
   for (const Triangle& t : triangles)
-    six_volume += dot(positions[t[0]], cross(positions[t[1]], positions[t[2]]));
+    six_volume +=
+        dot(positions[t[0]] - center, cross(positions[t[1]] - center, positions[t[2]] - center));
   return six_volume / 6.0;
+}
+
+Vec3 bounding_box_center(std::span<const Vec3> positions) {
+  if (positions.empty()) return {};
+  Vec3 lo = positions[0], hi = positions[0];
+  for (const Vec3& p : positions) {
+    lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
+    hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
+  }
+  return 0.5 * (lo + hi);
+}
+
+void center_and_scale(std::span<Vec3> positions) {
+  const Vec3 center = bounding_box_center(positions);
+  double radius2 = 0;
+  for (Vec3& p : positions) {
+    p = p - center;
+    radius2 = std::max(radius2, squared_norm(p));
+  }
+  if (!(radius2 > 0) || !std::isfinite(radius2)) return;
+  const double scale = 1 / std::sqrt(radius2);
+  for (Vec3& p : positions) p = scale * p;
 }
 
 }  // namespace spheremap

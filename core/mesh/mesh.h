@@ -56,4 +56,13 @@ VertexTriangles vertex_triangles(std::span<const Triangle> triangles, size_t ver
 // Signed volume enclosed by the triangles (divergence theorem); < 0 means inward-facing.
 double signed_volume(std::span<const Vec3> positions, std::span<const Triangle> triangles);
 
+// The centre of the positions' axis-aligned bounding box (origin when empty).
+Vec3 bounding_box_center(std::span<const Vec3> positions);
+
+// Moves the bounding box's centre to the origin and scales the positions into the unit
+// ball, so that no computation on them depends on where the mesh sits or on its units
+// (quadric errors of a mesh 1e4 from the origin cancelled to noise). Precondition: finite
+// positions; leaves a single point at the origin.
+void center_and_scale(std::span<Vec3> positions);
+
 }  // namespace spheremap
