@@ -209,17 +209,12 @@ size_t collapse_round(CollapsibleMesh& mesh, CollapseCost& cost, bool geometric_
       break;
     }
   }
-  // The order without the stale vertices (removed or re-keyed)...
-  std::erase_if(order,
-                [&](const std::pair<double, uint32_t>& entry) { return stale[entry.second] != 0; });
-  // ...and the stale ones still alive, once each, with their new keys (every touched
-  // vertex is stale: u, and its ring, now v's neighbours).
+  // New keys for the stale vertices still alive (every touched vertex is stale: u, and
+  // its ring, now v's neighbours), in parallel: reading the mesh and quadrics is most of
+  // a round's time.
   Order merged;
-  for (uint32_t w : stale_list) {
-    stale[w] = touched[w] = 0;
-    if (mesh.alive(w)) merged.push_back({0, w});
-  }
-  // The keys in parallel: reading the mesh and quadrics is most of the round's time.
+  for (uint32_t w : stale_list)
+    if (mesh.alive(w)) merged.push_back({keys.key[w], w});
   const long long count = static_cast<long long>(merged.size());
 #pragma omp parallel for schedule(static) if (count > 4096)
   for (long long k = 0; k < count; ++k) {
@@ -237,9 +232,21 @@ size_t collapse_round(CollapsibleMesh& mesh, CollapseCost& cost, bool geometric_
       });
     }
     key = best.first;
-    keys.key[w] = best.first, keys.onto[w] = best.second;
+    keys.onto[w] = best.second;
   }
   for (uint32_t v : grown) keys.grew[v] = 0;
+  // A vertex whose key did not change keeps its place in the order; the removed ones and
+  // those with new keys leave it and come back sorted (fewer to sort: sorting them was a
+  // quarter of the hierarchy's instructions).
+  std::erase_if(merged, [&](const std::pair<double, uint32_t>& entry) {
+    const bool same = entry.first == keys.key[entry.second];
+    if (same) stale[entry.second] = 0;
+    keys.key[entry.second] = entry.first;
+    return same;
+  });
+  std::erase_if(order,
+                [&](const std::pair<double, uint32_t>& entry) { return stale[entry.second] != 0; });
+  for (uint32_t w : stale_list) stale[w] = touched[w] = 0;
   std::sort(merged.begin(), merged.end());
   const size_t kept = order.size();
   order.insert(order.end(), merged.begin(), merged.end());

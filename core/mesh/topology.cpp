@@ -17,30 +17,51 @@ struct HalfEdge {
   }
 };
 
+// Every half-edge, grouped by undirected edge: bucketed by the smaller vertex (a counting
+// sort), then each vertex's few edges sorted by the larger one. A comparison sort of all
+// half-edges was half of the topology check's time.
 std::vector<HalfEdge> half_edges(const PolygonMesh& mesh) {
-  std::vector<HalfEdge> edges;
-  edges.reserve(mesh.indices.size());
-  for (size_t f = 0; f < mesh.face_count(); ++f) {
-    const uint32_t begin = mesh.offsets[f], size = mesh.offsets[f + 1] - begin;
-    for (uint32_t k = 0; k < size; ++k) {
-      uint32_t a = begin + k, b = begin + (k + 1) % size;
-      if (mesh.indices[a] != mesh.indices[b])
-        edges.push_back({mesh.indices[a], mesh.indices[b], a, b});
+  const size_t n = mesh.vertex_count();
+  auto for_each_half_edge = [&](auto&& visit) {
+    for (size_t f = 0; f < mesh.face_count(); ++f) {
+      const uint32_t begin = mesh.offsets[f], size = mesh.offsets[f + 1] - begin;
+      for (uint32_t k = 0; k < size; ++k) {
+        const uint32_t a = begin + k, b = begin + (k + 1) % size;
+        if (mesh.indices[a] != mesh.indices[b])
+          visit(HalfEdge{mesh.indices[a], mesh.indices[b], a, b});
+      }
     }
-  }
-  std::sort(edges.begin(), edges.end(),
-            [](const HalfEdge& x, const HalfEdge& y) { return x.key() < y.key(); });
+  };
+  std::vector<uint32_t> start(n + 1, 0);
+  for_each_half_edge([&](const HalfEdge& h) { ++start[std::min(h.from, h.to) + 1]; });
+  for (size_t v = 0; v < n; ++v) start[v + 1] += start[v];
+  std::vector<HalfEdge> edges(start[n]);
+  std::vector<uint32_t> fill(start.begin(), start.end() - 1);
+  for_each_half_edge([&](const HalfEdge& h) { edges[fill[std::min(h.from, h.to)]++] = h; });
+  for (size_t v = 0; v < n; ++v)
+    std::sort(edges.begin() + start[v], edges.begin() + start[v + 1],
+              [](const HalfEdge& x, const HalfEdge& y) { return x.key() < y.key(); });
   return edges;
+}
+
+// A face uses a vertex twice: pairwise for the usual small faces (no allocation per face).
+bool repeats_a_vertex(std::span<const uint32_t> face) {
+  if (face.size() > 16) {
+    std::vector<uint32_t> sorted(face.begin(), face.end());
+    std::sort(sorted.begin(), sorted.end());
+    return std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end();
+  }
+  for (size_t i = 0; i < face.size(); ++i)
+    for (size_t j = i + 1; j < face.size(); ++j)
+      if (face[i] == face[j]) return true;
+  return false;
 }
 
 void count_faces(const PolygonMesh& mesh, TopologyReport& r) {
   for (size_t f = 0; f < mesh.face_count(); ++f) {
     auto face = mesh.face(f);
     ++r.face_sizes[face.size()];
-    std::vector<uint32_t> sorted(face.begin(), face.end());
-    std::sort(sorted.begin(), sorted.end());
-    if (std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end())
-      ++r.faces_with_repeated_vertices;
+    if (repeats_a_vertex(face)) ++r.faces_with_repeated_vertices;
   }
 }
 
