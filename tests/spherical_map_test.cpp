@@ -80,6 +80,27 @@ TEST(SphericalMap, PlacementAndUnitsDoNotChangeTheMap) {
   }
 }
 
+// Units far from 1: at 1e200 the metrics' sums of areas overflowed and at 1e-200 they
+// underflowed (stretch reported 0 or NaN for a certified map), and the topology check
+// called every face zero-area.
+TEST(SphericalMap, ExtremeUnitsGiveTheSameMapAndMetrics) {
+  const std::vector<Vec3> limbs = {{1, 0, 0}, {0, -1, 0}};
+  const PolygonMesh mesh = testing::with_limbs(testing::icosphere(3), limbs, 2, 0.2);
+  const MappedMesh home = map_default(mesh);
+  ASSERT_TRUE(home.map.check.bijective);
+  for (const double scale : {1e200, 1e-200}) {
+    PolygonMesh scaled = mesh;
+    for (Vec3& p : scaled.positions) p = scale * p;
+    EXPECT_EQ(analyze_topology(scaled).zero_area_faces, 0u) << scale;
+    const MappedMesh there = map_default(scaled);
+    ASSERT_TRUE(there.map.check.bijective) << scale;
+    EXPECT_EQ(there.map.inward, home.map.inward) << scale;
+    EXPECT_NEAR(there.quality.stretch_l2 / home.quality.stretch_l2, 1.0, 0.005) << scale;
+    EXPECT_NEAR(there.quality.area_log_ratio.mean, home.quality.area_log_ratio.mean, 0.005)
+        << scale;
+  }
+}
+
 TEST(SphericalMap, InwardMeshKeepsItsOrientation) {
   const PolygonMesh mesh = testing::reversed(testing::icosphere(2));
   const MappedMesh m = map_default(mesh);

@@ -78,7 +78,12 @@ MappedMesh map_prepared(PreparedMesh prepared, const MapOptions& options,
   const auto start = std::chrono::steady_clock::now();
   const PolygonMesh& mesh = out.prepared.welded.mesh;
   const OrientedTriangles oriented = oriented_triangles(mesh);
-  out.quality = compute_metrics(mesh.positions, out.map.sphere, oriented.triangles);
+  // The metrics are ratios that do not depend on placement or units; their sums of areas
+  // would (overflow at 1e200, underflow at 1e-200), so they are taken on the mesh
+  // centred and scaled.
+  std::vector<Vec3> normalized = mesh.positions;
+  center_and_scale(normalized);
+  out.quality = compute_metrics(normalized, out.map.sphere, oriented.triangles);
   out.float32_check =
       verify_map(rounded_to_float32(out.map.sphere), oriented.triangles, mesh, oriented.inward);
   out.metrics_seconds = seconds_since(start);

@@ -76,15 +76,14 @@ VertexTriangles vertex_triangles(std::span<const Triangle> triangles, size_t ver
   return vt;
 }
 
-// About the bounding box's centre: each term is then of the size of the mesh, not of its
-// distance from the origin (a mesh far from the origin summed terms of 1e12 into a volume
-// of 1e-15, and got its orientation by chance).
+// On the mesh centred and scaled: each term is then of the size of the mesh, not of its
+// distance from the origin (a mesh far from the origin summed terms of 1e16 into a volume
+// of 4e-9, and got its orientation by chance), and no cube overflows or underflows.
 double signed_volume(std::span<const Vec3> positions, std::span<const Triangle> triangles) {
-  const Vec3 center = bounding_box_center(positions);
+  std::vector<Vec3> p(positions.begin(), positions.end());
+  center_and_scale(p);
   double six_volume = 0;
-  for (const Triangle& t : triangles)
-    six_volume +=
-        dot(positions[t[0]] - center, cross(positions[t[1]] - center, positions[t[2]] - center));
+  for (const Triangle& t : triangles) six_volume += dot(p[t[0]], cross(p[t[1]], p[t[2]]));
   return six_volume / 6.0;
 }
 
@@ -95,19 +94,29 @@ Vec3 bounding_box_center(std::span<const Vec3> positions) {
     lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
     hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
   }
-  return 0.5 * (lo + hi);
+  return 0.5 * lo + 0.5 * hi;  // halves first: lo + hi may overflow
 }
 
+// Scaled by powers of two (exact, and no overflow or underflow on the way: 1 / 1e-310
+// is not a double), first so that the largest coordinate is about 1, then so that the
+// centred mesh is: coordinates from 1e-300 to 1e300 come out the same.
 void center_and_scale(std::span<Vec3> positions) {
+  auto largest_coordinate = [&] {
+    double largest = 0;
+    for (const Vec3& p : positions)
+      largest = std::max({largest, std::abs(p.x), std::abs(p.y), std::abs(p.z)});
+    return largest;
+  };
+  auto scale_to_one = [&](double largest) {
+    if (!(largest > 0) || !std::isfinite(largest)) return;
+    const int exponent = std::ilogb(largest);
+    for (Vec3& p : positions)
+      p = {std::ldexp(p.x, -exponent), std::ldexp(p.y, -exponent), std::ldexp(p.z, -exponent)};
+  };
+  scale_to_one(largest_coordinate());
   const Vec3 center = bounding_box_center(positions);
-  double radius2 = 0;
-  for (Vec3& p : positions) {
-    p = p - center;
-    radius2 = std::max(radius2, squared_norm(p));
-  }
-  if (!(radius2 > 0) || !std::isfinite(radius2)) return;
-  const double scale = 1 / std::sqrt(radius2);
-  for (Vec3& p : positions) p = scale * p;
+  for (Vec3& p : positions) p = p - center;
+  scale_to_one(largest_coordinate());
 }
 
 }  // namespace spheremap

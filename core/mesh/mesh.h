@@ -53,16 +53,18 @@ struct VertexTriangles {
 };
 VertexTriangles vertex_triangles(std::span<const Triangle> triangles, size_t vertex_count);
 
-// Signed volume enclosed by the triangles (divergence theorem); < 0 means inward-facing.
+// Signed volume enclosed by the triangles (divergence theorem) on the positions centred
+// and scaled (center_and_scale): its sign is the orientation, < 0 means inward-facing.
 double signed_volume(std::span<const Vec3> positions, std::span<const Triangle> triangles);
 
 // The centre of the positions' axis-aligned bounding box (origin when empty).
 Vec3 bounding_box_center(std::span<const Vec3> positions);
 
-// Moves the bounding box's centre to the origin and scales the positions into the unit
-// ball, so that no computation on them depends on where the mesh sits or on its units
-// (quadric errors of a mesh 1e4 from the origin cancelled to noise). Precondition: finite
-// positions; leaves a single point at the origin.
+// Moves the bounding box's centre to the origin and scales the positions by a power of
+// two so that the largest coordinate is in [1, 2), so that no computation on them depends
+// on where the mesh sits or on its units (quadric errors of a mesh 1e4 from the origin
+// cancelled to noise; areas of a mesh at 1e200 overflow). Non-finite positions are left
+// unscaled (they are rejected before mapping).
 void center_and_scale(std::span<Vec3> positions);
 
 }  // namespace spheremap

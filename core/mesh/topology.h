@@ -26,7 +26,9 @@ struct TopologyReport {
   std::vector<size_t> component_vertices;  // per component, largest first
   std::vector<size_t> component_faces;     // in the same order
   long long euler_characteristic = 0;
-  double signed_volume = 0;  // < 0: consistently oriented inward
+  // In the units of the mesh scaled by a power of two to coordinates of about 1: its sign
+  // is what counts (< 0: consistently oriented inward).
+  double signed_volume = 0;
 
   bool closed() const { return boundary_edges == 0; }
   bool manifold() const {
