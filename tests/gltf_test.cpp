@@ -40,6 +40,24 @@ TEST(Gltf, WrittenGlbReadsBackExactly) {
   EXPECT_EQ(glb.json["accessors"][0]["min"].size(), 3u);
 }
 
+// glTF stores float32: a position past its range would be written as infinity (an invalid
+// file with null bounds, which the writer used to produce with exit 0).
+TEST(Gltf, RefusesToWritePositionsBeyondFloat32) {
+  const PolygonMesh m = testing::icosphere(1);
+  GlbMesh mesh;
+  mesh.positions = m.positions;
+  mesh.triangles = fan_triangulate(m).triangles;
+  EXPECT_NO_THROW(format_glb(mesh));
+  mesh.positions[3].y = 1e150;
+  try {
+    format_glb(mesh);
+    FAIL() << "wrote a position of 1e150 as float32";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.check(), "float32_range");
+    EXPECT_NE(std::string(e.what()).find("1e+150"), std::string::npos) << e.what();
+  }
+}
+
 TEST(Gltf, RejectsTruncatedFilesAtEveryLength) {
   const std::string file = sphere_glb();
   for (size_t cut :

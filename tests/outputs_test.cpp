@@ -103,6 +103,25 @@ TEST(SurfaceDistance, IsZeroForTheSameSurfaceAndMeasuresAnOffset) {
   EXPECT_LT(moved.rms, moved.hausdorff);
 }
 
+// Relative distances do not depend on units: at 1e-300 the squared distances underflowed
+// and every figure came out 0.
+TEST(SurfaceDistance, IsTheSameInAnyUnits) {
+  const PolygonMesh a = testing::icosphere(3);
+  const std::vector<Triangle> t = fan_triangulate(a).triangles;
+  PolygonMesh b = a;
+  for (Vec3& p : b.positions) p.x += 0.1;
+  const SurfaceDistance home = surface_distance(a.positions, t, b.positions, t);
+  for (const double scale : {1e-300, 1e200}) {
+    PolygonMesh sa = a, sb = b;
+    for (Vec3& p : sa.positions) p = scale * p + Vec3{3 * scale, 0, 0};
+    for (Vec3& p : sb.positions) p = scale * p + Vec3{3 * scale, 0, 0};
+    const SurfaceDistance there = surface_distance(sa.positions, t, sb.positions, t);
+    EXPECT_NEAR(there.hausdorff, home.hausdorff, 1e-6 * home.hausdorff) << scale;
+    EXPECT_NEAR(there.rms, home.rms, 1e-6 * home.rms) << scale;
+    EXPECT_NEAR(there.diagonal / scale, home.diagonal, 1e-9) << scale;
+  }
+}
+
 TEST(Texcoords, SplitAlongTheCutsAndNeverFlip) {
   const PolygonMesh sphere = testing::icosphere(4);
   const std::vector<Triangle> triangles = fan_triangulate(sphere).triangles;

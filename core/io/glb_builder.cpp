@@ -1,7 +1,12 @@
 #include "core/io/glb_builder.h"
 
 #include <algorithm>
+#include <cmath>
+#include <cstdio>
 #include <limits>
+#include <string>
+
+#include "core/mesh/input_error.h"
 
 namespace spheremap {
 
@@ -44,6 +49,16 @@ size_t GlbBuilder::add_vec3(std::span<const Vec3> values, bool with_bounds, int 
   data.reserve(values.size() * 12);
   for (const Vec3& p : values) {
     const float f[3] = {static_cast<float>(p.x), static_cast<float>(p.y), static_cast<float>(p.z)};
+    // Past float32's range a coordinate becomes infinite: an invalid file, not a mesh (an
+    // OBJ in units of 1e150 can be mapped, but its remesh cannot be stored as glTF).
+    if (!std::isfinite(f[0]) || !std::isfinite(f[1]) || !std::isfinite(f[2])) {
+      char largest[32];
+      std::snprintf(largest, sizeof largest, "%.3g",
+                    std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z)}));
+      throw InputError("float32_range", std::string("a coordinate (") + largest +
+                                            ") is beyond float32's range (3.4e38), which glTF "
+                                            "stores; write .obj, or scale the mesh");
+    }
     data.append(reinterpret_cast<const char*>(f), sizeof f);
   }
   return add_accessor(vec3_accessor(values, with_bounds), data, target);

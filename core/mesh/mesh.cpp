@@ -97,26 +97,54 @@ Vec3 bounding_box_center(std::span<const Vec3> positions) {
   return 0.5 * lo + 0.5 * hi;  // halves first: lo + hi may overflow
 }
 
-// Scaled by powers of two (exact, and no overflow or underflow on the way: 1 / 1e-310
-// is not a double), first so that the largest coordinate is about 1, then so that the
-// centred mesh is: coordinates from 1e-300 to 1e300 come out the same.
+namespace {
+
+double largest_coordinate(std::span<const Vec3> positions) {
+  double largest = 0;
+  for (const Vec3& p : positions)
+    largest = std::max({largest, std::abs(p.x), std::abs(p.y), std::abs(p.z)});
+  return largest;
+}
+
+// The exponent e with largest / 2^e in [1, 2) (0 when there is nothing to scale).
+int exponent_of(double largest) {
+  return largest > 0 && std::isfinite(largest) ? std::ilogb(largest) : 0;
+}
+
+Vec3 scaled(const Vec3& p, int exponent) {
+  return {std::ldexp(p.x, -exponent), std::ldexp(p.y, -exponent), std::ldexp(p.z, -exponent)};
+}
+
+}  // namespace
+
+// Powers of two (exact, and no overflow or underflow on the way: 1 / 1e-310 is not a
+// double), first so that the largest coordinate is about 1, then so that the centred mesh
+// is: coordinates from 1e-300 to 1e300 come out the same.
+UnitFrame unit_frame(std::span<const Vec3> positions) {
+  UnitFrame frame;
+  frame.exponent = exponent_of(largest_coordinate(positions));
+  std::vector<Vec3> p(positions.size());
+  for (size_t k = 0; k < p.size(); ++k) p[k] = scaled(positions[k], frame.exponent);
+  frame.center = bounding_box_center(p);
+  double largest = 0;
+  for (const Vec3& q : p)
+    largest = std::max({largest, std::abs(q.x - frame.center.x), std::abs(q.y - frame.center.y),
+                        std::abs(q.z - frame.center.z)});
+  frame.exponent2 = exponent_of(largest);
+  return frame;
+}
+
+Vec3 UnitFrame::apply(const Vec3& p) const {
+  return scaled(scaled(p, exponent) - center, exponent2);
+}
+
+double UnitFrame::length_in_input_units(double length) const {
+  return std::ldexp(std::ldexp(length, exponent2), exponent);
+}
+
 void center_and_scale(std::span<Vec3> positions) {
-  auto largest_coordinate = [&] {
-    double largest = 0;
-    for (const Vec3& p : positions)
-      largest = std::max({largest, std::abs(p.x), std::abs(p.y), std::abs(p.z)});
-    return largest;
-  };
-  auto scale_to_one = [&](double largest) {
-    if (!(largest > 0) || !std::isfinite(largest)) return;
-    const int exponent = std::ilogb(largest);
-    for (Vec3& p : positions)
-      p = {std::ldexp(p.x, -exponent), std::ldexp(p.y, -exponent), std::ldexp(p.z, -exponent)};
-  };
-  scale_to_one(largest_coordinate());
-  const Vec3 center = bounding_box_center(positions);
-  for (Vec3& p : positions) p = p - center;
-  scale_to_one(largest_coordinate());
+  const UnitFrame frame = unit_frame(positions);
+  for (Vec3& p : positions) p = frame.apply(p);
 }
 
 }  // namespace spheremap

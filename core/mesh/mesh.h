@@ -60,11 +60,22 @@ double signed_volume(std::span<const Vec3> positions, std::span<const Triangle> 
 // The centre of the positions' axis-aligned bounding box (origin when empty).
 Vec3 bounding_box_center(std::span<const Vec3> positions);
 
-// Moves the bounding box's centre to the origin and scales the positions by a power of
-// two so that the largest coordinate is in [1, 2), so that no computation on them depends
-// on where the mesh sits or on its units (quadric errors of a mesh 1e4 from the origin
-// cancelled to noise; areas of a mesh at 1e200 overflow). Non-finite positions are left
-// unscaled (they are rejected before mapping).
+// The similarity that moves the positions' bounding box's centre to the origin and scales
+// them by a power of two (exact) so that the largest coordinate is in [1, 2): computed on
+// it, nothing depends on where a mesh sits or on its units (quadric errors of a mesh 1e4
+// from the origin cancelled to noise; areas of a mesh at 1e200 overflow). apply() moves
+// any point (a second surface compared with this one) the same way.
+struct UnitFrame {
+  int exponent = 0;   // first scaled by 2^-exponent,
+  Vec3 center;        // then moved by -center,
+  int exponent2 = 0;  // then scaled by 2^-exponent2
+  Vec3 apply(const Vec3& p) const;
+  double length_in_input_units(double length) const;
+};
+// Non-finite positions are ignored for the scale (they are rejected before mapping).
+UnitFrame unit_frame(std::span<const Vec3> positions);
+
+// Every position moved by unit_frame(positions).
 void center_and_scale(std::span<Vec3> positions);
 
 }  // namespace spheremap

@@ -167,16 +167,23 @@ SurfaceDistance surface_distance(std::span<const Vec3> a_positions,
                                  std::span<const Vec3> b_positions,
                                  std::span<const Triangle> b_triangles, int threads) {
   SurfaceDistance out;
+  // Both surfaces in a's unit frame: the figures are relative to a's diagonal, so a
+  // similarity does not change them, and a mesh at 1e-300 units no longer underflows to
+  // distance 0 (nor one at 1e200 overflows).
+  const UnitFrame frame = unit_frame(a_positions);
+  std::vector<Vec3> a_unit(a_positions.size()), b_unit(b_positions.size());
+  for (size_t k = 0; k < a_unit.size(); ++k) a_unit[k] = frame.apply(a_positions[k]);
+  for (size_t k = 0; k < b_unit.size(); ++k) b_unit[k] = frame.apply(b_positions[k]);
   Box box;
   for (const Triangle& t : a_triangles)
-    for (uint32_t v : t) box.add(a_positions[v]);
-  out.diagonal = a_triangles.empty() ? 0 : norm(box.hi - box.lo);
-  if (!(out.diagonal > 0) || b_triangles.empty()) return out;
-  const std::vector<Vec3> a_samples = samples_of(a_positions, a_triangles);
-  const std::vector<Vec3> b_samples = samples_of(b_positions, b_triangles);
-  const auto [a_sum, a_max] = one_way(a_samples, TriangleTree(b_positions, b_triangles), threads);
-  const auto [b_sum, b_max] = one_way(b_samples, TriangleTree(a_positions, a_triangles), threads);
-  const double d = out.diagonal;
+    for (uint32_t v : t) box.add(a_unit[v]);
+  const double d = a_triangles.empty() ? 0 : norm(box.hi - box.lo);
+  out.diagonal = frame.length_in_input_units(d);
+  if (!(d > 0) || b_triangles.empty()) return out;
+  const std::vector<Vec3> a_samples = samples_of(a_unit, a_triangles);
+  const std::vector<Vec3> b_samples = samples_of(b_unit, b_triangles);
+  const auto [a_sum, a_max] = one_way(a_samples, TriangleTree(b_unit, b_triangles), threads);
+  const auto [b_sum, b_max] = one_way(b_samples, TriangleTree(a_unit, a_triangles), threads);
   out.rms_a_to_b = std::sqrt(a_sum / a_samples.size()) / d;
   out.max_a_to_b = a_max / d;
   out.rms_b_to_a = std::sqrt(b_sum / b_samples.size()) / d;
