@@ -122,6 +122,21 @@ TEST(SurfaceDistance, IsTheSameInAnyUnits) {
   }
 }
 
+TEST(Texcoords, StretchIsTheSameInAnyUnits) {
+  const PolygonMesh mesh = testing::scaled(testing::icosphere(3), {1, 2, 0.5});
+  const std::vector<Triangle> t = fan_triangulate(mesh).triangles;
+  std::vector<Vec3> sphere = mesh.positions;
+  for (Vec3& p : sphere) p = normalized_or(p, Vec3{0, 0, 1});
+  const UvMesh uv = octahedral_texcoords(mesh.positions, sphere, t);
+  const UvStretch home = uv_stretch(uv.positions, uv.square, uv.triangles);
+  ASSERT_GT(home.l2, 1.0);
+  for (const double scale : {1e-300, 1e200}) {
+    std::vector<Vec3> far = uv.positions;
+    for (Vec3& p : far) p = scale * p;
+    EXPECT_NEAR(uv_stretch(far, uv.square, uv.triangles).l2, home.l2, 1e-9 * home.l2) << scale;
+  }
+}
+
 TEST(Texcoords, SplitAlongTheCutsAndNeverFlip) {
   const PolygonMesh sphere = testing::icosphere(4);
   const std::vector<Triangle> triangles = fan_triangulate(sphere).triangles;
