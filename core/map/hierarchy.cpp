@@ -218,7 +218,8 @@ size_t collapse_round(CollapsibleMesh& mesh, CollapseCost& cost, bool geometric_
   const long long count = static_cast<long long>(merged.size());
 #pragma omp parallel for schedule(static) if (count > 4096)
   for (long long k = 0; k < count; ++k) {
-    auto& [key, w] = merged[static_cast<size_t>(k)];  // each writes its own
+    auto& entry = merged[static_cast<size_t>(k)];  // each writes its own
+    const uint32_t w = entry.second;  // a plain name: clang 14 cannot capture a binding
     const uint32_t onto = keys.onto[w];
     std::pair<double, uint32_t> best;
     if (keys.grew[w] || !mesh.alive(onto) || keys.grew[onto]) {
@@ -231,7 +232,7 @@ size_t collapse_round(CollapsibleMesh& mesh, CollapseCost& cost, bool geometric_
         if (c < best.first) best = {c, t};
       });
     }
-    key = best.first;
+    entry.first = best.first;
     keys.onto[w] = best.second;
   }
   for (uint32_t v : grown) keys.grew[v] = 0;
