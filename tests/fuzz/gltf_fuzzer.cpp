@@ -1,7 +1,8 @@
 // libFuzzer target: the glTF / GLB / Draco reader on arbitrary bytes, with the look the
 // outputs carry over (materials, attributes, nodes, images). Any input must end in a mesh
 // or an InputError: no crash, leak, hang, or other exception. A file that reads is
-// written back with its look (the scene writer) and its images decoded.
+// written back with its look (the scene writer: a mesh or an InputError again) and its
+// images decoded.
 #include <cstddef>
 #include <cstdint>
 
@@ -24,7 +25,12 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   spheremap::SceneGeometry geometry;
   geometry.input = &mesh;
   geometry.positions = mesh.positions;
-  if (!look.empty()) spheremap::build_scene_glb(look, geometry, {});
+  try {
+    // Node transforms can carry float32 positions past float32's range: the writer
+    // refuses those with an InputError (float32_range).
+    if (!look.empty()) spheremap::build_scene_glb(look, geometry, {});
+  } catch (const spheremap::InputError&) {
+  }
   for (const std::string& image : look.image_bytes) spheremap::decode_image(image, 1 << 16);
   return 0;
 }
