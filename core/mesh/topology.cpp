@@ -80,25 +80,18 @@ void measure_geometry(const PolygonMesh& mesh, TopologyReport& r) {
     hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
   }
   if (r.non_finite_vertices || mesh.vertex_count() == 0) return;
-  // About the centre and scaled by a power of two (exact) to coordinates of about 1:
-  // far from the origin the volume's terms would cancel to noise, and at 1e200 areas and
-  // volumes overflow (every face counted as zero-area).
-  const double largest = std::max({std::abs(lo.x), std::abs(lo.y), std::abs(lo.z), std::abs(hi.x),
-                                   std::abs(hi.y), std::abs(hi.z)});
-  const int exponent = largest > 0 ? std::ilogb(largest) : 0;
-  auto scaled = [&](const Vec3& p) {
-    return Vec3{std::ldexp(p.x, -exponent), std::ldexp(p.y, -exponent), std::ldexp(p.z, -exponent)};
-  };
-  const Vec3 center = 0.5 * scaled(lo) + 0.5 * scaled(hi);
-  const double tiny_area = 1e-14 * squared_norm(scaled(hi) - scaled(lo));
+  // In the unit frame (center_and_scale's): far from the origin the volume's terms would
+  // cancel to noise, and at 1e200 areas and volumes overflow (every face zero-area).
+  const UnitFrame frame = unit_frame(mesh.positions);
+  const double tiny_area = 1e-14 * squared_norm(frame.apply(hi) - frame.apply(lo));
   double six_volume = 0;
   for (size_t f = 0; f < mesh.face_count(); ++f) {
     auto face = mesh.face(f);
     Vec3 area_vector;
-    const Vec3 a = scaled(mesh.positions[face[0]]) - center;
+    const Vec3 a = frame.apply(mesh.positions[face[0]]);
     for (size_t k = 1; k + 1 < face.size(); ++k) {
-      const Vec3 b = scaled(mesh.positions[face[k]]) - center;
-      const Vec3 c = scaled(mesh.positions[face[k + 1]]) - center;
+      const Vec3 b = frame.apply(mesh.positions[face[k]]);
+      const Vec3 c = frame.apply(mesh.positions[face[k + 1]]);
       area_vector += cross(b - a, c - a);
       six_volume += dot(a, cross(b, c));
     }
