@@ -80,8 +80,7 @@ VertexTriangles vertex_triangles(std::span<const Triangle> triangles, size_t ver
 // distance from the origin (a mesh far from the origin summed terms of 1e16 into a volume
 // of 4e-9, and got its orientation by chance), and no cube overflows or underflows.
 double signed_volume(std::span<const Vec3> positions, std::span<const Triangle> triangles) {
-  std::vector<Vec3> p(positions.begin(), positions.end());
-  center_and_scale(p);
+  const std::vector<Vec3> p = centered_and_scaled(positions);
   double six_volume = 0;
   for (const Triangle& t : triangles) six_volume += dot(p[t[0]], cross(p[t[1]], p[t[2]]));
   return six_volume / 6.0;
@@ -145,6 +144,12 @@ double UnitFrame::length_in_input_units(double length) const {
 void center_and_scale(std::span<Vec3> positions) {
   const UnitFrame frame = unit_frame(positions);
   for (Vec3& p : positions) p = frame.apply(p);
+}
+
+std::vector<Vec3> centered_and_scaled(std::span<const Vec3> positions) {
+  std::vector<Vec3> copy(positions.begin(), positions.end());
+  center_and_scale(copy);
+  return copy;
 }
 
 }  // namespace spheremap

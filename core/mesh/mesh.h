@@ -77,5 +77,8 @@ UnitFrame unit_frame(std::span<const Vec3> positions);
 
 // Every position moved by unit_frame(positions).
 void center_and_scale(std::span<Vec3> positions);
+// A copy of positions moved by unit_frame(positions): for figures that are ratios (volume
+// sign, stretch, area shares) whose sums would overflow or underflow in extreme units.
+std::vector<Vec3> centered_and_scaled(std::span<const Vec3> positions);
 
 }  // namespace spheremap

@@ -174,9 +174,7 @@ UvStretch uv_stretch(std::span<const Vec3> input_surface, std::span<const Vec2> 
                      std::span<const Triangle> triangles) {
   // Stretch is a ratio: taken on the surface centred and scaled, so that its sums of
   // areas neither overflow nor underflow in extreme units.
-  const UnitFrame frame = unit_frame(input_surface);
-  std::vector<Vec3> surface(input_surface.size());
-  for (size_t v = 0; v < surface.size(); ++v) surface[v] = frame.apply(input_surface[v]);
+  const std::vector<Vec3> surface = centered_and_scaled(input_surface);
   double surface_total = 0, square_total = 0;
   for (const Triangle& t : triangles) {
     surface_total +=
