@@ -58,6 +58,24 @@ TEST(Gltf, RefusesToWritePositionsBeyondFloat32) {
   }
 }
 
+// ... and a mesh whose every coordinate is below float32's smallest normal would be stored
+// as a point (the writer wrote zeros with exit 0); tiny but normal units are kept.
+TEST(Gltf, RefusesToWritePositionsBelowFloat32) {
+  const PolygonMesh m = testing::icosphere(1);
+  GlbMesh mesh;
+  mesh.triangles = fan_triangulate(m).triangles;
+  for (const Vec3& p : m.positions) mesh.positions.push_back(p * 1e-30);
+  EXPECT_NO_THROW(format_glb(mesh));
+  for (Vec3& p : mesh.positions) p = p * 1e-270;
+  try {
+    format_glb(mesh);
+    FAIL() << "wrote a mesh at 1e-300 as float32";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.check(), "float32_range");
+    EXPECT_NE(std::string(e.what()).find("smallest normal"), std::string::npos) << e.what();
+  }
+}
+
 TEST(Gltf, RejectsTruncatedFilesAtEveryLength) {
   const std::string file = sphere_glb();
   for (size_t cut :

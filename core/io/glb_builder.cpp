@@ -44,6 +44,31 @@ nlohmann::json GlbBuilder::vec3_accessor(std::span<const Vec3> values, bool with
   return accessor;
 }
 
+namespace {
+
+[[noreturn]] void throw_out_of_float32(double coordinate, const char* bound, const char* what) {
+  char value[32];
+  std::snprintf(value, sizeof value, "%.3g", coordinate);
+  throw InputError("float32_range", std::string(what) + " (" + value + ") is " + bound +
+                                        ", which glTF stores; write .obj, or scale the mesh");
+}
+
+double largest_coordinate(const Vec3& p) {
+  return std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z)});
+}
+
+}  // namespace
+
+void GlbBuilder::require_float32_positions(std::span<const Vec3> positions) {
+  double largest = 0;
+  for (const Vec3& p : positions) largest = std::max(largest, largest_coordinate(p));
+  if (largest > std::numeric_limits<float>::max())
+    throw_out_of_float32(largest, "beyond float32's range (3.4e38)", "a coordinate");
+  if (largest > 0 && largest < std::numeric_limits<float>::min())
+    throw_out_of_float32(largest, "below float32's smallest normal value (1.2e-38)",
+                         "the largest coordinate");
+}
+
 size_t GlbBuilder::add_vec3(std::span<const Vec3> values, bool with_bounds, int target) {
   std::string data;
   data.reserve(values.size() * 12);
@@ -51,14 +76,9 @@ size_t GlbBuilder::add_vec3(std::span<const Vec3> values, bool with_bounds, int 
     const float f[3] = {static_cast<float>(p.x), static_cast<float>(p.y), static_cast<float>(p.z)};
     // Past float32's range a coordinate becomes infinite: an invalid file, not a mesh (an
     // OBJ in units of 1e150 can be mapped, but its remesh cannot be stored as glTF).
-    if (!std::isfinite(f[0]) || !std::isfinite(f[1]) || !std::isfinite(f[2])) {
-      char largest[32];
-      std::snprintf(largest, sizeof largest, "%.3g",
-                    std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z)}));
-      throw InputError("float32_range", std::string("a coordinate (") + largest +
-                                            ") is beyond float32's range (3.4e38), which glTF "
-                                            "stores; write .obj, or scale the mesh");
-    }
+    if (!std::isfinite(f[0]) || !std::isfinite(f[1]) || !std::isfinite(f[2]))
+      throw_out_of_float32(largest_coordinate(p), "beyond float32's range (3.4e38)",
+                           "a coordinate");
     data.append(reinterpret_cast<const char*>(f), sizeof f);
   }
   return add_accessor(vec3_accessor(values, with_bounds), data, target);

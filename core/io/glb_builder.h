@@ -29,6 +29,12 @@ class GlbBuilder {
   size_t add_floats(std::span<const float> values, int components, int target = kArrayBuffer);
   size_t add_indices(std::span<const std::array<uint32_t, 3>> triangles);
 
+  // Throws InputError "float32_range" when a mesh's positions cannot be stored as float32:
+  // a coordinate past its range (it would be infinite), or every coordinate below its
+  // smallest normal value (1.2e-38: the mesh would be stored as a point or in a few
+  // subnormal steps). add_vec3 refuses the first for any data.
+  static void require_float32_positions(std::span<const Vec3> positions);
+
   nlohmann::json& views() { return views_; }
   nlohmann::json& accessors() { return accessors_; }
   std::string& bin() { return bin_; }

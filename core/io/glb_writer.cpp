@@ -67,6 +67,7 @@ GlbParts build_glb(const GlbMesh& mesh) {
       (!mesh.texcoords.empty() || !mesh.morph_positions.empty() || !mesh.base_color_png.empty()))
     throw std::invalid_argument("build_glb: Draco output carries positions and normals only");
   const size_t n = mesh.positions.size();
+  GlbBuilder::require_float32_positions(mesh.positions);
   GlbBuilder b;
   // With Draco, accessors describe the decoded data and have no bufferView.
   auto vec3 = [&](const std::vector<Vec3>& values, bool bounds) {
