@@ -1,8 +1,12 @@
 // hierarchy_bench: the collapse hierarchy alone, as the map builds it (welded mesh in
-// Morton order, centred and scaled, oriented triangles), timed over repeated builds, with a hash of
-// everything the map reads from it, so a faster build can be shown to be the same one.
+// Morton order, centred and scaled, oriented triangles sorted by their smallest vertex),
+// timed over repeated builds, with a hash of everything the map reads from it, so a faster
+// build can be shown to be the same one.
 //
-//   hierarchy_bench [--repeat N] [--growth G] MESH...
+//   hierarchy_bench [--repeat N] [--growth G] [--file-order] MESH...
+//
+// --file-order: the triangles in the file's order (as the map took them before
+// sorted_by_vertex), to measure what the order costs.
 //
 // Prints one JSON line per mesh: vertices, rounds, levels, seconds (min and median of N
 // builds, default 7), and hash (FNV-1a over new_to_old, level sizes, level triangles,
@@ -48,17 +52,21 @@ uint64_t hash_of(const CollapseHierarchy& h) {
 int main(int argc, char** argv) {
   int repeat = 7;
   double growth = 2.0;  // the optimized map's levels (MapOptions::level_growth)
+  bool file_order = false;
   std::vector<std::string> meshes;
   for (int k = 1; k < argc; ++k) {
     if (!std::strcmp(argv[k], "--repeat") && k + 1 < argc)
       repeat = std::max(1, std::atoi(argv[++k]));
+    else if (!std::strcmp(argv[k], "--file-order"))
+      file_order = true;
     else if (!std::strcmp(argv[k], "--growth") && k + 1 < argc)
       growth = std::atof(argv[++k]);
     else
       meshes.push_back(argv[k]);
   }
   if (meshes.empty()) {
-    std::fprintf(stderr, "usage: hierarchy_bench [--repeat N] [--growth G] MESH...\n");
+    std::fprintf(stderr,
+                 "usage: hierarchy_bench [--repeat N] [--growth G] [--file-order] MESH...\n");
     return 2;
   }
   for (const std::string& path : meshes) {
@@ -66,7 +74,8 @@ int main(int argc, char** argv) {
     const PolygonMesh& welded = prepared.welded.mesh;
     PolygonMesh mesh = reordered(welded, morton_order(welded.positions));
     center_and_scale(mesh.positions);
-    const OrientedTriangles oriented = oriented_triangles(mesh);
+    OrientedTriangles oriented = oriented_triangles(mesh);
+    if (!file_order) oriented.triangles = sorted_by_vertex(oriented.triangles, mesh.vertex_count());
     std::vector<double> seconds;
     uint64_t hash = 0;
     CollapseHierarchy h;

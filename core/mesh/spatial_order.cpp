@@ -42,6 +42,16 @@ std::vector<uint32_t> morton_order(const std::vector<Vec3>& positions) {
   return order;
 }
 
+std::vector<Triangle> sorted_by_vertex(std::span<const Triangle> triangles, size_t vertices) {
+  auto smallest = [](const Triangle& t) { return std::min({t[0], t[1], t[2]}); };
+  std::vector<uint32_t> start(vertices + 1, 0);  // a counting sort
+  for (const Triangle& t : triangles) ++start[smallest(t) + 1];
+  std::partial_sum(start.begin(), start.end(), start.begin());
+  std::vector<Triangle> out(triangles.size());
+  for (const Triangle& t : triangles) out[start[smallest(t)]++] = t;
+  return out;
+}
+
 PolygonMesh reordered(const PolygonMesh& mesh, const std::vector<uint32_t>& order) {
   PolygonMesh out;
   out.positions.resize(mesh.vertex_count());

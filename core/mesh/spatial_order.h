@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "core/mesh/mesh.h"
@@ -16,5 +17,10 @@ std::vector<uint32_t> morton_order(const std::vector<Vec3>& positions);
 
 // The mesh with vertices renumbered by order (faces unchanged but for the ids).
 PolygonMesh reordered(const PolygonMesh& mesh, const std::vector<uint32_t>& order);
+
+// The triangles ordered by their smallest vertex id (stable; each keeps its corners).
+// With vertices in Morton order, a pass over the triangles then reads the positions in
+// order too; in the file's order a scanned mesh's triangles jump across memory.
+std::vector<Triangle> sorted_by_vertex(std::span<const Triangle> triangles, size_t vertices);
 
 }  // namespace spheremap
