@@ -1,12 +1,12 @@
 // hierarchy_bench: the collapse hierarchy alone, as the map builds it (welded mesh in
-// Morton order, centred and scaled, oriented triangles sorted by their smallest vertex),
+// Morton order, centred and scaled, oriented triangles in canonical order),
 // timed over repeated builds, with a hash of everything the map reads from it, so a faster
 // build can be shown to be the same one.
 //
 //   hierarchy_bench [--repeat N] [--growth G] [--file-order] MESH...
 //
 // --file-order: the triangles in the file's order (as the map took them before
-// sorted_by_vertex), to measure what the order costs.
+// canonical_triangles), to measure what the order costs.
 //
 // Prints one JSON line per mesh: vertices, rounds, levels, seconds (min and median of N
 // builds, default 7), and hash (FNV-1a over new_to_old, level sizes, level triangles,
@@ -75,7 +75,8 @@ int main(int argc, char** argv) {
     PolygonMesh mesh = reordered(welded, morton_order(welded.positions));
     center_and_scale(mesh.positions);
     OrientedTriangles oriented = oriented_triangles(mesh);
-    if (!file_order) oriented.triangles = sorted_by_vertex(oriented.triangles, mesh.vertex_count());
+    if (!file_order)
+      oriented.triangles = canonical_triangles(oriented.triangles, mesh.vertex_count());
     std::vector<double> seconds;
     uint64_t hash = 0;
     CollapseHierarchy h;

@@ -60,7 +60,7 @@ MapResult map_in_order(const PolygonMesh& mesh, const MapOptions& options,
   MapSession session(options, control);
   MapResult result;
   OrientedTriangles oriented = oriented_triangles(mesh);
-  oriented.triangles = sorted_by_vertex(oriented.triangles, mesh.vertex_count());
+  oriented.triangles = canonical_triangles(oriented.triangles, mesh.vertex_count());
   if (oriented.conflicting_faces)
     throw std::invalid_argument("cannot triangulate " + std::to_string(oriented.conflicting_faces) +
                                 " polygons without duplicating an edge");

@@ -42,13 +42,25 @@ std::vector<uint32_t> morton_order(const std::vector<Vec3>& positions) {
   return order;
 }
 
-std::vector<Triangle> sorted_by_vertex(std::span<const Triangle> triangles, size_t vertices) {
-  auto smallest = [](const Triangle& t) { return std::min({t[0], t[1], t[2]}); };
-  std::vector<uint32_t> start(vertices + 1, 0);  // a counting sort
-  for (const Triangle& t : triangles) ++start[smallest(t) + 1];
+std::vector<Triangle> canonical_triangles(std::span<const Triangle> triangles, size_t vertices) {
+  // Each rotated to start at its smallest corner (same orientation), then a counting sort
+  // on that corner, then each bucket (a vertex's few triangles) by the other two.
+  auto rotated = [](const Triangle& t) -> Triangle {
+    if (t[1] < t[0] && t[1] < t[2]) return {t[1], t[2], t[0]};
+    if (t[2] < t[0] && t[2] < t[1]) return {t[2], t[0], t[1]};
+    return t;
+  };
+  std::vector<uint32_t> start(vertices + 1, 0);
+  for (const Triangle& t : triangles) ++start[rotated(t)[0] + 1];
   std::partial_sum(start.begin(), start.end(), start.begin());
   std::vector<Triangle> out(triangles.size());
-  for (const Triangle& t : triangles) out[start[smallest(t)]++] = t;
+  std::vector<uint32_t> fill(start.begin(), start.end() - 1);
+  for (const Triangle& t : triangles) {
+    const Triangle r = rotated(t);
+    out[fill[r[0]]++] = r;
+  }
+  for (size_t v = 0; v < vertices; ++v)
+    std::sort(out.begin() + start[v], out.begin() + start[v + 1]);
   return out;
 }
 
