@@ -335,7 +335,9 @@ export interface components {
          *     too_small, and `failures`, `topology`; `check` instancing for an
          *     EXT_mesh_gpu_instancing scene), missing_resources (422: files a .gltf names were
          *     not sent); in a failed job: not_bijective,
-         *     time_limit (422), out_of_memory (507), worker_crashed (500, the signal named;
+         *     time_limit (422), float32_range (422: a requested output's positions cannot be
+         *     stored as glTF's float32, a coordinate past 3.4e38 or every one below 1.2e-38),
+         *     out_of_memory (507), worker_crashed (500, the signal named;
          *     with a Redis queue after max_attempts starts), result_too_large (507: the
          *     artifacts exceed result_memory_bytes), worker_unavailable (503), internal (500);
          *     queue_full, tenant_quota (429); too_many_streams (503); too_many_ranges (416);
