@@ -18,7 +18,11 @@ if [ "${SPHEREMAP_SKIP_SANITIZERS:-0}" != 1 ]; then
   cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSPHEREMAP_WERROR=ON \
     -DCMAKE_CXX_FLAGS="$flags" -DCMAKE_EXE_LINKER_FLAGS="-fsanitize=address,undefined" > /dev/null
   cmake --build build-asan -j "$(nproc)"
-  (cd build-asan && ASAN_OPTIONS=detect_leaks=1 ctest --output-on-failure -j "$(nproc)")
+  # redis_scale_out (kills and restarts of servers, workers and Redis, 2 minutes plain)
+  # took 8.5 minutes under the sanitizers, the pass's longest test by 4 minutes: it runs
+  # in the plain pass; the Redis queue's code runs sanitized in RedisQueueTest.
+  (cd build-asan && ASAN_OPTIONS=detect_leaks=1 ctest --output-on-failure -j "$(nproc)" \
+    -E '^redis_scale_out$')
 fi
 # libFuzzer (clang, ASan + UBSan) for a fixed time from seeds: the glTF reader, and the
 # whole request path (content type, query, body, multipart parts) with inputs up to 4 MB,
