@@ -4,6 +4,8 @@
 #include <signal.h>
 
 #include <atomic>
+#include <chrono>
+#include <memory>
 #include <cstring>
 #include <ctime>
 #include <thread>
@@ -28,6 +30,23 @@ int bind_port(httplib::Server& http, const ServerConfig& config, int port, const
                {"port", port},
                {"error", std::strerror(errno)}});
   return bound;
+}
+
+// Runs `server`'s accept loop on a thread of its own and returns once the loop runs.
+// httplib's stop() does nothing to a server whose loop has not started (0.11.4: it acts
+// only when is_running()), so a TERM that came between the bind and the loop's first
+// step left the later join() waiting forever: a serve stopped right after it logged
+// "listening" never ended on a loaded CI machine. Waiting here closes that window, and
+// makes the "listening" line, logged after this, true.
+std::thread start_accept_loop(httplib::Server& server) {
+  auto returned = std::make_shared<std::atomic<bool>>(false);
+  std::thread loop([&server, returned] {
+    server.listen_after_bind();
+    *returned = true;
+  });
+  while (!server.is_running() && !*returned)
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  return loop;
 }
 
 }  // namespace
@@ -67,20 +86,20 @@ int serve(const ServerConfig& config, Role role) {
   }
   std::thread health_listener;
   if (health_port >= 0) {
+    health_listener = start_accept_loop(health);
     log_event({{"event", "health_listening"},
                {"host", config.host},
                {"port", health_port},
                {"url", "http://" + config.host + ":" + std::to_string(health_port)}});
-    health_listener = std::thread([&health] { health.listen_after_bind(); });
   }
   std::thread listener;
   if (api) {
+    listener = start_accept_loop(http);
     log_event({{"event", "listening"},
                {"host", config.host},
                {"port", port},
                {"url", "http://" + config.host + ":" + std::to_string(port)},
                {"config", config.to_json()}});
-    listener = std::thread([&http] { http.listen_after_bind(); });
   } else {
     log_event({{"event", "worker_node"}, {"config", config.to_json()}});
   }

@@ -58,7 +58,9 @@ for command in map remesh uv morph info health; do
     [ "$option" = mesh ] && continue  # glTF only; called below on a GLB
     [ "$option" = draco-position-bits ] && extra+=(--draco)  # needs --draco
     [ "$command/$option" = health/port ] && extra=(--port 1)
-    err=$("$spheremap" "$command" "${args[@]}" "${extra[@]}" 2>&1 > /dev/null)
+    # Each call maps an octahedron (milliseconds): one that hangs fails by name.
+    err=$(timeout 60 "$spheremap" "$command" "${args[@]}" "${extra[@]}" 2>&1 > /dev/null)
+    [ $? -eq 124 ] && fail "$command ${extra[*]} did not end within 60 s"
     usage_error "$err" && fail "$command ${extra[*]}: $err"
     count=$((count + 1))
   done
@@ -68,7 +70,7 @@ done
 for command in map remesh uv morph info; do
   out=$tmp/mesh_$command.glb
   [ "$command" = info ] && set -- "$tmp/o.glb" --mesh 0 || set -- "$tmp/o.glb" -o "$out" --mesh 0
-  "$spheremap" "$command" "$@" > /dev/null 2>&1 || fail "$command --mesh 0"
+  timeout 60 "$spheremap" "$command" "$@" > /dev/null 2>&1 || fail "$command --mesh 0"
   count=$((count + 1))
 done
 # serve: each option starts the server (logged "listening"), then SIGTERM stops it.
@@ -85,6 +87,12 @@ for option in $(options_of serve); do
   pid=$!
   for _ in $(seq 400); do grep -q '"listening"' "$log" 2> /dev/null && break; sleep 0.05; done
   kill -TERM $pid 2> /dev/null
+  # A serve that does not end after TERM fails here, by name, not by CTest's timeout.
+  for _ in $(seq 400); do kill -0 $pid 2> /dev/null || break; sleep 0.05; done
+  if kill -0 $pid 2> /dev/null; then
+    kill -KILL $pid
+    fail "serve ${extra[*]} did not stop within 20 s of SIGTERM: $(cat "$log")"
+  fi
   wait $pid
   usage_error "$(cat "$log")" && fail "serve ${extra[*]}: $(cat "$log")"
   grep -q '"listening"' "$log" || fail "serve ${extra[*]} did not start: $(cat "$log")"
