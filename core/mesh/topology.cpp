@@ -82,16 +82,18 @@ void measure_geometry(const PolygonMesh& mesh, TopologyReport& r) {
   if (r.non_finite_vertices || mesh.vertex_count() == 0) return;
   // In the unit frame (center_and_scale's): far from the origin the volume's terms would
   // cancel to noise, and at 1e200 areas and volumes overflow (every face zero-area).
+  // Each vertex moved once (a face corner is ~6 per vertex).
   const UnitFrame frame = unit_frame(mesh.positions);
   const double tiny_area = 1e-14 * squared_norm(frame.apply(hi) - frame.apply(lo));
+  const std::vector<Vec3> unit = centered_and_scaled(mesh.positions);
   double six_volume = 0;
   for (size_t f = 0; f < mesh.face_count(); ++f) {
     auto face = mesh.face(f);
     Vec3 area_vector;
-    const Vec3 a = frame.apply(mesh.positions[face[0]]);
+    const Vec3& a = unit[face[0]];
     for (size_t k = 1; k + 1 < face.size(); ++k) {
-      const Vec3 b = frame.apply(mesh.positions[face[k]]);
-      const Vec3 c = frame.apply(mesh.positions[face[k + 1]]);
+      const Vec3& b = unit[face[k]];
+      const Vec3& c = unit[face[k + 1]];
       area_vector += cross(b - a, c - a);
       six_volume += dot(a, cross(b, c));
     }
