@@ -72,11 +72,11 @@ int main(int argc, char** argv) {
   for (const std::string& path : meshes) {
     const PreparedMesh prepared = prepare_mesh(read_mesh_file(path), {});
     const PolygonMesh& welded = prepared.welded.mesh;
-    PolygonMesh mesh = reordered(welded, morton_order(welded.positions));
-    center_and_scale(mesh.positions);
-    OrientedTriangles oriented = oriented_triangles(mesh);
-    if (!file_order)
-      oriented.triangles = canonical_triangles(oriented.triangles, mesh.vertex_count());
+    // What the map's first attempt sees (map_to_sphere): Morton order, unit ball, canonical.
+    MappingInput input = mapping_input(welded, morton_order(welded.positions));
+    const PolygonMesh& mesh = input.mesh;
+    OrientedTriangles& oriented = input.oriented;
+    if (file_order) oriented = oriented_triangles(mesh);
     std::vector<double> seconds;
     uint64_t hash = 0;
     CollapseHierarchy h;

@@ -53,14 +53,22 @@ OrientedTriangles oriented_triangles(const PolygonMesh& mesh) {
   return out;
 }
 
+MappingInput mapping_input(const PolygonMesh& input, const std::vector<uint32_t>& order) {
+  MappingInput out{reordered(input, order), {}};
+  center_and_scale(out.mesh.positions);
+  out.oriented = oriented_triangles(out.mesh);
+  out.oriented.triangles = canonical_triangles(out.oriented.triangles, out.mesh.vertex_count());
+  return out;
+}
+
 namespace {
 
-MapResult map_in_order(const PolygonMesh& mesh, const MapOptions& options,
+MapResult map_in_order(const MappingInput& input, const MapOptions& options,
                        const MapControl& control) {
   MapSession session(options, control);
   MapResult result;
-  OrientedTriangles oriented = oriented_triangles(mesh);
-  oriented.triangles = canonical_triangles(oriented.triangles, mesh.vertex_count());
+  const PolygonMesh& mesh = input.mesh;
+  const OrientedTriangles& oriented = input.oriented;
   if (oriented.conflicting_faces)
     throw std::invalid_argument("cannot triangulate " + std::to_string(oriented.conflicting_faces) +
                                 " polygons without duplicating an edge");
@@ -111,9 +119,7 @@ MapResult map_to_sphere(const PolygonMesh& input, const MapOptions& options,
       attempt_options.direct_iterations = 0;  // tried already
       attempt_options.optimize = false;
     }
-    PolygonMesh mesh = reordered(input, *order);
-    center_and_scale(mesh.positions);
-    MapResult result = map_in_order(mesh, attempt_options, control);
+    MapResult result = map_in_order(mapping_input(input, *order), attempt_options, control);
     attempts += result.attempts, iterations += result.iterations;
     work += result.fine_iteration_equivalents;
     result.attempts = attempts, result.iterations = iterations;

@@ -123,4 +123,15 @@ struct OrientedTriangles {
 };
 OrientedTriangles oriented_triangles(const PolygonMesh& mesh);
 
+// The mesh as the map works on it: `input`'s vertices in `order` (order[k] is the input
+// vertex the k-th one was), centred and scaled to the unit ball, and its oriented fan
+// triangles each rotated to its smallest vertex and sorted (canonical_triangles), so the
+// map depends neither on the file's face order nor on where a face's corners start.
+// Benchmarks use it to see exactly what the map sees.
+struct MappingInput {
+  PolygonMesh mesh;
+  OrientedTriangles oriented;
+};
+MappingInput mapping_input(const PolygonMesh& input, const std::vector<uint32_t>& order);
+
 }  // namespace spheremap
