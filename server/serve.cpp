@@ -5,9 +5,9 @@
 
 #include <atomic>
 #include <chrono>
-#include <memory>
 #include <cstring>
 #include <ctime>
+#include <memory>
 #include <thread>
 
 #include "api/log.h"
