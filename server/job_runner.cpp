@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <sstream>
 
 #include "core/map/certification.h"
@@ -22,11 +23,31 @@ void set_stage(Job& job, const char* stage) {
   job.progress.stage = stage;
 }
 
+// Runs `make` for the asset `name` when it was asked for; an asset that cannot be
+// written (float32_range: positions past float32's range, in a glTF placed by a huge
+// node scale) is left out and its problem kept, so the map and the other assets stay
+// downloadable and the job still fails with that problem.
+template <typename Make>
+void add_asset(Job& job, const char* name, nlohmann::json& metrics,
+               std::optional<JobError>& asset_error, Make make) {
+  if (job.cancel) return;
+  set_stage(job, name);
+  try {
+    make();
+  } catch (const InputError& e) {
+    metrics[name] = {{"error", {{"check", e.check()}, {"detail", e.what()}}}};
+    if (!asset_error)
+      asset_error =
+          JobError{422, e.check(), "Asset cannot be written", std::string(name) + ": " + e.what()};
+  }
+}
+
 // The sphere, then (for a certified map) each asset asked for, checking for cancellation
 // between them, then metrics.json with everything measured. Returns the verdict on the
 // sphere as written: a map that is not certified keeps only sphere.glb and metrics.json,
 // marked "bijective": false, so the best map reached can still be downloaded.
-Certification make_artifacts(Job& job, const JobSpec& spec, const MappedMesh& mapped, int threads) {
+Certification make_artifacts(Job& job, const JobSpec& spec, const MappedMesh& mapped, int threads,
+                             std::optional<JobError>& asset_error) {
   SphereAsset sphere =
       sphere_asset(spec.input, mapped, spec.map, spec.layout, spec.draco_position_bits, &spec.look);
   const Certification verdict = certify(mapped, sphere.written);
@@ -36,26 +57,26 @@ Certification make_artifacts(Job& job, const JobSpec& spec, const MappedMesh& ma
     return verdict.certified &&
            std::find(spec.outputs.begin(), spec.outputs.end(), name) != spec.outputs.end();
   };
-  if (wanted("remesh") && !job.cancel) {
-    set_stage(job, "remesh");
-    RemeshAsset remesh =
-        remesh_asset(mapped, spec.remesh_resolution, threads, &spec.input, &spec.look);
-    metrics["remesh"] = std::move(remesh.metrics);
-    add_artifact(job, "remesh.glb", "model/gltf-binary", std::move(remesh.glb));
-    add_artifact(job, "geometry_image.png", "image/png", std::move(remesh.geometry_image_png));
-  }
-  if (wanted("uv") && !job.cancel) {
-    set_stage(job, "uv");
-    UvAsset uv = uv_asset(mapped);
-    metrics["uv"] = std::move(uv.metrics);
-    add_artifact(job, "uv.glb", "model/gltf-binary", std::move(uv.glb));
-  }
-  if (wanted("morph") && !job.cancel) {
-    set_stage(job, "morph");
-    MorphAsset morph = morph_asset(mapped, 4, &spec.input, &spec.look);
-    metrics["morph"] = std::move(morph.metrics);
-    add_artifact(job, "morph.glb", "model/gltf-binary", std::move(morph.glb));
-  }
+  if (wanted("remesh"))
+    add_asset(job, "remesh", metrics, asset_error, [&] {
+      RemeshAsset remesh =
+          remesh_asset(mapped, spec.remesh_resolution, threads, &spec.input, &spec.look);
+      metrics["remesh"] = std::move(remesh.metrics);
+      add_artifact(job, "remesh.glb", "model/gltf-binary", std::move(remesh.glb));
+      add_artifact(job, "geometry_image.png", "image/png", std::move(remesh.geometry_image_png));
+    });
+  if (wanted("uv"))
+    add_asset(job, "uv", metrics, asset_error, [&] {
+      UvAsset uv = uv_asset(mapped);
+      metrics["uv"] = std::move(uv.metrics);
+      add_artifact(job, "uv.glb", "model/gltf-binary", std::move(uv.glb));
+    });
+  if (wanted("morph"))
+    add_asset(job, "morph", metrics, asset_error, [&] {
+      MorphAsset morph = morph_asset(mapped, 4, &spec.input, &spec.look);
+      metrics["morph"] = std::move(morph.metrics);
+      add_artifact(job, "morph.glb", "model/gltf-binary", std::move(morph.glb));
+    });
   add_artifact(job, "metrics.json", "application/json", metrics.dump(2) + "\n");
   std::lock_guard lock(job.mutex);
   job.metrics = std::move(metrics);
@@ -90,7 +111,8 @@ JobStatus run_job(Job& job, const RunLimits& limits) {
       std::lock_guard lock(job.mutex);
       job.progress.stage = "writing";
     }
-    const Certification verdict = make_artifacts(job, *spec, mapped, limits.threads);
+    std::optional<JobError> asset_error;
+    const Certification verdict = make_artifacts(job, *spec, mapped, limits.threads, asset_error);
     if (job.cancel) return JobStatus::kCancelled;
     if (!verdict.certified) {
       std::lock_guard lock(job.mutex);
@@ -100,6 +122,11 @@ JobStatus run_job(Job& job, const RunLimits& limits) {
           verdict.problem == "time_limit"
               ? JobError{422, "time_limit", "Time limit reached", verdict.detail + limit.str()}
               : JobError{422, "not_bijective", "No bijective map", verdict.detail};
+      return JobStatus::kFailed;
+    }
+    if (asset_error) {
+      std::lock_guard lock(job.mutex);
+      job.error = std::move(asset_error);
       return JobStatus::kFailed;
     }
     return JobStatus::kSucceeded;

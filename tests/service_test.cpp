@@ -953,6 +953,36 @@ TEST(Service, AJobThatThrowsFailsAndTheWorkerGoesOn) {
   EXPECT_EQ(wait_for(client, body_json(next)["id"])["status"], "succeeded");
 }
 
+// A mesh glTF's float32 cannot hold in its own units (here every coordinate is below
+// 1.2e-38; a node scale can do the same from a valid file) maps, but its remesh cannot be
+// written: the job fails with float32_range and the map stays downloadable.
+TEST(Service, AnAssetFloat32CannotHoldFailsAloneAndTheMapStays) {
+  TestServer server(small_config());
+  auto spec = std::make_unique<server::JobSpec>();
+  spec->input = testing::icosphere(2);
+  for (Vec3& p : spec->input.positions) p = p * 1e-300;
+  spec->prepared = prepare_mesh(spec->input, {});
+  spec->outputs = {"sphere", "remesh"};
+  spec->remesh_resolution = 8;
+  std::shared_ptr<server::Job> job;
+  ASSERT_EQ(server.service().queue().submit(std::move(spec), job),
+            server::JobStore::Admission::kAccepted);
+  auto client = server.client();
+  const json failed = wait_for(client, job->id);
+  ASSERT_EQ(failed["status"], "failed") << failed.dump(2);
+  EXPECT_EQ(failed["error"]["type"], "/v1/problems/float32_range") << failed.dump(2);
+  EXPECT_TRUE(failed["metrics"]["bijective"]) << failed.dump(2);
+  EXPECT_EQ(failed["metrics"]["remesh"]["error"]["check"], "float32_range");
+  EXPECT_TRUE(failed["artifacts"].contains("sphere.glb")) << failed.dump(2);
+  EXPECT_TRUE(failed["artifacts"].contains("metrics.json"));
+  EXPECT_FALSE(failed["artifacts"].contains("remesh.glb"));
+  auto sphere = client.Get(failed["artifacts"]["sphere.glb"]["href"].get<std::string>().c_str());
+  ASSERT_EQ(sphere->status, 200);
+  const PolygonMesh mapped =
+      read_gltf({reinterpret_cast<const uint8_t*>(sphere->body.data()), sphere->body.size()});
+  EXPECT_EQ(mapped.vertex_count(), testing::icosphere(2).vertex_count());
+}
+
 TEST(Service, ClientsThatHangUpLeaveNothingBehind) {
   server::ServerConfig config = small_config();
   config.read_timeout_seconds = 1;

@@ -336,7 +336,9 @@ export interface components {
          *     EXT_mesh_gpu_instancing scene), missing_resources (422: files a .gltf names were
          *     not sent); in a failed job: not_bijective,
          *     time_limit (422), float32_range (422: a requested output's positions cannot be
-         *     stored as glTF's float32, a coordinate past 3.4e38 or every one below 1.2e-38),
+         *     stored as glTF's float32, a coordinate past 3.4e38 or every one below 1.2e-38;
+         *     that output is left out, its metrics hold the error, and sphere.glb, the other
+         *     outputs and metrics.json stay downloadable),
          *     out_of_memory (507), worker_crashed (500, the signal named;
          *     with a Redis queue after max_attempts starts), result_too_large (507: the
          *     artifacts exceed result_memory_bytes), worker_unavailable (503), internal (500);
