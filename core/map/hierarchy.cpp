@@ -1,6 +1,7 @@
 #include "core/map/hierarchy.h"
 
 #include "core/map/collapse_cost.h"
+#include "core/map/incidence_lists.h"
 
 #include <algorithm>
 #include <stdexcept>
@@ -16,14 +17,11 @@ class CollapsibleMesh {
       : x_(positions),
         tris_(triangles.begin(), triangles.end()),
         tri_alive_(triangles.size(), 1),
-        incident_(positions.size()),
-        alive_vertices_(positions.size()) {
-    for (uint32_t t = 0; t < tris_.size(); ++t)
-      for (uint32_t v : tris_[t]) incident_[v].push_back(t);
-  }
+        incident_(positions.size(), triangles),
+        alive_vertices_(positions.size()) {}
 
   size_t alive_vertices() const { return alive_vertices_; }
-  bool alive(uint32_t v) const { return !incident_[v].empty(); }
+  bool alive(uint32_t v) const { return !incident_.empty(v); }
 
   // Whether u or any vertex of its ring is flagged (no ring ordering needed).
   bool star_touched(uint32_t u, const std::vector<char>& flags) const {
@@ -101,19 +99,20 @@ class CollapsibleMesh {
   }
 
   void collapse(uint32_t u, uint32_t v) {
-    for (uint32_t t : incident_[u]) {
+    for (size_t k = 0; k < incident_.size(u); ++k) {  // by index: append may move lists
+      const uint32_t t = incident_.at(u, k);
       Triangle& tri = tris_[t];
       if (tri[0] == v || tri[1] == v || tri[2] == v) {
         tri_alive_[t] = 0;
         for (uint32_t w : tri)
-          if (w != u) std::erase(incident_[w], t);
+          if (w != u) incident_.erase(w, t);
       } else {
         for (uint32_t& w : tri)
           if (w == u) w = v;
-        incident_[v].push_back(t);
+        incident_.append(v, t);
       }
     }
-    incident_[u].clear();
+    incident_.clear(u);
     --alive_vertices_;
   }
 
@@ -128,7 +127,7 @@ class CollapsibleMesh {
   std::span<const Vec3> x_;
   std::vector<Triangle> tris_;
   std::vector<char> tri_alive_;
-  std::vector<std::vector<uint32_t>> incident_;
+  IncidenceLists incident_;
   size_t alive_vertices_;
   mutable std::vector<std::array<uint32_t, 2>> pairs_;
 };

@@ -1,0 +1,102 @@
+#include "core/map/hierarchy.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <numbers>
+#include <numeric>
+
+#include "core/map/incidence_lists.h"
+#include "core/map/spherical_map.h"
+#include "tests/mesh_generators.h"
+
+namespace spheremap {
+namespace {
+
+std::vector<uint32_t> as_vector(std::span<const uint32_t> list) {
+  return {list.begin(), list.end()};
+}
+
+// The hierarchy breaks ties by list order: moving a list that outgrew its slice, and
+// erasing from it, must keep the order a vector would have.
+TEST(IncidenceLists, KeepTheirOrderThroughMovesAndErases) {
+  const std::vector<Triangle> triangles = {{0, 1, 2}, {0, 2, 3}, {0, 3, 1}, {1, 3, 2}};
+  IncidenceLists lists(4, triangles);
+  EXPECT_EQ(as_vector(lists[0]), (std::vector<uint32_t>{0, 1, 2}));
+  EXPECT_EQ(as_vector(lists[3]), (std::vector<uint32_t>{1, 2, 3}));
+  std::vector<uint32_t> expected = {0, 1, 2};
+  for (uint32_t t = 10; t < 60; ++t) {  // far past the slack: moves the list several times
+    lists.append(0, t);
+    expected.push_back(t);
+  }
+  lists.erase(0, 1);
+  lists.erase(0, 33);
+  lists.erase(0, 99);  // not there: nothing changes
+  std::erase(expected, 1u);
+  std::erase(expected, 33u);
+  EXPECT_EQ(as_vector(lists[0]), expected);
+  // The other lists were not disturbed by the moves.
+  EXPECT_EQ(as_vector(lists[1]), (std::vector<uint32_t>{0, 2, 3}));
+  EXPECT_EQ(as_vector(lists[3]), (std::vector<uint32_t>{1, 2, 3}));
+  lists.clear(2);
+  EXPECT_TRUE(lists.empty(2));
+  lists.append(2, 7);
+  EXPECT_EQ(as_vector(lists[2]), (std::vector<uint32_t>{7}));
+}
+
+// Every level of the hierarchy is a closed, oriented genus-0 triangle mesh on a prefix of
+// the new ids, and every collapse record names a target in its ring of older vertices.
+void expect_valid_hierarchy(const PolygonMesh& input) {
+  const std::vector<Triangle> triangles = oriented_triangles(input).triangles;
+  const CollapseHierarchy h = build_hierarchy(input.positions, triangles);
+  const size_t n = input.vertex_count();
+  ASSERT_EQ(h.new_to_old.size(), n);
+  for (uint32_t id = 0; id < n; ++id) ASSERT_EQ(h.old_to_new[h.new_to_old[id]], id);
+  ASSERT_EQ(h.level_sizes.front(), 4u);
+  ASSERT_EQ(h.level_sizes.back(), n);
+  ASSERT_TRUE(std::is_sorted(h.level_sizes.begin(), h.level_sizes.end()));
+  ASSERT_EQ(h.level_triangles.size() + 1, h.level_sizes.size());
+  for (size_t l = 0; l < h.level_triangles.size(); ++l) {
+    const uint32_t size = h.level_sizes[l];
+    const std::vector<Triangle>& level = h.level_triangles[l];
+    EXPECT_EQ(level.size(), 2 * size_t{size} - 4) << "level " << l;  // Euler: F = 2V - 4
+    std::map<std::pair<uint32_t, uint32_t>, int> directed;
+    for (const Triangle& t : level)
+      for (int k = 0; k < 3; ++k) {
+        ASSERT_LT(t[k], size) << "level " << l;
+        ++directed[{t[k], t[(k + 1) % 3]}];
+      }
+    for (const auto& [edge, count] : directed) {
+      EXPECT_EQ(count, 1) << "level " << l << ": edge used twice in one direction";
+      EXPECT_EQ(directed.count({edge.second, edge.first}), 1u) << "level " << l << ": open edge";
+    }
+  }
+  for (uint32_t u = 4; u < n; ++u) {
+    const std::span<const uint32_t> ring = h.ring(u);
+    ASSERT_GE(ring.size(), 3u);
+    EXPECT_NE(std::find(ring.begin(), ring.end(), h.collapse_target[u]), ring.end()) << u;
+    for (uint32_t w : ring) EXPECT_LT(w, u) << "a ring vertex removed before " << u;
+  }
+}
+
+TEST(Hierarchy, EveryLevelIsAClosedSphereOnAPrefixOfIds) {
+  const std::vector<Vec3> limbs = {{1, 0, 0}, {0, 1, 0}, {-1, -1, 0}};
+  expect_valid_hierarchy(testing::with_limbs(testing::icosphere(3), limbs, 2, 0.15));
+  expect_valid_hierarchy(testing::quad_sphere(8));
+}
+
+// A 64-gon cap fanned from a centre: valences of 64 and more grow far past the lists'
+// first slices, through the moves of IncidenceLists.
+TEST(Hierarchy, HighValenceFansStayValid) {
+  std::vector<std::array<double, 2>> star;
+  for (int k = 0; k < 64; ++k) {
+    const double angle = 2 * std::numbers::pi * k / 64, radius = k % 2 ? 0.4 : 1.0;
+    star.push_back({radius * std::cos(angle), radius * std::sin(angle)});
+  }
+  expect_valid_hierarchy(testing::prism(star, 0.5, true));
+}
+
+}  // namespace
+}  // namespace spheremap
