@@ -10,7 +10,7 @@ packages=(build-essential cmake ninja-build pkg-config nlohmann-json3-dev libgte
   clang libclang-rt-14-dev)
 missing=()
 for p in "${packages[@]}"; do
-  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep "install ok installed" > /dev/null || missing+=("$p")
 done
 # node and npm: three.js for the page (web/, built into the binary), and in the tests the
 # Khronos glTF validator, gltfpack, gltf-transform and playwright-core (npm registry).

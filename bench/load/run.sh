@@ -49,7 +49,7 @@ done
 echo "RSS after the levels: $(rss) MiB"
 # Let the overload's accepted jobs finish, so the soak starts from an empty queue.
 for _ in $(seq 300); do
-  curl -s $url/metrics | grep -q '^spheremap_queue_depth 0$' && break
+  curl -s $url/metrics | grep '^spheremap_queue_depth 0$' > /dev/null && break
   sleep 1
 done
 if [ "$soak" -gt 0 ]; then

@@ -47,7 +47,7 @@ start_redis() {
     --appendfsync always --dir "$tmp/redis" --logfile "$tmp/redis.log" &
   redis_pid=$!
   for _ in $(seq 100); do
-    redis-cli -p "$redis_port" ping 2> /dev/null | grep -q PONG && return
+    redis-cli -p "$redis_port" ping 2> /dev/null | grep PONG > /dev/null && return
     sleep 0.05
   done
   fail "redis-server did not start"
@@ -157,9 +157,9 @@ for _ in $(seq 600); do
   sleep 0.1
 done
 [ "$status" = failed ] || fail "poison job ended '$status'"
-curl -s "$api_b/v1/jobs/$id" | grep -q '"type": "/v1/problems/worker_crashed"' ||
+curl -s "$api_b/v1/jobs/$id" | grep '"type": "/v1/problems/worker_crashed"' > /dev/null ||
   fail "poison job: $(curl -s "$api_b/v1/jobs/$id")"
-curl -s "$api_b/v1/jobs/$id" | grep -q 'attempt 3 of 3' || fail "poison job: attempts not said"
+curl -s "$api_b/v1/jobs/$id" | grep 'attempt 3 of 3' > /dev/null || fail "poison job: attempts not said"
 id=$(submit "$api_b" "$small")
 wait_status "$api_a" "$id" succeeded 30
 echo "4. poison job failed as worker_crashed after 3 attempts; the next job succeeded"
