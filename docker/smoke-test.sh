@@ -9,7 +9,7 @@
 # removed at the end. Usage: docker/smoke-test.sh [MESH.glb]
 set -euo pipefail
 cd "$(dirname "$0")/.."
-mesh=${1:-../shared/meshes/spot.glb}
+mesh=${1:-examples/spot.glb}
 image=spheremap:smoke
 name=spheremap-smoke-$$
 port=18181
@@ -80,6 +80,13 @@ echo "start to ready: $(echo "$(date +%s.%N) - $start" | bc) s"
 $engine exec "$name" /usr/local/bin/spheremap health || fail "HEALTHCHECK command"
 curl -sf "http://127.0.0.1:$port/" | grep '<input id="file" type="file"' > /dev/null || fail "GET / is not the page"
 [ "$($engine inspect "$name" --format '{{.Config.User}}')" = 10001:10001 ] || fail "runs as root"
+# The licences travel with the binary (the image has no shell: copy them out).
+for f in LICENSE THIRD_PARTY_NOTICES.md copyright/libdraco-dev copyright/libpng16-16; do
+  $engine cp "$name:/usr/share/doc/spheremap/$f" "$work/licence" > /dev/null 2>&1 ||
+    fail "the image lacks /usr/share/doc/spheremap/$f"
+done
+cmp -s LICENSE <($engine cp "$name:/usr/share/doc/spheremap/LICENSE" - 2> /dev/null | tar -xO) ||
+  fail "the image's LICENSE differs from the repository's"
 
 if [ ! -f "$mesh" ]; then  # a fresh clone without the corpus: a generated mesh
   build/tests/make_test_meshes "$work" 2> /dev/null || fail "no mesh: build the project first"
