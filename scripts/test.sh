@@ -4,15 +4,55 @@
 # then again built with AddressSanitizer + UndefinedBehaviorSanitizer (any report fails
 # the run; SPHEREMAP_SKIP_SANITIZERS=1 skips that pass for quick local runs), then the
 # libFuzzer targets for a minute each, then the container smoke test.
-# Corpus tests read ../shared/meshes (or $SPHEREMAP_CORPUS) and are skipped without it.
+# Corpus tests read ../shared/meshes (or $SPHEREMAP_CORPUS) and are reported skipped
+# without it; the fuzzers then seed from examples/. The last two lines say what ran,
+# what was skipped and why, and the counts.
 set -euo pipefail
 cd "$(dirname "$0")/.."
+ran=() skipped=() passed=0 failed=0 skipped_tests=0
+logs=$(mktemp -d)
+trap 'rm -rf "$logs"' EXIT
+
+# ctest_pass NAME DIR [ctest args]: runs CTest in DIR, adds its counts to the totals.
+ctest_pass() {
+  local name=$1 dir=$2
+  shift 2
+  local status=0
+  (cd "$dir" && ctest --output-on-failure -j "$(nproc)" "$@") 2>&1 | tee "$logs/$name" || status=$?
+  local total fails skips
+  total=$(sed -n 's/.*tests failed out of \([0-9]*\).*/\1/p' "$logs/$name" | tail -1)
+  fails=$(sed -n 's/.* \([0-9]*\) tests failed out of.*/\1/p' "$logs/$name" | tail -1)
+  skips=$(grep -c '(Skipped)' "$logs/$name" || true)
+  passed=$((passed + ${total:-0} - ${fails:-0} - skips))
+  failed=$((failed + ${fails:-0}))
+  skipped_tests=$((skipped_tests + skips))
+  ran+=("$name CTest (${total:-0} tests, $skips skipped)")
+  return $status
+}
+
+summary() {
+  local status=$?
+  if [ ! -d "${SPHEREMAP_CORPUS:-../shared/meshes}" ]; then
+    skipped+=("corpus tests (no ${SPHEREMAP_CORPUS:-../shared/meshes}: set SPHEREMAP_CORPUS)")
+  fi
+  echo
+  echo "ran: $(IFS=';'; echo "${ran[*]:-nothing}" | sed 's/;/; /g')"
+  echo "skipped: $(IFS=';'; echo "${skipped[*]:-nothing}" | sed 's/;/; /g')"
+  [ $status -eq 0 ] || echo "FAILED (exit $status): see the output above"
+  echo "tests: $passed passed, $failed failed, $skipped_tests skipped"
+  rm -rf "$logs"
+}
+trap summary EXIT
+
 scripts/install-deps.sh
 scripts/build.sh
 if command -v clang-format > /dev/null; then
   git ls-files '*.cpp' '*.h' | xargs clang-format --dry-run --Werror
+  ran+=("clang-format")
+else
+  skipped+=("clang-format (not installed)")
 fi
-(cd build && ctest --output-on-failure -j "$(nproc)")
+ctest_pass plain build
 if [ "${SPHEREMAP_SKIP_SANITIZERS:-0}" != 1 ]; then
   flags="-fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=undefined"
   cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSPHEREMAP_WERROR=ON \
@@ -21,20 +61,30 @@ if [ "${SPHEREMAP_SKIP_SANITIZERS:-0}" != 1 ]; then
   # redis_scale_out (kills and restarts of servers, workers and Redis, 2 minutes plain)
   # took 8.5 minutes under the sanitizers, the pass's longest test by 4 minutes: it runs
   # in the plain pass; the Redis queue's code runs sanitized in RedisQueueTest.
-  (cd build-asan && ASAN_OPTIONS=detect_leaks=1 ctest --output-on-failure -j "$(nproc)" \
-    -E '^redis_scale_out$')
+  export ASAN_OPTIONS=detect_leaks=1
+  ctest_pass sanitizer build-asan -E '^redis_scale_out$'
+  unset ASAN_OPTIONS
+else
+  skipped+=("sanitizer pass (SPHEREMAP_SKIP_SANITIZERS=1)")
 fi
 # libFuzzer (clang, ASan + UBSan) for a fixed time from seeds: the glTF reader, and the
 # whole request path (content type, query, body, multipart parts) with inputs up to 4 MB,
 # and the bytes of a connection through the connection layer and the HTTP parser.
 # A crash fails the run; its input is in build-fuzz/crashes/ (SPHEREMAP_SKIP_FUZZ=1 skips).
 if [ "${SPHEREMAP_SKIP_FUZZ:-0}" != 1 ]; then
-  tests/fuzz/run.sh "${SPHEREMAP_FUZZ_SECONDS:-60}" request_fuzzer
-  tests/fuzz/run.sh "${SPHEREMAP_FUZZ_SECONDS:-60}" connection_fuzzer
-  tests/fuzz/run.sh "${SPHEREMAP_FUZZ_SECONDS:-60}" gltf_fuzzer
+  fuzzers=(request_fuzzer connection_fuzzer gltf_fuzzer)
+  for fuzzer in "${fuzzers[@]}"; do
+    tests/fuzz/run.sh "${SPHEREMAP_FUZZ_SECONDS:-60}" "$fuzzer"
+  done
+  ran+=("fuzzers ${fuzzers[*]} (${SPHEREMAP_FUZZ_SECONDS:-60} s each)")
+else
+  skipped+=("fuzzers (SPHEREMAP_SKIP_FUZZ=1)")
 fi
 # The container: build the image, map a mesh in it, SIGTERM (docker/smoke-test.sh;
 # SPHEREMAP_SKIP_CONTAINER=1 skips it).
 if [ "${SPHEREMAP_SKIP_CONTAINER:-0}" != 1 ]; then
   docker/smoke-test.sh
+  ran+=("container smoke test")
+else
+  skipped+=("container smoke test (SPHEREMAP_SKIP_CONTAINER=1)")
 fi

@@ -5,6 +5,7 @@
 
 #include <atomic>
 #include <chrono>
+#include <cstdio>
 #include <cstring>
 #include <ctime>
 #include <memory>
@@ -100,6 +101,13 @@ int serve(const ServerConfig& config, Role role) {
                {"port", port},
                {"url", "http://" + config.host + ":" + std::to_string(port)},
                {"config", config.to_json()}});
+    // One line for a person beside the JSON log (which goes to stderr): where to look.
+    std::string shown_host = config.host == "0.0.0.0" ? "127.0.0.1"
+                             : config.host == "::"    ? "::1"
+                                                      : config.host;
+    if (shown_host.find(':') != std::string::npos) shown_host = "[" + shown_host + "]";
+    std::printf("spheremap ready: open http://%s:%d/\n", shown_host.c_str(), port);
+    std::fflush(stdout);
   } else {
     log_event({{"event", "worker_node"}, {"config", config.to_json()}});
   }

@@ -13,6 +13,8 @@
 int main(int argc, char** argv) {
   using namespace spheremap;
   const std::string flag = argc >= 3 ? argv[2] : "";
+  // An OUTDIR that looks like an option (--help, -h) is a request for the usage, not a folder.
+  const bool asks_usage = argc >= 2 && argv[1][0] == '-';
   if (flag == "--random" && argc == 5) {
     const std::string dir = argv[1];
     for (const testing::NamedMesh& m : testing::random_stress_meshes(
@@ -20,11 +22,12 @@ int main(int argc, char** argv) {
       write_mesh_file(dir + "/" + m.name + ".obj", m.mesh);
     return 0;
   }
-  if (argc < 2 || argc > 4 || (argc >= 3 && flag != "--stress" && flag != "--stress-glb")) {
-    std::fprintf(stderr,
+  if (asks_usage || argc < 2 || argc > 4 ||
+      (argc >= 3 && flag != "--stress" && flag != "--stress-glb")) {
+    std::fprintf(asks_usage ? stdout : stderr,
                  "usage: make_test_meshes OUTDIR [--stress [--million] | --stress-glb | --random "
                  "COUNT SEED]\n");
-    return 1;
+    return asks_usage ? 0 : 1;
   }
   const std::string dir = argv[1];
   if (flag == "--stress") {

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Builds a libFuzzer target with clang (ASan + UBSan) and runs it for SECONDS (default 60)
-# from a seed corpus taken from the shared corpus: GLB and Draco GLB files for
+# from a seed corpus taken from the shared corpus (or, without it, from examples/): GLB and Draco GLB files for
 # gltf_fuzzer (with truncated, garbage and external-URI files like the hostile-file
 # tests), small OBJ files for mesh_text_fuzzer, option sets for options_fuzzer.
 # Crashes land in
@@ -11,6 +11,8 @@ cd "$(dirname "$0")/../.."
 seconds=${1:-60}
 target=${2:-gltf_fuzzer}
 corpus=${3:-../shared/meshes}
+# A clone without the shared corpus seeds from the meshes it ships (examples/).
+[ -d "$corpus" ] || corpus=examples
 CC=clang CXX=clang++ cmake -S . -B build-fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
   -DSPHEREMAP_FUZZ=ON -DSPHEREMAP_BUILD_TESTS=OFF > /dev/null
 cmake --build build-fuzz --target "$target" > /dev/null
@@ -19,7 +21,8 @@ mkdir -p "$seeds" build-fuzz/crashes
 pattern='*.glb'
 [ "$target" = mesh_text_fuzzer ] && pattern='*.obj'
 if [ "$target" = request_fuzzer ]; then  # submissions as the tests send them
-  glb=$(find "$corpus" -maxdepth 1 -name '*.glb' -size -40k 2> /dev/null | head -1)
+  # find | head under pipefail fails when find does (a missing folder): read it all.
+  glb=$(find "$corpus" -maxdepth 1 -name '*.glb' -size -40k 2> /dev/null | sort | sed -n 1p || true)
   { printf '\000draco=true&layout=welded\n'; [ -n "$glb" ] && cat "$glb"; } > "$seeds/glb"
   { printf '\002outputs=remesh\n'; [ -n "$glb" ] && cat "$glb";
     printf '\n--\n{"quality": "fast", "largest_component": true}'; } > "$seeds/multipart"
@@ -40,7 +43,7 @@ else
   find "$corpus" -name "$pattern" -size -200k -exec cp {} "$seeds/" \; 2> /dev/null || true
 fi
 if [ "$target" = gltf_fuzzer ]; then  # the shapes of the hostile-file tests, as files
-  small=$(ls "$seeds"/*.glb 2> /dev/null | head -1)
+  small=$(ls "$seeds"/*.glb 2> /dev/null | sed -n 1p || true)
   if [ -n "$small" ]; then
     for cut in 12 20 100 1000; do head -c $cut "$small" > "$seeds/truncated_$cut.glb"; done
     { printf 'glTF'; head -c 200 /dev/urandom; } > "$seeds/garbage.glb"

@@ -14,6 +14,8 @@ export declare class SpheremapError extends Error {
   status: number;
   problem: Problem;
   type: string;
+  /** The problem's one line for a person, with the counts (same as problem.detail). */
+  detail?: string;
   fix?: { option: string; value: unknown; effect: string };
 }
 

@@ -9,6 +9,7 @@ export class SpheremapError extends Error {
     this.status = status;
     this.problem = problem;
     this.type = problem.type;
+    this.detail = problem.detail;  // the one line for a person, with the counts
     this.fix = problem.fix;  // the job option that gets past it, when there is one
   }
 }
