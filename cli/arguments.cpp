@@ -1,7 +1,9 @@
 #include "cli/arguments.h"
 
+#include <algorithm>
 #include <charconv>
 #include <sstream>
+#include <vector>
 
 namespace spheremap::cli {
 namespace {
@@ -10,6 +12,36 @@ std::string shortest(double v) {
   std::ostringstream s;
   s << v;
   return s.str();
+}
+
+// Levenshtein distance: how many one-character edits turn a into b.
+size_t edit_distance(const std::string& a, const std::string& b) {
+  std::vector<size_t> row(b.size() + 1);
+  for (size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (size_t i = 1; i <= a.size(); ++i) {
+    size_t diagonal = row[0];
+    row[0] = i;
+    for (size_t j = 1; j <= b.size(); ++j) {
+      const size_t replaced = diagonal + (a[i - 1] == b[j - 1] ? 0 : 1);
+      diagonal = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, replaced});
+    }
+  }
+  return row[b.size()];
+}
+
+// " (did you mean --quality?)" for a name within a few edits of a known option, else "".
+std::string did_you_mean(const std::string& name, const std::set<std::string>& value_options,
+                         const std::set<std::string>& flags) {
+  if (name.size() > 64) return "";  // a typo is short; bound the work on junk
+  std::string best;
+  size_t best_distance = std::max<size_t>(2, name.size() / 3) + 1;
+  for (const auto* known : {&value_options, &flags})
+    for (const std::string& option : *known) {
+      const size_t d = edit_distance(name, option);
+      if (d < best_distance) best_distance = d, best = option;
+    }
+  return best.empty() ? "" : " (did you mean --" + best + "?)";
 }
 
 }  // namespace
@@ -37,7 +69,7 @@ Arguments::Arguments(int argc, char** argv, int first, const std::set<std::strin
       }
       values_[name] = value;
     } else {
-      throw UsageError("unknown option --" + name);
+      throw UsageError("unknown option --" + name + did_you_mean(name, value_options, flags));
     }
   }
 }

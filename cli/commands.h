@@ -7,6 +7,8 @@ inline constexpr int kExitOk = 0;
 inline constexpr int kExitUsage = 1;
 inline constexpr int kExitInvalidInput = 2;
 inline constexpr int kExitNotBijective = 3;
+// An output file could not be written (and any error that is not the input's).
+inline constexpr int kExitOutputError = 4;
 
 int run_map(int argc, char** argv);
 int run_info(int argc, char** argv);

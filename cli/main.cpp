@@ -8,6 +8,7 @@
 #include "cli/arguments.h"
 #include "cli/commands.h"
 #include "cli/map_options.h"
+#include "core/io/mesh_file.h"
 #include "core/mesh/input_error.h"
 #include "server/worker_process.h"
 
@@ -27,7 +28,8 @@ Usage:
   spheremap COMMAND --help                                         options of a command
   spheremap --version
 
-Exit codes: 0 success; 1 usage error; 2 invalid input; 3 no bijective map reached.
+Exit codes: 0 success; 1 usage error; 2 invalid input; 3 no bijective map reached;
+4 an output could not be written (or another error).
 )";
 
 }  // namespace
@@ -62,8 +64,11 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "spheremap: invalid input [%s]: %s\n", e.check().c_str(), e.what());
     if (!e.fix().empty()) std::fprintf(stderr, "  fix: %s\n", fix_hint(e.fix()).c_str());
     return kExitInvalidInput;
+  } catch (const spheremap::OutputError& e) {
+    std::fprintf(stderr, "spheremap: output error: %s\n", e.what());
+    return kExitOutputError;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "spheremap: error: %s\n", e.what());
-    return 4;
+    return kExitOutputError;
   }
 }

@@ -158,9 +158,22 @@ TEST(Gltf, RejectsFilesWithoutTriangles) {
   points.json["meshes"][0]["primitives"][0]["mode"] = 0;
   EXPECT_NE(read_error(points.bytes()).find("1 primitive(s) of points or lines"),
             std::string::npos);
-  EXPECT_NE(read_error("not json at all").find("does not parse"), std::string::npos);
+  EXPECT_NE(read_error("[1, 2]").find("not glTF: neither a GLB"), std::string::npos);
+  EXPECT_NE(read_error("{not json at all").find("does not parse as an object"), std::string::npos);
   EXPECT_NE(read_error(R"({"asset":{"version":"1.0"}})").find("glTF 1.0 file"), std::string::npos);
   EXPECT_NE(read_error(R"({"asset":{"version":"3.0"}})").find("not a glTF 2.0"), std::string::npos);
+}
+
+// A file that is not glTF at all says so, and what it starts with (at most 8 bytes).
+TEST(Gltf, NamesAnEmptyOrForeignFile) {
+  EXPECT_NE(read_error("").find("empty file (0 bytes)"), std::string::npos);
+  const std::string png_error = read_error(std::string("\x89PNG\r\n\x1a\n\0\0\0\rIHDR", 16));
+  EXPECT_NE(png_error.find("not glTF"), std::string::npos) << png_error;
+  EXPECT_NE(png_error.find("starts with \"\\x89PNG\\x0d\\x0a\\x1a\\x0a\""), std::string::npos)
+      << png_error;
+  const std::string obj_error = read_error("v 1 2 3\nv 4 5 6\nf 1 2 3\n");
+  EXPECT_NE(obj_error.find("starts with \"v 1 2 3\\x0a\""), std::string::npos) << obj_error;
+  EXPECT_LT(read_error(std::string(100000, 'A')).size(), 300u);  // bounded echo
 }
 
 TEST(Gltf, AppliesNodeTransformsAndKeepsMirroredWindingOutward) {

@@ -1,6 +1,7 @@
 #include "core/io/gltf_document.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cstring>
 #include <limits>
 
@@ -101,6 +102,33 @@ void fail(const std::string& message) {
   throw InputError("gltf", message);
 }
 
+// A GLB starts with its magic, glTF JSON with '{' after optional whitespace (and a
+// UTF-8 byte order mark, which the JSON parser skips too).
+bool looks_like_gltf(std::span<const uint8_t> bytes) {
+  if (bytes.size() >= 4 && read_u32(bytes, 0) == kGlbMagic) return true;
+  size_t at = bytes.size() >= 3 && bytes[0] == 0xEF && bytes[1] == 0xBB && bytes[2] == 0xBF ? 3 : 0;
+  while (at < bytes.size() && std::isspace(bytes[at])) ++at;
+  return at == bytes.size() || bytes[at] == '{';
+}
+
+// The first bytes of a file for a message: printable ASCII as it is, the rest as \xNN;
+// at most 8 bytes, so a message never echoes much of a client's data.
+std::string shown_prefix(std::span<const uint8_t> bytes) {
+  std::string out = "\"";
+  for (size_t i = 0; i < std::min<size_t>(bytes.size(), 8); ++i) {
+    const uint8_t c = bytes[i];
+    if (c >= 0x20 && c < 0x7F && c != '"' && c != '\\') {
+      out += static_cast<char>(c);
+    } else {
+      static const char* const kHex = "0123456789abcdef";
+      out += "\\x";
+      out += kHex[c >> 4];
+      out += kHex[c & 15];
+    }
+  }
+  return out + "\"";
+}
+
 size_t index_field(const nlohmann::json& object, const char* key, size_t limit, const char* what,
                    size_t fallback) {
   auto it = object.find(key);
@@ -116,6 +144,12 @@ Document::Document(std::span<const uint8_t> bytes, const GltfResources* resource
     : resources_(resources), decode_budget_(max_decoded_bytes) {
   std::span<const uint8_t> json_text = bytes, bin;
   bool has_bin = false;
+  if (bytes.empty()) fail("empty file (0 bytes)");
+  if (!looks_like_gltf(bytes))
+    fail(
+        "not glTF: neither a GLB (which starts with \"glTF\") nor glTF JSON (which starts "
+        "with '{'); the file starts with " +
+        shown_prefix(bytes));
   if (bytes.size() >= 4 && read_u32(bytes, 0) == kGlbMagic) {
     if (bytes.size() < 20) fail("GLB is truncated: " + std::to_string(bytes.size()) + " bytes");
     if (read_u32(bytes, 4) == 1) fail(kGltf1);

@@ -1,6 +1,8 @@
 #include "core/io/mesh_file.h"
 
 #include <algorithm>
+#include <cerrno>
+#include <cstring>
 #include <fstream>
 
 #include "core/io/obj.h"
@@ -48,8 +50,10 @@ void write_mesh_file(const std::string& path, const PolygonMesh& mesh) {
 
 void write_binary_file(const std::string& path, const std::string& bytes) {
   std::ofstream out(path, std::ios::binary);
+  if (!out) throw OutputError("cannot write '" + path + "': " + std::strerror(errno));
   out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-  if (!out) throw InputError("io", "cannot write '" + path + "'");
+  out.close();
+  if (!out) throw OutputError("cannot write '" + path + "': " + std::strerror(errno));
 }
 
 }  // namespace spheremap

@@ -1,6 +1,7 @@
 // Reading meshes by file extension (.obj, .off, .glb, .gltf); writing OBJ.
 #pragma once
 
+#include <stdexcept>
 #include <string>
 
 #include "core/io/gltf_reader.h"
@@ -16,7 +17,15 @@ PolygonMesh read_mesh_file(const std::string& path, const GltfReadOptions& gltf 
 // OBJ only (GLB output goes through sphere_glb, which checks the file it writes).
 void write_mesh_file(const std::string& path, const PolygonMesh& mesh);
 
-// Writes bytes (a GLB, a JSON report) to path; InputError("io") when it cannot.
+// A file that cannot be written: the output's fault (a folder that does not exist, no
+// permission, a full disk), never the input's, so not an InputError.
+class OutputError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+// Writes bytes (a GLB, a JSON report) to path; OutputError, with the system's reason,
+// when it cannot.
 void write_binary_file(const std::string& path, const std::string& bytes);
 
 }  // namespace spheremap

@@ -196,27 +196,33 @@ TopologyReport analyze_topology(const PolygonMesh& mesh) {
 std::vector<ValidationFailure> mapping_failures(const TopologyReport& r) {
   std::vector<ValidationFailure> out;
   auto n = [](size_t v) { return std::to_string(v); };
+  // "1 boundary loop", "2 boundary loops": a count with its noun in the right number.
+  auto count = [](size_t v, const char* one, const char* many) {
+    return std::to_string(v) + " " + (v == 1 ? one : many);
+  };
   if (r.faces == 0) out.push_back({"empty", "mesh has no faces"});
   if (r.non_finite_vertices)
-    out.push_back(
-        {"non_finite", n(r.non_finite_vertices) + " vertices have non-finite coordinates"});
+    out.push_back({"non_finite", count(r.non_finite_vertices, "vertex has", "vertices have") +
+                                     " non-finite coordinates"});
   if (r.faces_with_repeated_vertices)
-    out.push_back({"repeated_vertex",
-                   n(r.faces_with_repeated_vertices) + " faces use the same vertex twice"});
-  if (r.non_manifold_edges)
     out.push_back(
-        {"non_manifold_edge", n(r.non_manifold_edges) + " edges are shared by more than 2 faces"});
+        {"repeated_vertex", count(r.faces_with_repeated_vertices, "face uses", "faces use") +
+                                " the same vertex twice"});
+  if (r.non_manifold_edges)
+    out.push_back({"non_manifold_edge", count(r.non_manifold_edges, "edge is", "edges are") +
+                                            " shared by more than 2 faces"});
   if (r.boundary_edges)
-    out.push_back({"boundary", "mesh has " + n(r.boundary_loops) + " boundary loops (" +
-                                   n(r.boundary_edges) +
-                                   " boundary edges); spherical mapping needs a closed surface"});
+    out.push_back(
+        {"boundary", "mesh has " + count(r.boundary_loops, "boundary loop", "boundary loops") +
+                         " (" + count(r.boundary_edges, "boundary edge", "boundary edges") +
+                         "); spherical mapping needs a closed surface"});
   if (r.non_manifold_vertices)
     out.push_back({"non_manifold_vertex",
-                   n(r.non_manifold_vertices) +
-                       " non-manifold vertices (the faces around each form more than one fan)"});
+                   count(r.non_manifold_vertices, "non-manifold vertex", "non-manifold vertices") +
+                       " (the faces around each form more than one fan)"});
   if (r.inconsistent_edges)
-    out.push_back({"orientation", n(r.inconsistent_edges) +
-                                      " edges have faces on both sides running the same way "
+    out.push_back({"orientation", count(r.inconsistent_edges, "edge has", "edges have") +
+                                      " faces on both sides running the same way "
                                       "(inconsistent orientation)"});
   if (r.component_vertices.size() > 1)
     out.push_back({"components",
