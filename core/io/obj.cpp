@@ -53,7 +53,10 @@ PolygonMesh parse_obj(std::string_view text) {
   return mesh;
 }
 
-std::string format_obj(const PolygonMesh& mesh) {
+std::string format_obj(const PolygonMesh& input) {
+  // Polygons start at their fan apex, so a reader's fan from the first corner is the
+  // triangulation the map was certified on (a quad's other diagonal can fold).
+  const PolygonMesh mesh = apex_first(input);
   std::string out;
   out.reserve(mesh.vertex_count() * 40 + mesh.indices.size() * 8);
   char buf[128];

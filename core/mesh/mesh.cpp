@@ -63,6 +63,19 @@ FanTriangulation fan_triangulate(const PolygonMesh& mesh) {
   return fan;
 }
 
+PolygonMesh apex_first(const PolygonMesh& mesh) {
+  PolygonMesh out = mesh;
+  if (mesh.is_triangle_mesh()) return out;
+  size_t conflicting = 0;
+  const std::vector<uint32_t> apex = choose_apexes(mesh, conflicting);
+  for (size_t f = 0; f < mesh.face_count(); ++f) {
+    const auto face = mesh.face(f);
+    const size_t d = face.size();
+    for (size_t k = 0; k < d; ++k) out.indices[mesh.offsets[f] + k] = face[(apex[f] + k) % d];
+  }
+  return out;
+}
+
 VertexTriangles vertex_triangles(std::span<const Triangle> triangles, size_t vertex_count) {
   VertexTriangles vt;
   vt.offsets.assign(vertex_count + 1, 0);

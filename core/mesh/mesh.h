@@ -42,6 +42,13 @@ struct FanTriangulation {
 };
 FanTriangulation fan_triangulate(const PolygonMesh& mesh);
 
+// The same mesh with each polygon's corners rotated so that its fan apex comes first: the
+// fan from the first corner, which three.js, Blender and most OBJ loaders use, is then
+// the triangulation fan_triangulate gives (and the map was certified on). Triangles are
+// unchanged. Vertices and face order are kept; fan_triangulate of the result gives the
+// same triangles.
+PolygonMesh apex_first(const PolygonMesh& mesh);
+
 // Vertex -> incident triangles, as CSR, triangle ids ascending (a fixed order keeps
 // every gather over it deterministic).
 struct VertexTriangles {
