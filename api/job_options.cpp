@@ -135,6 +135,11 @@ JobOptions parse_job_options(const nlohmann::json& options) {
        [&](const Json& v, const std::string& k) {
          out.prepare.weld_tolerance = number(v, k, 0, 1);
        }},
+      {"prepare",
+       [&](const Json& v, const std::string& k) {
+         out.prepare.method = text(v, k, {"exact", "repair"}) == "exact" ? PrepareMethod::kExact
+                                                                         : PrepareMethod::kRepair;
+       }},
       {"largest_component",
        [&](const Json& v, const std::string& k) { out.prepare.largest_component = boolean(v, k); }},
       {"draco", [&](const Json& v, const std::string& k) { draco = boolean(v, k); }},

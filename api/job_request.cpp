@@ -131,7 +131,7 @@ std::unique_ptr<JobSpec> read_job_request(const httplib::Request& request,
     throw Problem(400, "malformed_gltf", "Malformed glTF", e.what() + hint, extra);
   }
   deadline.check("reading the glTF");
-  spec->prepared = prepare_mesh(spec->input, options.prepare);
+  spec->prepared = prepare_input(spec->input, &spec->look, options.prepare);
   deadline.check("welding and the topology checks");
   const auto failures = input_failures(spec->prepared, &stats);
   if (!failures.empty()) {

@@ -11,10 +11,11 @@
 namespace spheremap::cli {
 
 int run_info(int argc, char** argv) {
-  Arguments args(argc, argv, 2, {"weld-tolerance", "mesh"}, {"help"});
+  Arguments args(argc, argv, 2, {"weld-tolerance", "mesh", "prepare"}, {"help"});
   if (args.flag("help")) {
     std::cout
-        << "Usage: spheremap info INPUT [--weld-tolerance T] [--mesh INDEX|NAME]\n\n"
+        << "Usage: spheremap info INPUT [--weld-tolerance T] [--mesh INDEX|NAME] [--prepare "
+           "exact|repair]\n\n"
            "Prints the topology report of INPUT (.obj, .off, .glb, .gltf) as JSON: vertices, "
            "edges,\n"
            "faces, face sizes, boundary, manifoldness, orientation, components, genus,\n"
@@ -28,6 +29,7 @@ int run_info(int argc, char** argv) {
   if (args.positional().size() != 1) throw UsageError("info takes exactly one INPUT file");
   PrepareOptions prepare;
   prepare.weld_tolerance = args.number("weld-tolerance", 0, 0, 1);
+  prepare.method = parse_prepare_method(args.text("prepare", "repair"));
   GltfReadStats stats;
   PolygonMesh input;
   try {
@@ -40,7 +42,7 @@ int run_info(int argc, char** argv) {
     std::fprintf(stderr, "spheremap: invalid input [%s]: %s\n", e.check().c_str(), e.what());
     return kExitInvalidInput;
   }
-  const nlohmann::json report = topology_json(prepare_mesh(input, prepare), &stats);
+  const nlohmann::json report = topology_json(prepare_input(input, nullptr, prepare), &stats);
   std::cout << report.dump(2) << "\n";
   return report["mappable"].get<bool>() ? kExitOk : kExitInvalidInput;
 }

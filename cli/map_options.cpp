@@ -9,12 +9,29 @@
 
 namespace spheremap::cli {
 
-const std::set<std::string> kMapValueOptions = {
-    "method",         "alpha",          "offset",           "offset-placement",  "presmooth",
-    "max-iterations", "min-iterations", "level-iterations", "repair-iterations", "safe-steps",
-    "limit-weight",   "attempts",       "time-limit",       "threads",           "weld-tolerance",
-    "sweep",          "start-vertices", "smooth-vertices",  "direct-iterations", "quality",
-    "stretch-lambda", "stretch-sweeps"};
+const std::set<std::string> kMapValueOptions = {"method",
+                                                "alpha",
+                                                "offset",
+                                                "offset-placement",
+                                                "presmooth",
+                                                "max-iterations",
+                                                "min-iterations",
+                                                "level-iterations",
+                                                "repair-iterations",
+                                                "safe-steps",
+                                                "limit-weight",
+                                                "attempts",
+                                                "time-limit",
+                                                "threads",
+                                                "weld-tolerance",
+                                                "prepare",
+                                                "sweep",
+                                                "start-vertices",
+                                                "smooth-vertices",
+                                                "direct-iterations",
+                                                "quality",
+                                                "stretch-lambda",
+                                                "stretch-sweeps"};
 const std::set<std::string> kMapFlags = {"no-centroid", "largest-component", "no-optimize"};
 
 const char* const kMapOptionsHelp = R"(Mapping options:
@@ -68,6 +85,10 @@ const char* const kMapOptionsHelp = R"(Mapping options:
                             only exactly equal positions)
   --largest-component       keep only the connected part with the most faces (default: several
                             parts are an error that lists their sizes)
+  --prepare exact|repair    repair (default): drop faces the weld collapses and duplicate
+                            (double-sided) faces, make each part's orientation consistent;
+                            no vertex moves, and a mesh that needs none of it is untouched.
+                            exact: map the input as it is or refuse it
 )";
 
 void read_map_options(const Arguments& args, PrepareOptions& prepare, MapOptions& options) {
@@ -129,6 +150,13 @@ void read_map_options(const Arguments& args, PrepareOptions& prepare, MapOptions
       args.integer("attempts", static_cast<long long>(options.attempts), 1, 100));
   prepare.weld_tolerance = args.number("weld-tolerance", 0, 0, 1);
   prepare.largest_component = args.flag("largest-component");
+  prepare.method = parse_prepare_method(args.text("prepare", "repair"));
+}
+
+PrepareMethod parse_prepare_method(const std::string& name) {
+  if (name == "exact") return PrepareMethod::kExact;
+  if (name == "repair") return PrepareMethod::kRepair;
+  throw UsageError("--prepare must be exact or repair, got '" + name + "'");
 }
 
 // Progress lines on stderr once a run has taken a second, at most twice a second.
@@ -154,7 +182,7 @@ MappedInput map_input(const Arguments& args, const PrepareOptions& prepare,
   // Prepared once; the refusal carries what the glTF scene says (which meshes it draws,
   // which option maps one), which map_mesh alone could not know.
   const auto start = std::chrono::steady_clock::now();
-  PreparedMesh prepared = prepare_mesh(out.input, prepare);
+  PreparedMesh prepared = prepare_input(out.input, &out.look, prepare);
   const double prepare_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   require_none(input_failures(prepared, &stats));

@@ -14,6 +14,9 @@ extern const std::set<std::string> kMapValueOptions;
 extern const std::set<std::string> kMapFlags;
 extern const char* const kMapOptionsHelp;
 
+// "exact" or "repair" (--prepare); UsageError otherwise.
+PrepareMethod parse_prepare_method(const std::string& name);
+
 void read_map_options(const Arguments& args, PrepareOptions& prepare, MapOptions& options);
 
 // Progress lines on stderr once a run has taken a second, at most twice a second;

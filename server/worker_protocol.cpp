@@ -156,6 +156,12 @@ std::string encode_request(const JobSpec& spec, double time_limit_seconds, int t
   w.put_mesh(spec.prepared.welded.mesh);
   w.put_vector(spec.prepared.welded.input_to_welded);
   w.put<uint64_t>(spec.prepared.welded.unreferenced_vertices);
+  const PreparationReport& preparation = spec.prepared.preparation;
+  w.put<int32_t>(static_cast<int32_t>(preparation.method));
+  for (size_t count :
+       {preparation.input_faces, preparation.collapsed_faces, preparation.shortened_faces,
+        preparation.duplicate_faces, preparation.flipped_faces, preparation.reoriented_parts})
+    w.put<uint64_t>(count);
   return w.take();
 }
 
@@ -182,6 +188,16 @@ WorkerRequest decode_request(const std::string& bytes) {
   spec.prepared.welded.mesh = r.get_mesh();
   spec.prepared.welded.input_to_welded = r.get_vector<uint32_t>();
   spec.prepared.welded.unreferenced_vertices = r.get<uint64_t>();
+  PreparationReport& preparation = spec.prepared.preparation;
+  const int32_t method = r.get<int32_t>();
+  if (method != static_cast<int32_t>(PrepareMethod::kExact) &&
+      method != static_cast<int32_t>(PrepareMethod::kRepair))
+    throw std::runtime_error("unknown preparation method");
+  preparation.method = static_cast<PrepareMethod>(method);
+  for (size_t* count :
+       {&preparation.input_faces, &preparation.collapsed_faces, &preparation.shortened_faces,
+        &preparation.duplicate_faces, &preparation.flipped_faces, &preparation.reoriented_parts})
+    *count = r.get<uint64_t>();
   if (!r.done()) throw std::runtime_error("trailing bytes after the request");
   spec.prepared.topology = analyze_topology(spec.prepared.welded.mesh);
   return request;

@@ -4,7 +4,6 @@
 #include <chrono>
 
 #include "core/mesh/sphere_geometry.h"
-#include "core/mesh/union_find.h"
 
 namespace spheremap {
 namespace {
@@ -14,48 +13,6 @@ double seconds_since(std::chrono::steady_clock::time_point start) {
 }
 
 }  // namespace
-
-namespace {
-
-// Drops every face outside the largest component (by faces) and the vertices left unused.
-void keep_largest_component(WeldResult& welded) {
-  PolygonMesh& mesh = welded.mesh;
-  UnionFind sets(mesh.vertex_count());
-  for (size_t f = 0; f < mesh.face_count(); ++f)
-    for (uint32_t v : mesh.face(f)) sets.unite(mesh.face(f)[0], v);
-  std::vector<size_t> faces_of(mesh.vertex_count(), 0);
-  for (size_t f = 0; f < mesh.face_count(); ++f) ++faces_of[sets.find(mesh.face(f)[0])];
-  const uint32_t keep =
-      static_cast<uint32_t>(std::max_element(faces_of.begin(), faces_of.end()) - faces_of.begin());
-  PolygonMesh kept;
-  std::vector<uint32_t> new_id(mesh.vertex_count(), kUnreferenced);
-  std::vector<uint32_t> corners;
-  for (size_t f = 0; f < mesh.face_count(); ++f) {
-    if (sets.find(mesh.face(f)[0]) != keep) continue;
-    corners.clear();
-    for (uint32_t v : mesh.face(f)) {
-      if (new_id[v] == kUnreferenced) {
-        new_id[v] = static_cast<uint32_t>(kept.positions.size());
-        kept.positions.push_back(mesh.positions[v]);
-      }
-      corners.push_back(new_id[v]);
-    }
-    kept.add_face(corners);
-  }
-  for (uint32_t& w : welded.input_to_welded)
-    if (w != kUnreferenced) w = new_id[w];
-  mesh = std::move(kept);
-}
-
-}  // namespace
-
-PreparedMesh prepare_mesh(const PolygonMesh& input, const PrepareOptions& options) {
-  PreparedMesh prepared;
-  prepared.welded = weld(input, options.weld_tolerance);
-  if (options.largest_component) keep_largest_component(prepared.welded);
-  prepared.topology = analyze_topology(prepared.welded.mesh);
-  return prepared;
-}
 
 MappedMesh map_mesh(const PolygonMesh& input, const PrepareOptions& prepare,
                     const MapOptions& options, const MapControl& control) {

@@ -1,4 +1,4 @@
-// Input preparation (ALGORITHM §0) and the full map pipeline, shared by the command-line
+// The full map pipeline (preparation: core/prepare), shared by the command-line
 // tool and the service: weld -> validate -> map -> verify -> metrics.
 #pragma once
 
@@ -8,23 +8,9 @@
 #include "core/map/spherical_map.h"
 #include "core/mesh/topology.h"
 #include "core/mesh/weld.h"
+#include "core/prepare/prepare_mesh.h"
 
 namespace spheremap {
-
-struct PrepareOptions {
-  double weld_tolerance = 0;  // relative to the bounding-box diagonal; 0 = exact positions
-  // Keep only the connected component with the most faces (others are dropped, their
-  // input vertices then map to nothing); otherwise several components are an error.
-  bool largest_component = false;
-};
-
-struct PreparedMesh {
-  WeldResult welded;
-  TopologyReport topology;
-};
-
-// Welds and reports; does not reject.
-PreparedMesh prepare_mesh(const PolygonMesh& input, const PrepareOptions& options);
 
 struct MappedMesh {
   PreparedMesh prepared;

@@ -11,6 +11,13 @@ nlohmann::json summary_json(const DistortionSummary& s) {
 
 }  // namespace
 
+nlohmann::json preparation_json(const PreparationReport& p) {
+  return {{"method", prepare_method_name(p.method)},      {"input_faces", p.input_faces},
+          {"collapsed_faces_dropped", p.collapsed_faces}, {"faces_shortened", p.shortened_faces},
+          {"duplicate_faces_dropped", p.duplicate_faces}, {"faces_flipped", p.flipped_faces},
+          {"parts_reoriented", p.reoriented_parts}};
+}
+
 nlohmann::json fix_json(const Fix& fix) {
   return {{"option", fix.option},
           {"value", nlohmann::json::parse(fix.value, nullptr, false)},
@@ -20,6 +27,14 @@ nlohmann::json fix_json(const Fix& fix) {
 std::vector<ValidationFailure> input_failures(const PreparedMesh& prepared,
                                               const GltfReadStats* gltf) {
   std::vector<ValidationFailure> failures = mapping_failures(prepared.topology);
+  // Offer largest_component only when its part maps; otherwise say why it would not.
+  const auto& largest = prepared.largest_component_failures;
+  for (ValidationFailure& f : failures)
+    if (f.fix.option == "largest_component" && !largest.empty()) {
+      f.fix = {};
+      f.message += "; the largest alone (" + std::to_string(prepared.largest_component_faces) +
+                   " faces) cannot be mapped either: " + largest.front().message;
+    }
   if (gltf) suggest_gltf_fixes(failures, *gltf);
   return failures;
 }
@@ -59,6 +74,7 @@ nlohmann::json topology_json(const PreparedMesh& prepared, const GltfReadStats* 
       {"zero_area_faces", r.zero_area_faces},
       {"mappable", failures.empty()},
       {"failures", failures},
+      {"preparation", preparation_json(prepared.preparation)},
   };
 }
 
@@ -80,6 +96,7 @@ nlohmann::json metrics_json(const MappedMesh& mapped, const MapOptions& options)
                       {"energy", l.energy}});
   return {
       {"method", options.method == Method::kPaper ? "paper" : "coarse-to-fine"},
+      {"preparation", preparation_json(mapped.prepared.preparation)},
       {"quality", std::string(to_string(options.quality))},
       {"optimized", m.optimized},
       // The certified verdict (double, float32; callers that write a file replace it with

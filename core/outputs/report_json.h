@@ -12,6 +12,9 @@ namespace spheremap {
 // scene that draws one mesh several times is told to map that mesh alone).
 std::vector<ValidationFailure> input_failures(const PreparedMesh& prepared,
                                               const GltfReadStats* gltf = nullptr);
+// What preparation did: {"method", "input_faces", "collapsed_faces_dropped",
+// "faces_shortened", "duplicate_faces_dropped", "faces_flipped", "parts_reoriented"}.
+nlohmann::json preparation_json(const PreparationReport& preparation);
 // {"option", "value", "effect"} of a fix, the value as JSON.
 nlohmann::json fix_json(const Fix& fix);
 

@@ -259,6 +259,12 @@ export interface components {
             weld_tolerance: number;
             /** @default false */
             largest_component: boolean;
+            /**
+             * @description repair: drop faces the weld collapses and duplicate (double-sided) faces, and make each part's orientation consistent (no vertex moves; a mesh that needs none of it is untouched; metrics.preparation says what was done). exact: map the input as it is or refuse it.
+             * @default repair
+             * @enum {string}
+             */
+            prepare: "exact" | "repair";
             /** @description map only this glTF mesh (index or name) */
             mesh?: number | string;
             /**
@@ -312,7 +318,7 @@ export interface components {
                 energy?: number;
                 elapsed_seconds?: number;
             };
-            /** @description as metrics.json: bijective (the certified verdict: no fold and no degenerate triangle in double, float32 and as written), bijective_double, bijective_as_written, problem, quality, folds, distortion (area_distortion.mean_abs_log), stretch, seconds per stage */
+            /** @description as metrics.json: bijective (the certified verdict: no fold and no degenerate triangle in double, float32 and as written), bijective_double, bijective_as_written, problem, quality, folds, distortion (area_distortion.mean_abs_log), stretch, seconds per stage, preparation (method, and the faces dropped, shortened and flipped by prepare=repair) */
             metrics?: Record<string, never>;
             artifacts?: {
                 [key: string]: {

@@ -1,0 +1,95 @@
+#include "core/prepare/prepare_mesh.h"
+
+#include <algorithm>
+
+#include "core/mesh/union_find.h"
+#include "core/prepare/face_cleanup.h"
+
+namespace spheremap {
+namespace {
+
+// Drops every face outside the largest component (by faces) and the vertices left unused.
+void keep_largest_component(WeldResult& welded) {
+  PolygonMesh& mesh = welded.mesh;
+  UnionFind sets(mesh.vertex_count());
+  for (size_t f = 0; f < mesh.face_count(); ++f)
+    for (uint32_t v : mesh.face(f)) sets.unite(mesh.face(f)[0], v);
+  std::vector<size_t> faces_of(mesh.vertex_count(), 0);
+  for (size_t f = 0; f < mesh.face_count(); ++f) ++faces_of[sets.find(mesh.face(f)[0])];
+  const uint32_t keep =
+      static_cast<uint32_t>(std::max_element(faces_of.begin(), faces_of.end()) - faces_of.begin());
+  PolygonMesh kept;
+  std::vector<uint32_t> new_id(mesh.vertex_count(), kUnreferenced);
+  std::vector<uint32_t> corners;
+  for (size_t f = 0; f < mesh.face_count(); ++f) {
+    if (sets.find(mesh.face(f)[0]) != keep) continue;
+    corners.clear();
+    for (uint32_t v : mesh.face(f)) {
+      if (new_id[v] == kUnreferenced) {
+        new_id[v] = static_cast<uint32_t>(kept.positions.size());
+        kept.positions.push_back(mesh.positions[v]);
+      }
+      corners.push_back(new_id[v]);
+    }
+    kept.add_face(corners);
+  }
+  for (uint32_t& w : welded.input_to_welded)
+    if (w != kUnreferenced) w = new_id[w];
+  mesh = std::move(kept);
+}
+
+// Each primitive's face range [first_face, first_face + face_count) renumbered to the
+// faces kept (source_face: per kept face, its old index, ascending).
+void move_face_ranges(GltfAppearance& look, const std::vector<uint32_t>& source_face) {
+  for (GltfAppearance::Primitive& p : look.primitives) {
+    const auto first = std::lower_bound(source_face.begin(), source_face.end(), p.first_face);
+    const auto last =
+        std::lower_bound(source_face.begin(), source_face.end(), p.first_face + p.face_count);
+    p.first_face = static_cast<uint32_t>(first - source_face.begin());
+    p.face_count = static_cast<uint32_t>(last - first);
+  }
+}
+
+}  // namespace
+
+const char* prepare_method_name(PrepareMethod method) {
+  return method == PrepareMethod::kExact ? "exact" : "repair";
+}
+
+PreparedMesh prepare_mesh(const PolygonMesh& input, const PrepareOptions& options) {
+  PreparedMesh prepared;
+  prepared.welded = weld(input, options.weld_tolerance);
+  if (options.largest_component) keep_largest_component(prepared.welded);
+  prepared.topology = analyze_topology(prepared.welded.mesh);
+  prepared.preparation.input_faces = input.face_count();
+  if (!options.largest_component && prepared.topology.component_vertices.size() > 1) {
+    WeldResult largest = prepared.welded;
+    keep_largest_component(largest);
+    prepared.largest_component_faces = largest.mesh.face_count();
+    prepared.largest_component_failures = mapping_failures(analyze_topology(largest.mesh));
+  }
+  return prepared;
+}
+
+PreparedMesh prepare_input(PolygonMesh& input, GltfAppearance* look,
+                           const PrepareOptions& options) {
+  if (options.method == PrepareMethod::kExact) return prepare_mesh(input, options);
+  FaceCleanup cleanup = clean_faces(input, options.weld_tolerance);
+  const size_t input_faces = input.face_count();
+  if (cleanup.changed()) {
+    input = std::move(cleanup.mesh);
+    if (look) move_face_ranges(*look, cleanup.source_face);
+  }
+  PreparedMesh prepared = prepare_mesh(input, options);
+  PreparationReport& report = prepared.preparation;
+  report.method = options.method;
+  report.input_faces = input_faces;
+  report.collapsed_faces = cleanup.collapsed_faces;
+  report.shortened_faces = cleanup.shortened_faces;
+  report.duplicate_faces = cleanup.duplicate_faces;
+  report.flipped_faces = cleanup.flipped_faces;
+  report.reoriented_parts = cleanup.reoriented_parts;
+  return prepared;
+}
+
+}  // namespace spheremap

@@ -1,0 +1,56 @@
+// Preparing an input for the map (ALGORITHM §0), between reading (core/io) and mapping
+// (core/map): optional cleaning that moves no vertex (face_cleanup.h), the weld, the
+// largest part when asked, and the topology report. Nothing here refuses: the map's
+// caller checks the report (mapping_failures) and says why.
+#pragma once
+
+#include <string>
+
+#include "core/io/gltf_appearance.h"
+#include "core/mesh/mesh.h"
+#include "core/mesh/topology.h"
+#include "core/mesh/weld.h"
+
+namespace spheremap {
+
+// How far preparation may change the input. kExact: as it is (refuse anything not closed
+// genus 0). kRepair: also the cleaning of face_cleanup.h (default; a mesh that needs none
+// is untouched, so its map is the same as under kExact).
+enum class PrepareMethod { kExact, kRepair };
+const char* prepare_method_name(PrepareMethod method);  // "exact", "repair"
+
+struct PrepareOptions {
+  PrepareMethod method = PrepareMethod::kRepair;
+  double weld_tolerance = 0;  // relative to the bounding-box diagonal; 0 = exact positions
+  // Keep only the connected component with the most faces (others are dropped, their
+  // input vertices then map to nothing); otherwise several components are an error.
+  bool largest_component = false;
+};
+
+// What preparation did to the input, for the metrics ("preparation").
+struct PreparationReport {
+  PrepareMethod method = PrepareMethod::kExact;
+  size_t input_faces = 0;
+  size_t collapsed_faces = 0, shortened_faces = 0, duplicate_faces = 0, flipped_faces = 0;
+  size_t reoriented_parts = 0;
+};
+
+struct PreparedMesh {
+  WeldResult welded;
+  TopologyReport topology;
+  PreparationReport preparation;
+  // With several components (and largest_component off): what the largest alone fails,
+  // empty when it maps; so `largest_component` is offered only where it works.
+  std::vector<ValidationFailure> largest_component_failures;
+  size_t largest_component_faces = 0;
+};
+
+// Welds and reports; does not clean and does not reject (preparation.method stays exact).
+PreparedMesh prepare_mesh(const PolygonMesh& input, const PrepareOptions& options);
+
+// The same after cleaning `input` in place when options.method is kRepair: faces dropped,
+// shortened or reversed, and `look` (when given) has its primitives' face ranges moved to
+// match, so the input, its look and the prepared mesh agree for every output.
+PreparedMesh prepare_input(PolygonMesh& input, GltfAppearance* look, const PrepareOptions& options);
+
+}  // namespace spheremap
