@@ -198,3 +198,39 @@ TEST(PrepareInput, OffersTheLargestComponentOnlyWhenItMaps) {
 
 }  // namespace
 }  // namespace spheremap
+
+namespace spheremap {
+namespace {
+
+// A crack as CAD exports leave them: one vertex stored twice, 1e-7 of the diagonal apart,
+// each copy used by some of its faces. The weld tolerance that closes it is offered,
+// tried; a real hole gets no such fix.
+TEST(PrepareInput, OffersAWeldToleranceOnlyWhereItClosesTheSurface) {
+  PolygonMesh cracked = testing::icosphere(2);
+  const uint32_t copy = static_cast<uint32_t>(cracked.vertex_count());
+  cracked.positions.push_back(cracked.positions[0] + Vec3{2e-7, 0, 0});
+  size_t moved = 0;
+  for (size_t f = 0; f < cracked.face_count() && moved < 2; ++f)
+    for (uint32_t k = cracked.offsets[f]; k < cracked.offsets[f + 1]; ++k)
+      if (cracked.indices[k] == 0) cracked.indices[k] = copy, ++moved;
+  ASSERT_EQ(moved, 2u);
+  PolygonMesh input = cracked;
+  const auto failures = input_failures(prepare_input(input, nullptr, {}));
+  ASSERT_FALSE(failures.empty());
+  EXPECT_EQ(failures.front().check, "boundary");
+  EXPECT_EQ(failures.front().fix.option, "weld_tolerance");
+  EXPECT_EQ(failures.front().fix.value, "1e-06");
+  // The fix works as offered.
+  PrepareOptions fixed;
+  fixed.weld_tolerance = 1e-6;
+  PolygonMesh again = cracked;
+  EXPECT_TRUE(input_failures(prepare_input(again, nullptr, fixed)).empty());
+
+  PolygonMesh holed = testing::without_face(testing::icosphere(2), 5);
+  const auto hole = input_failures(prepare_input(holed, nullptr, {}));
+  ASSERT_FALSE(hole.empty());
+  EXPECT_TRUE(hole.front().fix.empty()) << hole.front().fix.option;
+}
+
+}  // namespace
+}  // namespace spheremap

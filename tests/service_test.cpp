@@ -251,7 +251,14 @@ TEST(Service, RepeatedMeshGets422NamingTheMeshOption) {
     glb.json["nodes"].push_back(glb.json["nodes"][0]);
     glb.json["scenes"][0]["nodes"].push_back(glb.json["nodes"].size() - 1);
   }
-  auto refused = post_glb(client, glb.bytes());
+  // The copies sit on each other: prepare=repair drops them as duplicate faces and maps
+  // the mesh once; as it is (exact), the refusal names the mesh option.
+  auto repaired = post_glb(client, glb.bytes());
+  ASSERT_EQ(repaired->status, 202) << repaired->body;
+  const json done = wait_for(client, body_json(repaired)["id"]);
+  EXPECT_EQ(done["status"], "succeeded") << done.dump(2);
+  EXPECT_EQ(done["metrics"]["preparation"]["duplicate_faces_dropped"], 3 * 320);
+  auto refused = post_glb(client, glb.bytes(), "/v1/jobs?prepare=exact");
   expect_problem(refused, 422, "not_mappable");
   const json problem = json::parse(refused->body);
   EXPECT_EQ(problem["fix"]["option"], "mesh") << problem.dump(2);
@@ -695,6 +702,32 @@ TEST(Service, InvalidMeshesGet422WithTheirCheck) {
   }
   auto prometheus = client.Get("/metrics")->body;
   EXPECT_NE(prometheus.find("spheremap_rejections_total{reason=\"genus\"} 1"), std::string::npos);
+}
+
+// A double-sided export (every face stored twice, once each way) maps under the default
+// prepare=repair, through a worker process, and says what was dropped; prepare=exact
+// refuses it as before.
+TEST(Service, DoubleSidedExportsAreRepairedAndSaySo) {
+  TestServer server(small_config());
+  auto client = server.client();
+  const PolygonMesh sphere = testing::icosphere(2);
+  PolygonMesh double_sided = sphere;
+  const PolygonMesh back = testing::reversed(sphere);
+  for (size_t f = 0; f < back.face_count(); ++f) double_sided.add_face(back.face(f));
+  auto submitted = post_glb(client, glb_of(double_sided));
+  ASSERT_EQ(submitted->status, 202) << submitted->body;
+  const json done = wait_for(client, body_json(submitted)["id"]);
+  ASSERT_EQ(done["status"], "succeeded") << done.dump(2);
+  EXPECT_TRUE(done["metrics"]["bijective_as_written"]);
+  EXPECT_EQ(done["metrics"]["preparation"]["method"], "repair");
+  EXPECT_EQ(done["metrics"]["preparation"]["duplicate_faces_dropped"], sphere.face_count());
+  auto glb = client.Get(done["artifacts"]["sphere.glb"]["href"].get<std::string>().c_str());
+  ASSERT_EQ(glb->status, 200);
+  EXPECT_TRUE(glb_is_bijective_sphere(glb->body));
+
+  auto exact = post_glb(client, glb_of(double_sided), "/v1/jobs?prepare=exact");
+  expect_problem(exact, 422, "not_mappable");
+  EXPECT_EQ(json::parse(exact->body)["check"], "non_manifold_edge") << exact->body;
 }
 
 // On the real service: a mesh that takes longer to read and weld than the intake

@@ -1,5 +1,7 @@
 #include "core/outputs/report_json.h"
 
+#include <cstdio>
+
 #include "core/map/certification.h"
 
 namespace spheremap {
@@ -35,6 +37,16 @@ std::vector<ValidationFailure> input_failures(const PreparedMesh& prepared,
       f.message += "; the largest alone (" + std::to_string(prepared.largest_component_faces) +
                    " faces) cannot be mapped either: " + largest.front().message;
     }
+  // A weld tolerance that was tried and closes the surface.
+  if (prepared.closing_weld_tolerance > 0)
+    for (ValidationFailure& f : failures)
+      if (f.check == "boundary" && f.fix.empty()) {
+        char value[32];
+        std::snprintf(value, sizeof value, "%g", prepared.closing_weld_tolerance);
+        f.fix = {"weld_tolerance", value,
+                 std::string("welds vertices closer than ") + value +
+                     " of the bounding-box diagonal, which closes it (tried: it then maps)"};
+      }
   if (gltf) suggest_gltf_fixes(failures, *gltf);
   return failures;
 }

@@ -71,8 +71,9 @@ PreparedMesh prepare_mesh(const PolygonMesh& input, const PrepareOptions& option
   return prepared;
 }
 
-PreparedMesh prepare_input(PolygonMesh& input, GltfAppearance* look,
-                           const PrepareOptions& options) {
+namespace {
+
+PreparedMesh prepare_once(PolygonMesh& input, GltfAppearance* look, const PrepareOptions& options) {
   if (options.method == PrepareMethod::kExact) return prepare_mesh(input, options);
   FaceCleanup cleanup = clean_faces(input, options.weld_tolerance);
   const size_t input_faces = input.face_count();
@@ -89,6 +90,30 @@ PreparedMesh prepare_input(PolygonMesh& input, GltfAppearance* look,
   report.duplicate_faces = cleanup.duplicate_faces;
   report.flipped_faces = cleanup.flipped_faces;
   report.reoriented_parts = cleanup.reoriented_parts;
+  return prepared;
+}
+
+// The smallest of a few weld tolerances with which `input` maps, 0 when none does. Each
+// try is one more weld and topology pass over a copy (linear, like preparing itself).
+double closing_weld_tolerance(const PolygonMesh& input, PrepareOptions options) {
+  for (const double tolerance : {1e-6, 1e-5, 1e-4}) {
+    options.weld_tolerance = tolerance;
+    PolygonMesh copy = input;
+    if (mapping_failures(prepare_once(copy, nullptr, options).topology).empty()) return tolerance;
+  }
+  return 0;
+}
+
+}  // namespace
+
+PreparedMesh prepare_input(PolygonMesh& input, GltfAppearance* look,
+                           const PrepareOptions& options) {
+  PreparedMesh prepared = prepare_once(input, look, options);
+  // Tried on the input as cleaned: cleaning again at the wider tolerance drops what that
+  // weld collapses, as it would on the original.
+  if (options.weld_tolerance == 0 && prepared.topology.boundary_edges > 0 &&
+      !mapping_failures(prepared.topology).empty())
+    prepared.closing_weld_tolerance = closing_weld_tolerance(input, options);
   return prepared;
 }
 

@@ -43,6 +43,10 @@ struct PreparedMesh {
   // empty when it maps; so `largest_component` is offered only where it works.
   std::vector<ValidationFailure> largest_component_failures;
   size_t largest_component_faces = 0;
+  // For a mesh with boundaries at weld_tolerance 0: the smallest tolerance tried (1e-6,
+  // 1e-5, 1e-4 of the diagonal) with which it maps, 0 when none does (T-junction cracks
+  // and near-equal seam vertices of CAD exports), so the fix is named only where it works.
+  double closing_weld_tolerance = 0;
 };
 
 // Welds and reports; does not clean and does not reject (preparation.method stays exact).
