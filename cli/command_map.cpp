@@ -16,11 +16,11 @@ namespace {
 
 const char* const kUsage = R"(Usage: spheremap map INPUT -o OUTPUT [--metrics FILE.json] [options]
 
-Maps a closed genus-0 mesh (.obj, .off, .glb, .gltf; Draco-compressed glTF too) onto the
-unit sphere, without folds. OUTPUT has the input's vertices in the input's order and the
-input's faces, every vertex moved to its point on the sphere (vertices with equal
-positions share one point). A glTF input is every triangle primitive of its default
-scene in world space, unless --mesh picks one mesh.
+Maps a closed genus-0 mesh (.obj, .off, .stl, .ply, .glb, .gltf; Draco-compressed glTF
+too) onto the unit sphere, without folds. OUTPUT has the input's vertices in the input's
+order and the input's faces, every vertex moved to its point on the sphere (vertices with
+equal positions share one point: an STL's three corners per triangle too). A glTF input is
+every triangle primitive of its default scene in world space, unless --mesh picks one mesh.
 
   -o, --output FILE         the spherical mesh: .obj, or .glb / .gltf (buffers embedded):
                             triangles, normals = positions, the metrics in the first mesh's

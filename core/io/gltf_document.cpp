@@ -315,6 +315,17 @@ Document::AccessorView Document::accessor(size_t index) const {
   const nlohmann::json& view = element("bufferViews", view_index);
   v.element_size = csize * static_cast<size_t>(v.components);
   v.stride = index_field(view, "byteStride", 253, "byteStride", v.element_size);
+  // byteStride 0 is outside the spec (4..252, and none on index views), but exporters write
+  // it for "packed" and viewers read it so: here too, said once per view.
+  if (v.stride == 0) {
+    v.stride = v.element_size;
+    if (std::find(zero_stride_views_.begin(), zero_stride_views_.end(), view_index) ==
+        zero_stride_views_.end()) {
+      zero_stride_views_.push_back(view_index);
+      warnings_.push_back("bufferView " + std::to_string(view_index) +
+                          " has byteStride 0 (not valid glTF); read as tightly packed");
+    }
+  }
   if (v.stride < v.element_size) fail(name + " elements overlap (byteStride too small)");
   const std::span<const uint8_t> bytes = buffer_view(view_index);
   // Checked in 64 bits, and count first bounded by the bytes present: no overflow.

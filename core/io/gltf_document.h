@@ -45,6 +45,10 @@ class Document {
   // Array element `index` of json()[key], or fail naming the reference.
   const nlohmann::json& element(const char* key, size_t index) const;
 
+  // What was read leniently (a bufferView with byteStride 0 read as tightly packed, as
+  // viewers do), one sentence each, for the report.
+  const std::vector<std::string>& warnings() const { return warnings_; }
+
  private:
   struct AccessorView {
     std::span<const uint8_t> bytes;
@@ -68,6 +72,8 @@ class Document {
   // Decoded EXT_meshopt_compression views, by view index, and the bytes left to decode.
   mutable std::map<size_t, std::vector<uint8_t>> decoded_views_;
   mutable size_t decode_budget_;
+  mutable std::vector<std::string> warnings_;
+  mutable std::vector<size_t> zero_stride_views_;  // warned about once each
 };
 
 // Integer field of a JSON object: absent -> fallback; present but not a non-negative
