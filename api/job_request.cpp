@@ -148,24 +148,21 @@ void check_vertex_cap(size_t vertices, const ApiSettings& config, const char* wh
                   {{"check", "too_large"}});
 }
 
-// OBJ, OFF, STL or PLY: the reader checks every count against the bytes, so what it
-// builds is bounded by max_body_bytes; the caps apply to what it built.
+// OBJ, OFF, STL or PLY: the reader checks every count against the bytes and the caps
+// (STL and PLY before allocating). max_faces counts triangles, as glTF's; an STL's
+// vertices are capped once welded (3 per triangle before).
 PolygonMesh read_other_body(const Body& body, const ApiSettings& config) {
-  PolygonMesh mesh;
+  MeshLimits limits;
+  limits.max_triangles = config.max_faces;
+  if (body.format != MeshFormat::kStl) limits.max_vertices = config.max_vertices;
   try {
-    mesh = parse_mesh_text(body.mesh, body.format);
+    return parse_mesh_text(body.mesh, body.format, limits);
   } catch (const InputError& e) {
+    if (e.check() == "too_large")
+      throw Problem(413, "too_large", "Mesh too large",
+                    std::string(e.what()) + " (max_vertices, max_faces)", {{"check", e.check()}});
     throw Problem(400, "malformed_mesh", "Malformed mesh", e.what(), {{"check", e.check()}});
   }
-  // max_faces counts triangles (as glTF's): a polygon of n corners is n - 2 of them.
-  const size_t triangles = mesh.indices.size() - 2 * mesh.face_count();
-  if (triangles > config.max_faces)
-    throw Problem(413, "too_large", "Mesh too large",
-                  "the mesh has " + std::to_string(triangles) + " triangles, over max_faces (" +
-                      std::to_string(config.max_faces) + ")",
-                  {{"check", "too_large"}});
-  if (body.format != MeshFormat::kStl) check_vertex_cap(mesh.vertex_count(), config, "as sent");
-  return mesh;
 }
 
 }  // namespace

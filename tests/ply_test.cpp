@@ -113,6 +113,28 @@ TEST(PlyReader, ForgedCountsAreRefusedBeforeAllocating) {
   EXPECT_NE(error_of(wide).find("not a number"), std::string::npos);
 }
 
+// The service's caps, on the declared counts before allocating, and on the triangles of
+// the polygons read: "too_large", which it answers 413.
+TEST(PlyReader, CountsOverTheLimitsAreTooLarge) {
+  const PolygonMesh cube = testing::quad_cube(2);  // 26 vertices, 24 quads = 48 triangles
+  auto check = [&](size_t max_vertices, size_t max_triangles) -> std::string {
+    MeshLimits limits;
+    limits.max_vertices = max_vertices;
+    limits.max_triangles = max_triangles;
+    try {
+      parse_ply(testing::ply(cube), limits);
+    } catch (const InputError& e) {
+      return e.check() + ": " + e.what();
+    }
+    return "read";
+  };
+  EXPECT_EQ(check(26, 48), "read");
+  EXPECT_NE(check(25, 48).find("too_large: PLY: 26 vertices and 24 faces"), std::string::npos);
+  EXPECT_NE(check(26, 23).find("too_large: PLY: 26 vertices and 24 faces"), std::string::npos);
+  EXPECT_NE(check(26, 47).find("too_large: PLY: 48 triangles once its polygons are split"),
+            std::string::npos);
+}
+
 TEST(PlyReader, TruncatedFilesAreErrorsAtEveryCut) {
   const PolygonMesh sphere = testing::icosphere(1);
   for (Encoding encoding : {Encoding::kLittleEndian, Encoding::kBigEndian}) {

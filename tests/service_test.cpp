@@ -334,7 +334,12 @@ TEST(Service, BrokenObjStlAndPlyGet400MalformedMesh) {
   auto too_many =
       capped_client.Post("/v1/jobs", testing::binary_stl(testing::icosphere(2)), "model/stl");
   expect_problem(too_many, 413, "too_large");
-  EXPECT_NE(too_many->body.find("320 triangles"), std::string::npos) << too_many->body;
+  EXPECT_NE(too_many->body.find("320 triangles, over the limit of 100"), std::string::npos)
+      << too_many->body;
+  auto ply_too_many =
+      capped_client.Post("/v1/jobs", testing::ply(testing::icosphere(2)), "application/ply");
+  expect_problem(ply_too_many, 413, "too_large");
+  EXPECT_NE(ply_too_many->body.find("320 faces"), std::string::npos) << ply_too_many->body;
 }
 
 // A scene that draws one mesh many times is refused with the job option that maps it.

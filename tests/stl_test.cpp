@@ -91,6 +91,28 @@ TEST(StlReader, ForgedBinaryCountIsRefusedBeforeAllocating) {
   EXPECT_NE(error_of(stl).find("4294967295 triangles"), std::string::npos);
 }
 
+// The service's cap on triangles, from the declared count (binary) or while reading
+// (ASCII): "too_large", which it answers 413.
+TEST(StlReader, TrianglesOverTheLimitAreTooLarge) {
+  const PolygonMesh sphere = testing::icosphere(1);  // 80 triangles
+  MeshLimits limits;
+  limits.max_triangles = 80;
+  EXPECT_EQ(parse_stl(testing::binary_stl(sphere), limits).face_count(), 80u);
+  EXPECT_EQ(parse_stl(testing::ascii_stl(sphere), limits).face_count(), 80u);
+  limits.max_triangles = 79;
+  for (const std::string& stl : {testing::binary_stl(sphere), testing::ascii_stl(sphere),
+                                 testing::binary_stl(sphere, "solid header")}) {
+    try {
+      parse_stl(stl, limits);
+      ADD_FAILURE() << "expected too_large";
+    } catch (const InputError& e) {
+      EXPECT_EQ(e.check(), "too_large");
+      EXPECT_NE(std::string(e.what()).find("80 triangles, over the limit of 79"), std::string::npos)
+          << e.what();
+    }
+  }
+}
+
 TEST(StlReader, TruncatedFilesAreErrorsAtEveryCut) {
   const std::string binary = testing::binary_stl(testing::icosphere(1));
   for (size_t cut = 0; cut < binary.size(); cut += 7) error_of(binary.substr(0, cut));

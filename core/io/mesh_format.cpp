@@ -91,16 +91,25 @@ std::optional<MeshFormat> sniff_mesh_format(std::string_view bytes) {
   return std::nullopt;
 }
 
-PolygonMesh parse_mesh_text(std::string_view bytes, MeshFormat format) {
+PolygonMesh parse_mesh_text(std::string_view bytes, MeshFormat format, const MeshLimits& limits) {
   switch (format) {
     case MeshFormat::kObj:
-      return parse_obj(bytes);
-    case MeshFormat::kOff:
-      return parse_off(bytes);
+    case MeshFormat::kOff: {
+      PolygonMesh mesh = format == MeshFormat::kObj ? parse_obj(bytes) : parse_off(bytes);
+      const size_t triangles = mesh.indices.size() - 2 * mesh.face_count();
+      if (mesh.vertex_count() > limits.max_vertices || triangles > limits.max_triangles)
+        throw InputError("too_large", std::string(format_name(format)) + ": " +
+                                          std::to_string(mesh.vertex_count()) + " vertices and " +
+                                          std::to_string(triangles) +
+                                          " triangles, over the limits of " +
+                                          std::to_string(limits.max_vertices) + " and " +
+                                          std::to_string(limits.max_triangles));
+      return mesh;
+    }
     case MeshFormat::kStl:
-      return parse_stl(bytes);
+      return parse_stl(bytes, limits);
     case MeshFormat::kPly:
-      return parse_ply(bytes);
+      return parse_ply(bytes, limits);
     case MeshFormat::kGlb:
     case MeshFormat::kGltf:
       break;

@@ -6,6 +6,7 @@
 #include <string>
 #include <string_view>
 
+#include "core/io/mesh_limits.h"
 #include "core/mesh/mesh.h"
 
 namespace spheremap {
@@ -28,7 +29,10 @@ std::string lowercase_extension(std::string_view path);
 std::optional<MeshFormat> sniff_mesh_format(std::string_view bytes);
 
 // OBJ, OFF, STL or PLY bytes as a mesh (glTF needs its resources: read_gltf). Throws
-// InputError("parse") as the format's reader does.
-PolygonMesh parse_mesh_text(std::string_view bytes, MeshFormat format);
+// InputError("parse") as the format's reader does. `limits` are checked against the
+// declared counts of STL and PLY before allocating; for OBJ and OFF, whose size is bounded
+// by their text, on the mesh read. Over them: InputError("too_large").
+PolygonMesh parse_mesh_text(std::string_view bytes, MeshFormat format,
+                            const MeshLimits& limits = {});
 
 }  // namespace spheremap

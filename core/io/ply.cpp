@@ -229,7 +229,7 @@ void check_indices_and_positions(const PolygonMesh& mesh) {
 
 }  // namespace
 
-PolygonMesh parse_ply(std::string_view bytes) {
+PolygonMesh parse_ply(std::string_view bytes, const MeshLimits& limits) {
   const Header header = ply::parse_header(bytes);
   const Element* vertex = nullptr;
   const Element* face = nullptr;
@@ -240,8 +240,14 @@ PolygonMesh parse_ply(std::string_view bytes) {
   if (!vertex) fail("no 'vertex' element");
   if (!face) fail("no 'face' element (a point cloud has nothing to map)");
 
+  // A face is at least one triangle.
+  if (vertex->count > limits.max_vertices || face->count > limits.max_triangles)
+    throw InputError("too_large", "PLY: " + std::to_string(vertex->count) + " vertices and " +
+                                      std::to_string(face->count) + " faces, over the limits of " +
+                                      std::to_string(limits.max_vertices) + " vertices and " +
+                                      std::to_string(limits.max_triangles) + " triangles");
   PolygonMesh mesh;
-  // Counts were checked against the bytes by parse_header: these are bounded.
+  // Counts were checked against the bytes by parse_header and the limits: these are bounded.
   mesh.positions.reserve(vertex->count);
   mesh.offsets.reserve(face->count + 1);
   mesh.indices.reserve(3 * face->count);
@@ -262,6 +268,11 @@ PolygonMesh parse_ply(std::string_view bytes) {
     read_element(in, element, roles, &element == vertex, mesh);
   }
   check_indices_and_positions(mesh);
+  const size_t triangles = mesh.indices.size() - 2 * mesh.face_count();
+  if (triangles > limits.max_triangles)
+    throw InputError("too_large", "PLY: " + std::to_string(triangles) +
+                                      " triangles once its polygons are split, over the limit of " +
+                                      std::to_string(limits.max_triangles));
   return mesh;
 }
 

@@ -6,13 +6,16 @@
 
 #include <string_view>
 
+#include "core/io/mesh_limits.h"
 #include "core/mesh/mesh.h"
 
 namespace spheremap {
 
 // Throws InputError("parse") with counts on a malformed header, declared counts that the
 // bytes cannot hold (checked before allocating), a truncated body, an index out of range,
-// a face of fewer than 3 corners, or non-finite coordinates.
-PolygonMesh parse_ply(std::string_view bytes);
+// a face of fewer than 3 corners, or non-finite coordinates; InputError("too_large") when
+// the declared vertex or face count, or the triangles read, are over `limits`, the counts
+// before anything is allocated.
+PolygonMesh parse_ply(std::string_view bytes, const MeshLimits& limits = {});
 
 }  // namespace spheremap

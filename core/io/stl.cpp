@@ -55,8 +55,16 @@ void make_triangle_soup(PolygonMesh& mesh, size_t triangles) {
   for (size_t t = 0; t <= triangles; ++t) mesh.offsets[t] = static_cast<uint32_t>(3 * t);
 }
 
-PolygonMesh parse_binary(std::string_view bytes) {
+void check_triangle_cap(size_t triangles, const MeshLimits& limits) {
+  if (triangles > limits.max_triangles)
+    throw InputError("too_large", "STL: " + std::to_string(triangles) +
+                                      " triangles, over the limit of " +
+                                      std::to_string(limits.max_triangles));
+}
+
+PolygonMesh parse_binary(std::string_view bytes, const MeshLimits& limits) {
   const size_t triangles = declared_triangles(bytes);
+  check_triangle_cap(triangles, limits);
   if (3 * static_cast<uint64_t>(triangles) > std::numeric_limits<uint32_t>::max())
     fail(std::to_string(triangles) + " triangles are more than 32-bit indices can hold");
   PolygonMesh mesh;
@@ -75,7 +83,7 @@ PolygonMesh parse_binary(std::string_view bytes) {
 
 // solid NAME / facet normal nx ny nz / outer loop / vertex x y z (x3) / endloop /
 // endfacet / ... / endsolid NAME; several solids in one file are read as one mesh.
-PolygonMesh parse_ascii(std::string_view text) {
+PolygonMesh parse_ascii(std::string_view text, const MeshLimits& limits) {
   enum class State { kOutside, kInSolid, kInFacet, kInLoop, kLoopClosed };
   State state = State::kOutside;
   TextReader reader(text, "STL");
@@ -106,6 +114,7 @@ PolygonMesh parse_ascii(std::string_view text) {
     } else if (keyword == "vertex") {
       expect(State::kInLoop, keyword, "outside an 'outer loop'");
       if (++loop_corners > 3) reader.fail("a facet with more than 3 vertices");
+      if (loop_corners == 1) check_triangle_cap(mesh.positions.size() / 3 + 1, limits);
       Vec3 p;
       p.x = reader.number("x");
       p.y = reader.number("y");
@@ -143,15 +152,15 @@ bool is_binary_stl(std::string_view bytes) {
   return bytes.size() >= kHeaderBytes && binary_size_for(declared_triangles(bytes)) == bytes.size();
 }
 
-PolygonMesh parse_stl(std::string_view bytes) {
+PolygonMesh parse_stl(std::string_view bytes, const MeshLimits& limits) {
   PolygonMesh mesh;
   if (is_binary_stl(bytes)) {
-    mesh = parse_binary(bytes);
+    mesh = parse_binary(bytes, limits);
   } else if (begins_with_solid(bytes)) {
     try {
-      mesh = parse_ascii(bytes);
+      mesh = parse_ascii(bytes, limits);
     } catch (const InputError& e) {
-      if (bytes.size() < kHeaderBytes) throw;
+      if (bytes.size() < kHeaderBytes || e.check() != "parse") throw;
       // A binary file whose header begins with "solid" and whose size is off lands here.
       const uint32_t count = declared_triangles(bytes);
       throw InputError("parse", std::string(e.what()) + " (read as ASCII STL because it " +

@@ -6,6 +6,7 @@
 
 #include <string_view>
 
+#include "core/io/mesh_limits.h"
 #include "core/mesh/mesh.h"
 
 namespace spheremap {
@@ -17,7 +18,9 @@ bool is_binary_stl(std::string_view bytes);
 
 // Throws InputError("parse") with counts (binary) or the line number (ASCII) on malformed
 // input, and on non-finite coordinates (with how many). A declared count that the bytes
-// cannot hold is refused before anything is allocated.
-PolygonMesh parse_stl(std::string_view bytes);
+// cannot hold is refused before anything is allocated, and so is one over
+// limits.max_triangles (InputError("too_large")). max_vertices is not applied: an STL has
+// 3 per triangle until welded.
+PolygonMesh parse_stl(std::string_view bytes, const MeshLimits& limits = {});
 
 }  // namespace spheremap
