@@ -27,6 +27,9 @@ TEST(MeshFormat, SniffsEveryFormatFromItsBytes) {
   EXPECT_EQ(sniff_mesh_format(format_obj(sphere)), MeshFormat::kObj);
   EXPECT_EQ(sniff_mesh_format("# exported\n\nmtllib a.mtl\nv 0 0 0\n"), MeshFormat::kObj);
   EXPECT_EQ(sniff_mesh_format("# a comment\no thing\n"), MeshFormat::kObj);
+  std::string long_header;
+  for (int line = 0; line < 500; ++line) long_header += "# exported by a tool, line\n\n";
+  EXPECT_EQ(sniff_mesh_format(long_header + format_obj(sphere)), MeshFormat::kObj);
   EXPECT_EQ(sniff_mesh_format("OFF\n4 4 0\n"), MeshFormat::kOff);
   EXPECT_EQ(sniff_mesh_format(testing::ascii_stl(sphere)), MeshFormat::kStl);
   EXPECT_EQ(sniff_mesh_format(testing::binary_stl(sphere)), MeshFormat::kStl);

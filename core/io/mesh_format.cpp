@@ -14,8 +14,9 @@ namespace {
 // The first word of the first line that is neither blank nor a '#' comment.
 std::string_view first_word(std::string_view text) {
   size_t pos = 0;
-  // A bounded look: the first 64 lines decide.
-  for (int line = 0; line < 64 && pos < text.size(); ++line) {
+  // A bounded look: the first 64 KiB decide (exporters write long comment headers).
+  const size_t end_of_look = std::min<size_t>(text.size(), 64 * 1024);
+  while (pos < end_of_look) {
     size_t end = text.find('\n', pos);
     if (end == std::string_view::npos) end = text.size();
     std::string_view l = text.substr(pos, end - pos);
