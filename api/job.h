@@ -36,6 +36,8 @@ struct JobSpec {
   int remesh_resolution = 256;
   size_t input_bytes = 0;
   std::string input_format;  // "glb", "gltf", "obj", "off", "stl", "ply"
+  // What the reader read leniently (GltfReadStats::warnings): metrics.json "input_warnings".
+  std::vector<std::string> input_warnings;
   nlohmann::json options_echo = nlohmann::json::object();  // as the client sent them (shown)
   std::string tenant;  // whose job: the API key's tenant, or the client's address
 };

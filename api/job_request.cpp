@@ -212,6 +212,7 @@ std::unique_ptr<JobSpec> read_job_request(const httplib::Request& request,
   spec->remesh_resolution = options.remesh_resolution;
   spec->input_bytes = body.mesh.size();
   spec->input_format = format_name(body.format);
+  spec->input_warnings = stats.warnings;
   spec->options_echo = body.options;
   return spec;
 }

@@ -102,6 +102,7 @@ int run_map(int argc, char** argv) {
     metrics["folds_as_written"] = written.folds;
     write_mesh_file(output, sphere_mesh(input, mapped, sphere_layout));
   }
+  if (!run.input_warnings.empty()) metrics["input_warnings"] = run.input_warnings;
   if (args.has("metrics")) {
     write_binary_file(args.text("metrics", ""), metrics.dump(2) + "\n");
   }

@@ -302,6 +302,26 @@ TEST(Service, ObjStlAndPlyUploadsMap) {
   }
 }
 
+// byteStride 0 (not valid glTF, but exporters write it) is read as packed, and the job's
+// metrics say so.
+TEST(Service, LenientlyReadGltfIsSaidInTheMetrics) {
+  TestServer server(small_config());
+  auto client = server.client();
+  testing::Glb glb(glb_of(testing::icosphere(2)));
+  glb.json["bufferViews"][1]["byteStride"] = 0;  // the indices
+  auto submitted = post_glb(client, glb.bytes());
+  ASSERT_EQ(submitted->status, 202) << submitted->body;
+  const json done = wait_for(client, body_json(submitted)["id"]);
+  ASSERT_EQ(done["status"], "succeeded") << done.dump(2);
+  ASSERT_TRUE(done["metrics"].contains("input_warnings")) << done["metrics"].dump(2);
+  EXPECT_NE(done["metrics"]["input_warnings"][0].get<std::string>().find("byteStride 0"),
+            std::string::npos);
+  // A clean file has no such key.
+  const json clean =
+      wait_for(client, body_json(post_glb(client, glb_of(testing::icosphere(2))))["id"]);
+  EXPECT_FALSE(clean["metrics"].contains("input_warnings"));
+}
+
 TEST(Service, BrokenObjStlAndPlyGet400MalformedMesh) {
   TestServer server(small_config());
   auto client = server.client();

@@ -41,7 +41,7 @@ struct GltfReadStats {
     std::string name;
   };
   std::vector<DrawnMesh> drawn_meshes;
-  // Departures from the spec that were read anyway (byteStride 0), one sentence each.
+  // Departures from the spec that were read anyway (byteStride 0), one sentence per kind.
   std::vector<std::string> warnings;
 };
 

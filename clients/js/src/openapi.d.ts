@@ -317,7 +317,7 @@ export interface components {
                 energy?: number;
                 elapsed_seconds?: number;
             };
-            /** @description as metrics.json: bijective (the certified verdict: no fold and no degenerate triangle in double, float32 and as written), bijective_double, bijective_as_written, problem, quality, folds, distortion (area_distortion.mean_abs_log), stretch, seconds per stage */
+            /** @description as metrics.json: bijective (the certified verdict: no fold and no degenerate triangle in double, float32 and as written), bijective_double, bijective_as_written, problem, quality, folds, distortion (area_distortion.mean_abs_log), stretch, seconds per stage; input_warnings when the input was read leniently (a glTF bufferView with byteStride 0 read as packed) */
             metrics?: Record<string, never>;
             artifacts?: {
                 [key: string]: {
