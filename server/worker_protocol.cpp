@@ -7,7 +7,8 @@
 namespace spheremap::server {
 namespace {
 
-constexpr char kMagic[4] = {'S', 'M', 'W', '1'};
+// '2': the requests carry the input's warnings (a worker of the other format refuses them).
+constexpr char kMagic[4] = {'S', 'M', 'W', '2'};
 
 static_assert(std::is_trivially_copyable_v<MapOptions>, "MapOptions travels as bytes");
 static_assert(std::is_trivially_copyable_v<Vec3>, "positions travel as bytes");
