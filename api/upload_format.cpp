@@ -43,11 +43,6 @@ std::optional<MeshFormat> format_of_media_type(std::string_view type) {
   return std::nullopt;
 }
 
-bool is_generic_media_type(std::string_view type) {
-  const std::string lower = lowercase(type.substr(0, type.find(';')));
-  return lower.empty() || lower == "application/octet-stream" || lower == "text/plain";
-}
-
 MeshFormat format_of_part(std::string_view filename, std::string_view content_type,
                           std::string_view bytes) {
   if (auto by_name = format_from_extension(lowercase_extension(filename))) return *by_name;

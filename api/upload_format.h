@@ -17,10 +17,6 @@ namespace spheremap::api {
 // (and application/x-off, model/x-off). nullopt for any other.
 std::optional<MeshFormat> format_of_media_type(std::string_view type);
 
-// True for the types that say nothing about the format: application/octet-stream,
-// text/plain, and no type (a multipart part without one).
-bool is_generic_media_type(std::string_view type);
-
 // A multipart part: its file name's extension, else its content type, else its bytes.
 // A .glb or .gltf part (or one whose bytes fit neither) is glTF, as before.
 MeshFormat format_of_part(std::string_view filename, std::string_view content_type,
