@@ -35,7 +35,9 @@ struct JobSpec {
   std::vector<std::string> outputs = {"sphere"};  // and "remesh", "uv", "morph"
   int remesh_resolution = 256;
   size_t input_bytes = 0;
-  std::string input_format;                                // "glb", "gltf"
+  std::string input_format;  // "glb", "gltf", "obj", "off", "stl", "ply"
+  // What the reader read leniently (GltfReadStats::warnings): metrics.json "input_warnings".
+  std::vector<std::string> input_warnings;
   nlohmann::json options_echo = nlohmann::json::object();  // as the client sent them (shown)
   std::string tenant;  // whose job: the API key's tenant, or the client's address
 };
@@ -73,7 +75,7 @@ struct Job {
   JobStatus status = JobStatus::kQueued;
   std::unique_ptr<JobSpec> spec;  // released once the job ends
   size_t input_vertices = 0, input_faces = 0, input_bytes = 0;
-  std::string input_format;                           // "glb" or "gltf"
+  std::string input_format;                           // "glb", "gltf", "obj", "off", "stl" or "ply"
   nlohmann::json options = nlohmann::json::object();  // as the client sent them
   JobProgress progress;
   std::optional<Clock::time_point> started, finished;

@@ -5,17 +5,15 @@
 
 #include "api/job_options.h"
 #include "api/problem.h"
+#include "api/upload_format.h"
 #include "core/io/bounded_json.h"
+#include "core/io/mesh_format.h"
+#include "core/io/stl.h"
 #include "core/mesh/input_error.h"
 #include "core/outputs/report_json.h"
 
 namespace spheremap::api {
 namespace {
-
-const char* const kAccepted =
-    "model/gltf-binary (a .glb), model/gltf+json (a .gltf with embedded buffers), or "
-    "multipart/form-data with a 'mesh' file part, an optional 'options' JSON part and, for a "
-    ".gltf with external files, one part per file named by its URI";
 
 const char* const kHowToSendResources =
     "send the .gltf as the 'mesh' part of a multipart/form-data upload and each file it names "
@@ -50,7 +48,7 @@ std::string media_type(const httplib::Request& request) {
 // by part name and by file name) and the options JSON of the request, by content type.
 struct Body {
   std::string_view mesh;
-  std::string format;
+  MeshFormat format = MeshFormat::kGlb;
   std::map<std::string, std::string_view> resources;
   nlohmann::json options = nlohmann::json::object();
 };
@@ -58,16 +56,29 @@ struct Body {
 Body split_body(const httplib::Request& request) {
   const std::string type = media_type(request);
   Body body;
-  if (type == "model/gltf-binary" || type == "application/octet-stream") {
+  if (const std::optional<MeshFormat> named = format_of_media_type(type)) {
     body.mesh = request.body;
-  } else if (type == "model/gltf+json") {
+    body.format = *named;
+  } else if (type == "application/octet-stream" || type == "text/plain") {
     body.mesh = request.body;
+    // Read from the bytes; what fits no format goes to the glTF reader, as it always did.
+    const std::optional<MeshFormat> sniffed = sniff_mesh_format(body.mesh);
+    const bool text_format = sniffed && *sniffed != MeshFormat::kGlb &&
+                             *sniffed != MeshFormat::kGltf &&
+                             !(*sniffed == MeshFormat::kStl && is_binary_stl(body.mesh));
+    if (type == "text/plain" && !text_format)
+      throw Problem(415, "unsupported_media_type", "Unsupported media type",
+                    "a text/plain body is read as OBJ, OFF, ASCII STL or ASCII PLY, and this "
+                    "one is none of them; send " +
+                        std::string(kAcceptedMediaTypes));
+    body.format = sniffed.value_or(MeshFormat::kGlb);
   } else if (type == "multipart/form-data") {
     if (!request.has_file("mesh"))
       throw Problem(400, "missing_mesh", "No mesh in the form",
                     "the multipart body has no 'mesh' part; send the file as -F mesh=@FILE.glb");
     const auto& part = request.files.find("mesh")->second;
     body.mesh = part.content;
+    body.format = format_of_part(part.filename, part.content_type, part.content);
     for (const auto& [name, file] : request.files) {
       if (name == "mesh" || name == "options") continue;
       body.resources.emplace(name, file.content);
@@ -90,16 +101,68 @@ Body split_body(const httplib::Request& request) {
   } else {
     throw Problem(415, "unsupported_media_type", "Unsupported media type",
                   (type.empty() ? std::string("no Content-Type") : "Content-Type '" + type + "'") +
-                      "; send " + kAccepted);
+                      "; send " + kAcceptedMediaTypes);
   }
   if (body.mesh.empty())
     throw Problem(400, "empty_body", "Empty mesh", "the request carries no mesh bytes");
-  const bool binary = body.mesh.size() >= 4 && body.mesh.substr(0, 4) == "glTF";
-  body.format = binary ? "glb" : "gltf";
+  // glTF either way: the reader tells GLB from JSON by the magic, and so does the job.
+  if (body.format == MeshFormat::kGlb || body.format == MeshFormat::kGltf)
+    body.format = body.mesh.substr(0, 4) == "glTF" ? MeshFormat::kGlb : MeshFormat::kGltf;
   // Query parameters add to (and override) the options part.
   nlohmann::json query = options_from_query(request.params);
   for (const auto& [key, value] : query.items()) body.options[key] = value;
   return body;
+}
+
+PolygonMesh read_gltf_body(Body& body, const GltfReadOptions& options, GltfReadStats& stats,
+                           GltfAppearance& look) {
+  try {
+    const MemoryResources resources(std::move(body.resources), kHowToSendResources);
+    return read_gltf({reinterpret_cast<const uint8_t*>(body.mesh.data()), body.mesh.size()},
+                     options, &stats, &resources, &look);
+  } catch (const InputError& e) {
+    nlohmann::json extra = {{"check", e.check()}};
+    if (!e.fix().empty()) extra["fix"] = fix_json(e.fix());
+    const std::string hint = e.fix().empty() ? "" : option_hint(e.fix());
+    if (e.check() == "too_large")
+      throw Problem(413, "too_large", "Mesh too large", e.what(), extra);
+    if (e.check() == "missing_resources")
+      throw Problem(422, "missing_resources", "Files of the glTF are missing", e.what(), extra);
+    if (e.check() == "instancing")
+      throw Problem(422, "not_mappable", "Mesh cannot be mapped", e.what() + hint, extra);
+    // Sent as glTF but another format's bytes: say which type to send.
+    std::string other;
+    const std::optional<MeshFormat> sniffed = sniff_mesh_format(body.mesh);
+    if (sniffed && *sniffed != MeshFormat::kGlb && *sniffed != MeshFormat::kGltf)
+      other = std::string("; the bytes look like ") + format_name(*sniffed) +
+              ": send them with their own Content-Type (" + kAcceptedMediaTypes + ")";
+    throw Problem(400, "malformed_gltf", "Malformed glTF", e.what() + hint + other, extra);
+  }
+}
+
+void check_vertex_cap(size_t vertices, const ApiSettings& config, const char* when) {
+  if (vertices > config.max_vertices)
+    throw Problem(413, "too_large", "Mesh too large",
+                  "the mesh has " + std::to_string(vertices) + " vertices " + when +
+                      ", over max_vertices (" + std::to_string(config.max_vertices) + ")",
+                  {{"check", "too_large"}});
+}
+
+// OBJ, OFF, STL or PLY: the reader checks every count against the bytes and the caps
+// (STL and PLY before allocating). max_faces counts triangles, as glTF's; an STL's
+// vertices are capped once welded (3 per triangle before).
+PolygonMesh read_other_body(const Body& body, const ApiSettings& config) {
+  MeshLimits limits;
+  limits.max_triangles = config.max_faces;
+  if (body.format != MeshFormat::kStl) limits.max_vertices = config.max_vertices;
+  try {
+    return parse_mesh_text(body.mesh, body.format, limits);
+  } catch (const InputError& e) {
+    if (e.check() == "too_large")
+      throw Problem(413, "too_large", "Mesh too large",
+                    std::string(e.what()) + " (max_vertices, max_faces)", {{"check", e.check()}});
+    throw Problem(400, "malformed_mesh", "Malformed mesh", e.what(), {{"check", e.check()}});
+  }
 }
 
 }  // namespace
@@ -114,25 +177,17 @@ std::unique_ptr<JobSpec> read_job_request(const httplib::Request& request,
 
   auto spec = std::make_unique<JobSpec>();
   GltfReadStats stats;
-  try {
-    const MemoryResources resources(std::move(body.resources), kHowToSendResources);
-    spec->input = read_gltf({reinterpret_cast<const uint8_t*>(body.mesh.data()), body.mesh.size()},
-                            options.gltf, &stats, &resources, &spec->look);
-  } catch (const InputError& e) {
-    nlohmann::json extra = {{"check", e.check()}};
-    if (!e.fix().empty()) extra["fix"] = fix_json(e.fix());
-    const std::string hint = e.fix().empty() ? "" : option_hint(e.fix());
-    if (e.check() == "too_large")
-      throw Problem(413, "too_large", "Mesh too large", e.what(), extra);
-    if (e.check() == "missing_resources")
-      throw Problem(422, "missing_resources", "Files of the glTF are missing", e.what(), extra);
-    if (e.check() == "instancing")
-      throw Problem(422, "not_mappable", "Mesh cannot be mapped", e.what() + hint, extra);
-    throw Problem(400, "malformed_gltf", "Malformed glTF", e.what() + hint, extra);
-  }
-  deadline.check("reading the glTF");
+  const bool gltf = body.format == MeshFormat::kGlb || body.format == MeshFormat::kGltf;
+  if (gltf)
+    spec->input = read_gltf_body(body, options.gltf, stats, spec->look);
+  else
+    spec->input = read_other_body(body, config);
+  deadline.check(gltf ? "reading the glTF" : "reading the mesh");
   spec->prepared = prepare_input(spec->input, &spec->look, options.prepare);
   deadline.check("welding and the topology checks");
+  // An STL has three vertices per triangle until welded: its vertex cap is on the welded.
+  if (body.format == MeshFormat::kStl)
+    check_vertex_cap(spec->prepared.welded.mesh.vertex_count(), config, "after welding");
   const auto failures = input_failures(spec->prepared, &stats);
   if (!failures.empty()) {
     nlohmann::json list = nlohmann::json::array();
@@ -156,7 +211,8 @@ std::unique_ptr<JobSpec> read_job_request(const httplib::Request& request,
   spec->outputs = options.outputs;
   spec->remesh_resolution = options.remesh_resolution;
   spec->input_bytes = body.mesh.size();
-  spec->input_format = body.format;
+  spec->input_format = format_name(body.format);
+  spec->input_warnings = stats.warnings;
   spec->options_echo = body.options;
   return spec;
 }

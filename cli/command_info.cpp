@@ -14,14 +14,13 @@ int run_info(int argc, char** argv) {
   Arguments args(argc, argv, 2, {"weld-tolerance", "mesh", "prepare"}, {"help"});
   if (args.flag("help")) {
     std::cout
-        << "Usage: spheremap info INPUT [--weld-tolerance T] [--mesh INDEX|NAME] [--prepare "
-           "exact|repair]\n\n"
-           "Prints the topology report of INPUT (.obj, .off, .glb, .gltf) as JSON: vertices, "
-           "edges,\n"
-           "faces, face sizes, boundary, manifoldness, orientation, components, genus,\n"
-           "and whether it can be mapped (with the failed checks and, where an option\n"
-           "would help, that option as \"fix\"). A file that cannot be read at all is\n"
-           "still answered in JSON: {\"mappable\": false, \"error\": {\"check\", "
+        << "Usage: spheremap info INPUT [--weld-tolerance T] [--mesh INDEX|NAME]\n"
+           "                      [--prepare exact|repair]\n\n"
+           "Prints the topology report of INPUT (.obj, .off, .stl, .ply, .glb, .gltf) as JSON:\n"
+           "vertices, edges, faces, face sizes, boundary, manifoldness, orientation,\n"
+           "components, genus, and whether it can be mapped (with the failed checks and,\n"
+           "where an option would help, that option as \"fix\"). A file that cannot be read\n"
+           "at all is still answered in JSON: {\"mappable\": false, \"error\": {\"check\", "
            "\"message\"}}.\n"
            "Exit 0 when it can be mapped, 1 usage error, 2 when it cannot be mapped or read.\n";
     return kExitOk;

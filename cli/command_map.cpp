@@ -16,11 +16,11 @@ namespace {
 
 const char* const kUsage = R"(Usage: spheremap map INPUT -o OUTPUT [--metrics FILE.json] [options]
 
-Maps a closed genus-0 mesh (.obj, .off, .glb, .gltf; Draco-compressed glTF too) onto the
-unit sphere, without folds. OUTPUT has the input's vertices in the input's order and the
-input's faces, every vertex moved to its point on the sphere (vertices with equal
-positions share one point). A glTF input is every triangle primitive of its default
-scene in world space, unless --mesh picks one mesh.
+Maps a closed genus-0 mesh (.obj, .off, .stl, .ply, .glb, .gltf; Draco-compressed glTF
+too) onto the unit sphere, without folds. OUTPUT has the input's vertices in the input's
+order and the input's faces, every vertex moved to its point on the sphere (vertices with
+equal positions share one point: an STL's three corners per triangle too). A glTF input is
+every triangle primitive of its default scene in world space, unless --mesh picks one mesh.
 
   -o, --output FILE         the spherical mesh: .obj, or .glb / .gltf (buffers embedded):
                             triangles, normals = positions, the metrics in the first mesh's
@@ -102,6 +102,7 @@ int run_map(int argc, char** argv) {
     metrics["folds_as_written"] = written.folds;
     write_mesh_file(output, sphere_mesh(input, mapped, sphere_layout));
   }
+  if (!run.input_warnings.empty()) metrics["input_warnings"] = run.input_warnings;
   if (args.has("metrics")) {
     write_binary_file(args.text("metrics", ""), metrics.dump(2) + "\n");
   }

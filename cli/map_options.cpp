@@ -179,6 +179,9 @@ MappedInput map_input(const Arguments& args, const PrepareOptions& prepare,
   GltfReadStats stats;
   MappedInput out;
   out.input = read_mesh_file(args.positional()[0], gltf_options(args), &stats, &out.look);
+  for (const std::string& warning : stats.warnings)
+    std::fprintf(stderr, "spheremap: warning: %s\n", warning.c_str());
+  out.input_warnings = stats.warnings;
   // Prepared once; the refusal carries what the glTF scene says (which meshes it draws,
   // which option maps one), which map_mesh alone could not know.
   const auto start = std::chrono::steady_clock::now();

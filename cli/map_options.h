@@ -3,6 +3,7 @@
 
 #include <set>
 #include <string>
+#include <vector>
 
 #include "cli/arguments.h"
 #include "core/io/gltf_reader.h"
@@ -33,6 +34,7 @@ struct MappedInput {
   PolygonMesh input;
   GltfAppearance look;  // a glTF input's materials, attributes and nodes (else empty)
   MappedMesh mapped;
+  std::vector<std::string> input_warnings;  // read leniently (printed; in --metrics too)
 };
 MappedInput map_input(const Arguments& args, const PrepareOptions& prepare,
                       const MapOptions& options, const MapControl& control);

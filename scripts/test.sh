@@ -72,7 +72,7 @@ fi
 # and the bytes of a connection through the connection layer and the HTTP parser.
 # A crash fails the run; its input is in build-fuzz/crashes/ (SPHEREMAP_SKIP_FUZZ=1 skips).
 if [ "${SPHEREMAP_SKIP_FUZZ:-0}" != 1 ]; then
-  fuzzers=(request_fuzzer connection_fuzzer gltf_fuzzer)
+  fuzzers=(request_fuzzer connection_fuzzer gltf_fuzzer mesh_binary_fuzzer)
   for fuzzer in "${fuzzers[@]}"; do
     tests/fuzz/run.sh "${SPHEREMAP_FUZZ_SECONDS:-60}" "$fuzzer"
   done

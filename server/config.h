@@ -30,8 +30,8 @@ struct ServerConfig {
   double intake_timeout_seconds = 30;  // for one submission's wait and reading (503 beyond)
   size_t queue_capacity = 32;          // jobs waiting for a worker; more get 429
   size_t max_body_bytes = 64u << 20;   // queued inputs stay under queue_capacity x this
-  size_t max_vertices = 2'000'000;     // of the glTF as sent (before welding)
-  size_t max_faces = 4'000'000;        // triangles of the glTF as sent
+  size_t max_vertices = 2'000'000;     // of the mesh as sent (before welding; STL: after)
+  size_t max_faces = 4'000'000;        // triangles of the mesh as sent (an n-gon is n - 2)
   double job_time_limit_seconds = 300;
   double result_ttl_seconds = 3600;          // finished jobs are kept this long...
   size_t result_memory_bytes = 1024u << 20;  // ...and within this many artifact bytes

@@ -52,6 +52,7 @@ Certification make_artifacts(Job& job, const JobSpec& spec, const MappedMesh& ma
       sphere_asset(spec.input, mapped, spec.map, spec.layout, spec.draco_position_bits, &spec.look);
   const Certification verdict = certify(mapped, sphere.written);
   nlohmann::json metrics = std::move(sphere.metrics);
+  if (!spec.input_warnings.empty()) metrics["input_warnings"] = spec.input_warnings;
   add_artifact(job, "sphere.glb", "model/gltf-binary", std::move(sphere.glb));
   auto wanted = [&](const char* name) {
     return verdict.certified &&

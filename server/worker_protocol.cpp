@@ -7,7 +7,8 @@
 namespace spheremap::server {
 namespace {
 
-constexpr char kMagic[4] = {'S', 'M', 'W', '1'};
+// '2': the requests carry the input's warnings (a worker of the other format refuses them).
+constexpr char kMagic[4] = {'S', 'M', 'W', '2'};
 
 static_assert(std::is_trivially_copyable_v<MapOptions>, "MapOptions travels as bytes");
 static_assert(std::is_trivially_copyable_v<Vec3>, "positions travel as bytes");
@@ -151,6 +152,8 @@ std::string encode_request(const JobSpec& spec, double time_limit_seconds, int t
   w.put<double>(time_limit_seconds);
   w.put<uint64_t>(spec.outputs.size());
   for (const std::string& output : spec.outputs) w.put_string(output);
+  w.put<uint64_t>(spec.input_warnings.size());
+  for (const std::string& warning : spec.input_warnings) w.put_string(warning);
   w.put_mesh(spec.input);
   w.put_look(spec.look);
   w.put_mesh(spec.prepared.welded.mesh);
@@ -183,6 +186,10 @@ WorkerRequest decode_request(const std::string& bytes) {
   if (outputs > 16) throw std::runtime_error("too many outputs");
   spec.outputs.clear();
   for (uint64_t i = 0; i < outputs; ++i) spec.outputs.push_back(r.get_string());
+  const uint64_t warnings = r.get<uint64_t>();
+  if (warnings > 16) throw std::runtime_error("too many input warnings");
+  spec.input_warnings.clear();
+  for (uint64_t i = 0; i < warnings; ++i) spec.input_warnings.push_back(r.get_string());
   spec.input = r.get_mesh();
   spec.look = r.get_look();
   spec.prepared.welded.mesh = r.get_mesh();

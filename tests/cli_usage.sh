@@ -19,6 +19,21 @@ printf 'v 1 1 1\nv 1 -1 -1\nv -1 1 -1\nv -1 -1 1\nf 1 2 3\nf 1 4 2\nf 1 3 4\nf 2
 grep -q '"genus": 0' "$tmp/info.json" || fail "info genus"
 "$spheremap" map "$tmp/tet.obj" -o "$tmp/s.obj" --metrics "$tmp/m.json" || fail "map tetrahedron"
 grep -q '"bijective": true' "$tmp/m.json" || fail "tetrahedron bijective"
+# The same tetrahedron as ASCII STL (three corners per facet, welded) and as PLY; the
+# extension in any case.
+stl_facet() { printf 'facet normal 0 0 0\nouter loop\nvertex %s\nvertex %s\nvertex %s\nendloop\nendfacet\n' "$@"; }
+{ echo "solid tet"; stl_facet "1 1 1" "1 -1 -1" "-1 1 -1"; stl_facet "1 1 1" "-1 -1 1" "1 -1 -1"
+  stl_facet "1 1 1" "-1 1 -1" "-1 -1 1"; stl_facet "1 -1 -1" "-1 -1 1" "-1 1 -1"; echo "endsolid tet"; } > "$tmp/tet.STL"
+"$spheremap" info "$tmp/tet.STL" > "$tmp/info_stl.json" || fail "info reads STL"
+grep -q '"vertices": 4,' "$tmp/info_stl.json" || fail "STL corners welded to 4 vertices"
+"$spheremap" map "$tmp/tet.STL" -o "$tmp/tet_stl.glb" --metrics "$tmp/m_stl.json" --quiet || fail "map STL"
+grep -q '"bijective": true' "$tmp/m_stl.json" || fail "STL tetrahedron bijective"
+printf 'ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\n' > "$tmp/tet.ply"
+printf 'element face 4\nproperty list uchar int vertex_indices\nend_header\n' >> "$tmp/tet.ply"
+printf '1 1 1\n1 -1 -1\n-1 1 -1\n-1 -1 1\n3 0 1 2\n3 0 3 1\n3 0 2 3\n3 1 3 2\n' >> "$tmp/tet.ply"
+"$spheremap" map "$tmp/tet.ply" -o "$tmp/tet_ply.obj" --quiet || fail "map PLY"
+msg=$("$spheremap" info "$tmp/tet.3ds" 2>&1); [ $? -eq 2 ] || fail "unknown extension exit 2"
+[[ "$msg" == *"'.stl', '.ply'"* ]] || fail "unknown extension lists the formats: $msg"
 printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n' > "$tmp/tri.obj"
 "$spheremap" info "$tmp/tri.obj" > /dev/null; [ $? -eq 2 ] || fail "info on open mesh exit 2"
 # Two tetrahedra: an error naming the components, or the larger with --largest-component.

@@ -12,6 +12,7 @@
 #include "core/map/pipeline.h"
 #include "core/mesh/input_error.h"
 #include "core/mesh/sphere_geometry.h"
+#include "core/outputs/report_json.h"
 #include "core/outputs/sphere_glb.h"
 #include "tests/corpus.h"
 #include "tests/gltf_files.h"
@@ -106,6 +107,32 @@ TEST(Gltf, RejectsRangesPastTheirData) {
   Glb view(sphere_glb());
   view.json["accessors"][0]["bufferView"] = 17;
   EXPECT_NE(read_error(view.bytes()).find("bufferViews[17] does not exist"), std::string::npos);
+}
+
+// byteStride 0 is not valid glTF, but exporters write it meaning "packed" and viewers read
+// it so: read as packed, with a warning in the stats and the topology report.
+TEST(Gltf, ReadsByteStrideZeroAsPackedWithAWarning) {
+  const PolygonMesh plain = read_gltf(as_bytes(sphere_glb()));
+  Glb glb(sphere_glb());
+  glb.json["bufferViews"][2]["byteStride"] = 0;  // the indices
+  glb.json["bufferViews"][0]["byteStride"] = 0;  // the positions
+  GltfReadStats stats;
+  const PolygonMesh read = read_gltf(as_bytes(glb.bytes()), {}, &stats);
+  EXPECT_EQ(read.indices, plain.indices);
+  EXPECT_EQ(read.positions, plain.positions);
+  ASSERT_EQ(stats.warnings.size(), 1u);
+  EXPECT_EQ(stats.warnings[0],
+            "byteStride 0 (not valid glTF) read as tightly packed in 2 bufferViews (0, 2)");
+  const nlohmann::json report = topology_json(prepare_mesh(read, {}), &stats);
+  EXPECT_EQ(report["warnings"], stats.warnings);
+  EXPECT_TRUE(report["mappable"].get<bool>());
+  // Without leniency there is no "warnings" key at all.
+  GltfReadStats clean;
+  read_gltf(as_bytes(sphere_glb()), {}, &clean);
+  EXPECT_FALSE(topology_json(prepare_mesh(plain, {}), &clean).contains("warnings"));
+  // A stride that is not 0 but too small still overlaps its elements.
+  glb.json["bufferViews"][2]["byteStride"] = 2;
+  EXPECT_NE(read_error(glb.bytes()).find("elements overlap"), std::string::npos);
 }
 
 TEST(Gltf, RejectsIndicesPastTheVertices) {

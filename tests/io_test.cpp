@@ -52,6 +52,32 @@ TEST(ObjReader, RejectsBadNumbersAndShortFaces) {
   EXPECT_THROW(parse_obj("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 0\n"), InputError);
 }
 
+// The OBJ spec's line continuation: a backslash at the end of a line joins the next.
+TEST(ObjReader, JoinsLinesContinuedByABackslash) {
+  const PolygonMesh m = parse_obj(
+      "v 0 0 \\\r\n  0\n"  // "v 0 0 0" over two CRLF lines
+      "v 1 \\\n0 \\\n0\n"  // over three
+      "v 0 1 0\nv 0 0 1\n"
+      "f 1 2 \\\n 3 4\n"  // a face over two
+      "# a comment ending in a backslash continues nothing \\\n"
+      "f 1 2 3\n");
+  ASSERT_EQ(m.vertex_count(), 4u);
+  EXPECT_EQ(m.positions[0], (Vec3{0, 0, 0}));
+  EXPECT_EQ(m.positions[1], (Vec3{1, 0, 0}));
+  ASSERT_EQ(m.face_count(), 2u);
+  EXPECT_EQ(m.face_size(0), 4u);
+  EXPECT_EQ(m.face(0)[3], 3u);
+  // Errors after a continuation name the line they were found on.
+  try {
+    parse_obj("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 \\\n2 \\\n9\n");
+    FAIL() << "expected an InputError";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("line 6"), std::string::npos) << e.what();
+  }
+  // A backslash on the last line of the file: the line ends there.
+  EXPECT_EQ(parse_obj("v 0 0 0 \\").vertex_count(), 1u);
+}
+
 TEST(ObjWriter, RoundTripsExactly) {
   PolygonMesh m = parse_obj("v 0.1 -2.5e-7 3\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3 4\n");
   PolygonMesh again = parse_obj(format_obj(m));

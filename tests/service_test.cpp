@@ -18,12 +18,14 @@
 #include "api/client_address.h"
 #include "core/io/glb_writer.h"
 #include "core/io/gltf_reader.h"
+#include "core/io/obj.h"
 #include "core/map/map_check.h"
 #include "core/mesh/sphere_geometry.h"
 #include "server/job_store.h"
 #include "tests/corpus.h"
 #include "tests/gltf_files.h"
 #include "tests/mesh_generators.h"
+#include "tests/mesh_writers.h"
 #include "tests/test_server.h"
 
 namespace spheremap {
@@ -240,6 +242,124 @@ TEST(Service, GltfWithItsBinAsMultipartPartsMaps) {
       {"mesh", std::string(gltf).replace(gltf.find("tube%20data.bin"), 15, "../etc/passwd"),
        "tube.gltf", "model/gltf+json"}};
   expect_problem(client.Post("/v1/jobs", escape), 400, "malformed_gltf");
+}
+
+// What asset pipelines ship: OBJ, STL and PLY, told by content type, by the file name of
+// a multipart part, or by the bytes when the type is generic; each maps.
+TEST(Service, ObjStlAndPlyUploadsMap) {
+  TestServer server(small_config());
+  auto client = server.client();
+  const PolygonMesh sphere = testing::icosphere(2);
+  testing::PlyLayout ascii_ply;
+  ascii_ply.encoding = testing::PlyLayout::Encoding::kAscii;
+  struct Upload {
+    std::string name, content_type, bytes, format;
+    bool multipart = false;
+  };
+  const Upload uploads[] = {
+      {"OBJ as model/obj", "model/obj", format_obj(sphere), "obj"},
+      // The reported symptom: an OBJ sent as octet-stream was "Malformed glTF".
+      {"OBJ as octet-stream", "application/octet-stream", format_obj(sphere), "obj"},
+      {"OBJ as text/plain", "text/plain", format_obj(sphere), "obj"},
+      {"binary STL as model/stl", "model/stl", testing::binary_stl(sphere), "stl"},
+      {"binary STL as octet-stream, header 'solid'", "application/octet-stream",
+       testing::binary_stl(sphere, "solid exported"), "stl"},
+      {"ASCII STL as application/sla", "application/sla", testing::ascii_stl(sphere), "stl"},
+      {"binary PLY as application/ply", "application/ply", testing::ply(sphere), "ply"},
+      {"ASCII PLY in a multipart part named mesh.PLY", "application/octet-stream",
+       testing::ply(sphere, ascii_ply), "ply", true},
+      {"STL in a multipart part named mesh.stl", "", testing::binary_stl(sphere), "stl", true},
+      {"OFF as model/off", "model/off",
+       "OFF\n" + std::to_string(sphere.vertex_count()) + " " + std::to_string(sphere.face_count()) +
+           " 0\n" +
+           [&] {
+             std::string body;
+             for (const Vec3& p : sphere.positions)
+               body += std::to_string(p.x) + " " + std::to_string(p.y) + " " + std::to_string(p.z) +
+                       "\n";
+             for (size_t f = 0; f < sphere.face_count(); ++f)
+               body += "3 " + std::to_string(sphere.face(f)[0]) + " " +
+                       std::to_string(sphere.face(f)[1]) + " " + std::to_string(sphere.face(f)[2]) +
+                       "\n";
+             return body;
+           }(),
+       "off"},
+  };
+  for (const Upload& u : uploads) {
+    SCOPED_TRACE(u.name);
+    const std::string file = u.format == "ply" ? "mesh.PLY" : "mesh.stl";
+    httplib::Result submitted =
+        u.multipart
+            ? client.Post("/v1/jobs",
+                          httplib::MultipartFormDataItems{{"mesh", u.bytes, file, u.content_type}})
+            : client.Post("/v1/jobs", u.bytes, u.content_type);
+    ASSERT_EQ(submitted->status, 202) << submitted->body;
+    const json done = wait_for(client, body_json(submitted)["id"]);
+    ASSERT_EQ(done["status"], "succeeded") << done.dump(2);
+    EXPECT_EQ(done["input"]["format"], u.format);
+    EXPECT_EQ(done["metrics"]["vertices"], sphere.vertex_count());  // welded
+    EXPECT_TRUE(done["metrics"]["bijective"]);
+  }
+}
+
+// byteStride 0 (not valid glTF, but exporters write it) is read as packed, and the job's
+// metrics say so.
+TEST(Service, LenientlyReadGltfIsSaidInTheMetrics) {
+  TestServer server(small_config());
+  auto client = server.client();
+  testing::Glb glb(glb_of(testing::icosphere(2)));
+  glb.json["bufferViews"][1]["byteStride"] = 0;  // the indices
+  auto submitted = post_glb(client, glb.bytes());
+  ASSERT_EQ(submitted->status, 202) << submitted->body;
+  const json done = wait_for(client, body_json(submitted)["id"]);
+  ASSERT_EQ(done["status"], "succeeded") << done.dump(2);
+  ASSERT_TRUE(done["metrics"].contains("input_warnings")) << done["metrics"].dump(2);
+  EXPECT_NE(done["metrics"]["input_warnings"][0].get<std::string>().find("byteStride 0"),
+            std::string::npos);
+  // A clean file has no such key.
+  const json clean =
+      wait_for(client, body_json(post_glb(client, glb_of(testing::icosphere(2))))["id"]);
+  EXPECT_FALSE(clean["metrics"].contains("input_warnings"));
+}
+
+TEST(Service, BrokenObjStlAndPlyGet400MalformedMesh) {
+  TestServer server(small_config());
+  auto client = server.client();
+  const PolygonMesh sphere = testing::icosphere(1);
+  std::string forged = testing::binary_stl(sphere);
+  const uint32_t billion = 1'000'000'000;
+  std::memcpy(forged.data() + 80, &billion, 4);
+  auto stl = client.Post("/v1/jobs", forged, "model/stl");
+  expect_problem(stl, 400, "malformed_mesh");
+  EXPECT_NE(stl->body.find("1000000000 triangles"), std::string::npos) << stl->body;
+  std::string ply = testing::ply(sphere);
+  ply.resize(ply.size() - 10);
+  expect_problem(client.Post("/v1/jobs", ply, "application/ply"), 400, "malformed_mesh");
+  expect_problem(client.Post("/v1/jobs", "v 0 0 0\nf 1 2 3\n", "model/obj"), 400, "malformed_mesh");
+  // An OBJ sent as glTF is still malformed glTF, but the detail says what it looks like.
+  auto mislabelled = client.Post("/v1/jobs", format_obj(sphere), "model/gltf-binary");
+  expect_problem(mislabelled, 400, "malformed_gltf");
+  EXPECT_NE(mislabelled->body.find("look like obj"), std::string::npos) << mislabelled->body;
+  // Closed meshes only: an open STL is 422 like any other format.
+  auto open =
+      client.Post("/v1/jobs", testing::binary_stl(testing::without_face(sphere, 0)), "model/stl");
+  expect_problem(open, 422, "not_mappable");
+  // text/plain that is none of the text formats stays 415.
+  expect_problem(client.Post("/v1/jobs", "hello", "text/plain"), 415, "unsupported_media_type");
+  // The caps apply to the mesh read: STL's vertices once welded, triangles as sent.
+  server::ServerConfig small = small_config();
+  small.max_faces = 100;
+  TestServer capped(small);
+  auto capped_client = capped.client();
+  auto too_many =
+      capped_client.Post("/v1/jobs", testing::binary_stl(testing::icosphere(2)), "model/stl");
+  expect_problem(too_many, 413, "too_large");
+  EXPECT_NE(too_many->body.find("320 triangles, over the limit of 100"), std::string::npos)
+      << too_many->body;
+  auto ply_too_many =
+      capped_client.Post("/v1/jobs", testing::ply(testing::icosphere(2)), "application/ply");
+  expect_problem(ply_too_many, 413, "too_large");
+  EXPECT_NE(ply_too_many->body.find("320 faces"), std::string::npos) << ply_too_many->body;
 }
 
 // A scene that draws one mesh many times is refused with the job option that maps it.

@@ -349,6 +349,14 @@ Document::AccessorView Document::accessor(size_t index) const {
   const nlohmann::json& view = element("bufferViews", view_index);
   v.element_size = csize * static_cast<size_t>(v.components);
   v.stride = index_field(view, "byteStride", 253, "byteStride", v.element_size);
+  // byteStride 0 is outside the spec (4..252, and none on index views), but exporters write
+  // it for "packed" and viewers read it so: here too, said once per view.
+  if (v.stride == 0) {
+    v.stride = v.element_size;
+    if (std::find(zero_stride_views_.begin(), zero_stride_views_.end(), view_index) ==
+        zero_stride_views_.end())
+      zero_stride_views_.push_back(view_index);
+  }
   if (v.stride < v.element_size) fail(name + " elements overlap (byteStride too small)");
   const std::span<const uint8_t> bytes = buffer_view(view_index);
   // Checked in 64 bits, and count first bounded by the bytes present: no overflow.
@@ -358,6 +366,20 @@ Document::AccessorView Document::accessor(size_t index) const {
          std::to_string(bytes.size()) + " bytes");
   v.bytes = v.count > 0 ? bytes.subspan(offset) : std::span<const uint8_t>{};
   return v;
+}
+
+std::vector<std::string> Document::warnings() const {
+  if (zero_stride_views_.empty()) return {};
+  // One sentence however many views: a file may have thousands.
+  std::vector<size_t> views = zero_stride_views_;
+  std::sort(views.begin(), views.end());
+  std::string list;
+  for (size_t i = 0; i < views.size() && i < 8; ++i)
+    list += (i ? ", " : "") + std::to_string(views[i]);
+  if (views.size() > 8) list += ", ...";
+  return {"byteStride 0 (not valid glTF) read as tightly packed in " +
+          std::to_string(views.size()) + " bufferView" + (views.size() > 1 ? "s" : "") + " (" +
+          list + ")"};
 }
 
 // One component of an accessor element as a double: FLOAT as it is, normalized integers

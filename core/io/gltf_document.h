@@ -45,6 +45,10 @@ class Document {
   // Array element `index` of json()[key], or fail naming the reference.
   const nlohmann::json& element(const char* key, size_t index) const;
 
+  // What was read leniently (bufferViews with byteStride 0 read as tightly packed, as
+  // viewers do), one sentence per kind, for the report.
+  std::vector<std::string> warnings() const;
+
  private:
   struct AccessorView {
     std::span<const uint8_t> bytes;
@@ -68,6 +72,7 @@ class Document {
   // Decoded EXT_meshopt_compression views, by view index, and the bytes left to decode.
   mutable std::map<size_t, std::vector<uint8_t>> decoded_views_;
   mutable size_t decode_budget_;
+  mutable std::vector<size_t> zero_stride_views_;  // read as packed, each once
 };
 
 // Integer field of a JSON object: absent -> fallback; present but not a non-negative

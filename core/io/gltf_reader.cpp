@@ -113,6 +113,7 @@ class Reader {
       for (size_t m = 0; m < mesh_count; ++m) add_mesh(m, kIdentity, -1);
     }
     if (look_) copy_look(*look_);
+    stats_.warnings = doc_.warnings();
     for (size_t m = 0; m < mesh_count; ++m)
       if (draws_[m] > 1 && (stats_.repeated_mesh < 0 || draws_[m] > stats_.repeated_mesh_draws))
         stats_.repeated_mesh = static_cast<int>(m), stats_.repeated_mesh_draws = draws_[m];

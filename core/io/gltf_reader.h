@@ -41,6 +41,8 @@ struct GltfReadStats {
     std::string name;
   };
   std::vector<DrawnMesh> drawn_meshes;
+  // Departures from the spec that were read anyway (byteStride 0), one sentence per kind.
+  std::vector<std::string> warnings;
 };
 
 // Every TRIANGLES (and strip/fan, converted) primitive of the default scene with node

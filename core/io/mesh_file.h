@@ -1,4 +1,5 @@
-// Reading meshes by file extension (.obj, .off, .glb, .gltf); writing OBJ.
+// Reading meshes by file extension (.obj, .off, .stl, .ply, .glb, .gltf; any case);
+// writing OBJ.
 #pragma once
 
 #include <stdexcept>

@@ -24,6 +24,7 @@ long long corner_vertex(TextReader& reader, std::string_view corner) {
 PolygonMesh parse_obj(std::string_view text) {
   PolygonMesh mesh;
   TextReader reader(text, "OBJ");
+  reader.join_continued_lines();
   std::vector<uint32_t> corners;
   while (reader.next_line()) {
     std::string_view keyword = reader.token();

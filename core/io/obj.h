@@ -1,6 +1,7 @@
 // Wavefront OBJ: positions and polygon faces. Reads `v`, `f` with v, v/vt, v//vn and
-// v/vt/vn corners, negative (relative) indices, comments and CRLF; ignores vt, vn,
-// g, o, s, usemtl, mtllib and l. Writes `v` and `f` lines only.
+// v/vt/vn corners, negative (relative) indices, comments, CRLF and lines continued by a
+// trailing backslash; ignores vt, vn, g, o, s, usemtl, mtllib and l. Writes `v` and `f`
+// lines only.
 #pragma once
 
 #include <string>

@@ -8,16 +8,35 @@
 
 namespace spheremap {
 
-bool TextReader::next_line() {
-  if (pos_ >= text_.size()) return false;
+std::string_view TextReader::physical_line() {
   size_t end = text_.find('\n', pos_);
   if (end == std::string_view::npos) end = text_.size();
-  line_ = text_.substr(pos_, end - pos_);
+  std::string_view line = text_.substr(pos_, end - pos_);
   pos_ = end + 1;
   ++line_number_;
-  if (size_t hash = line_.find('#'); hash != std::string_view::npos) line_ = line_.substr(0, hash);
-  while (!line_.empty() && (line_.back() == '\r' || line_.back() == ' ' || line_.back() == '\t'))
-    line_.remove_suffix(1);
+  if (size_t hash = line.find('#'); hash != std::string_view::npos) line = line.substr(0, hash);
+  while (!line.empty() && (line.back() == '\r' || line.back() == ' ' || line.back() == '\t'))
+    line.remove_suffix(1);
+  return line;
+}
+
+bool TextReader::next_line() {
+  if (pos_ >= text_.size()) return false;
+  line_ = physical_line();
+  if (!join_continued_ || !line_.ends_with('\\')) return true;
+  // Only continued lines are copied; the loop ends at a line without a backslash, or at the end.
+  joined_.clear();
+  while (line_.ends_with('\\')) {
+    joined_.append(line_.substr(0, line_.size() - 1));
+    joined_ += ' ';
+    if (pos_ >= text_.size()) {
+      line_ = {};
+      break;
+    }
+    line_ = physical_line();
+  }
+  joined_.append(line_);
+  line_ = joined_;
   return true;
 }
 

@@ -61,7 +61,7 @@ nlohmann::json topology_json(const PreparedMesh& prepared, const GltfReadStats* 
     if (!f.fix.empty()) failures.back()["fix"] = fix_json(f.fix);
   }
   const long long genus = r.genus();
-  return {
+  nlohmann::json report = {
       {"input_vertices", prepared.welded.input_to_welded.size()},
       {"unreferenced_vertices", prepared.welded.unreferenced_vertices},
       {"vertices", r.vertices},
@@ -88,6 +88,9 @@ nlohmann::json topology_json(const PreparedMesh& prepared, const GltfReadStats* 
       {"failures", failures},
       {"preparation", preparation_json(prepared.preparation)},
   };
+  // Only when there are some: reports of files read without leniency stay as they were.
+  if (gltf && !gltf->warnings.empty()) report["warnings"] = gltf->warnings;
+  return report;
 }
 
 nlohmann::json metrics_json(const MappedMesh& mapped, const MapOptions& options) {

@@ -18,7 +18,8 @@ nlohmann::json preparation_json(const PreparationReport& preparation);
 // {"option", "value", "effect"} of a fix, the value as JSON.
 nlohmann::json fix_json(const Fix& fix);
 
-// The topology report with "mappable" and "failures" (each with its "fix" when one exists).
+// The topology report with "mappable" and "failures" (each with its "fix" when one exists),
+// and "warnings" when the glTF was read leniently (GltfReadStats::warnings).
 nlohmann::json topology_json(const PreparedMesh& prepared, const GltfReadStats* gltf = nullptr);
 nlohmann::json metrics_json(const MappedMesh& mapped, const MapOptions& options);
 

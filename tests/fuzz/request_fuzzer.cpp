@@ -16,12 +16,11 @@
 
 namespace {
 
-const char* const kTypes[] = {"model/gltf-binary",
-                              "model/gltf+json",
-                              "multipart/form-data",
-                              "application/octet-stream",
-                              "application/x-www-form-urlencoded",
-                              ""};
+const char* const kTypes[] = {"model/gltf-binary", "model/gltf+json", "multipart/form-data",
+                              "application/octet-stream", "application/x-www-form-urlencoded", "",
+                              // Appended, so that the seeds' first bytes keep their types.
+                              "model/obj", "model/stl", "application/ply", "model/off",
+                              "text/plain"};
 
 void add_query(httplib::Request& request, const std::string& query) {
   size_t start = 0;

@@ -2,7 +2,8 @@
 # Builds a libFuzzer target with clang (ASan + UBSan) and runs it for SECONDS (default 60)
 # from a seed corpus taken from the shared corpus (or, without it, from examples/): GLB and Draco GLB files for
 # gltf_fuzzer (with truncated, garbage and external-URI files like the hostile-file
-# tests), small OBJ files for mesh_text_fuzzer, option sets for options_fuzzer.
+# tests), small OBJ files for mesh_text_fuzzer, option sets for options_fuzzer; STL and
+# PLY files written here (a tetrahedron in every encoding) for mesh_binary_fuzzer.
 # Crashes land in
 # build-fuzz/crashes/; turn each into a regression test.
 # Usage: tests/fuzz/run.sh [SECONDS] [TARGET] [CORPUS_DIR]
@@ -34,6 +35,33 @@ elif [ "$target" = connection_fuzzer ]; then  # requests as clients send them
   printf 'POST /v1/jobs HTTP/1.1\r\nHost: x\r\nContent-Type: multipart/form-data; boundary=b\r\nContent-Length: 98\r\n\r\n--b\r\nContent-Disposition: form-data; name="mesh"; filename="m.glb"\r\n\r\nglTF\r\n--b--\r\n' > "$seeds/multipart"
   printf 'POST /v1/jobs HTTP/1.1\r\nHost: x\r\nTransfer-Encoding: chunked\r\n\r\n4\r\nglTF\r\n0\r\n\r\n' > "$seeds/chunked"
   printf 'GET /v1/openapi.yaml HTTP/1.1\r\nHost: x\r\nRange: bytes=0-1,2-3\r\nX-a: b\r\nX-b: c\r\n\r\n' > "$seeds/headers"
+elif [ "$target" = mesh_binary_fuzzer ]; then  # a tetrahedron as STL and PLY, every encoding
+  python3 - "$seeds" <<'PY'
+import struct, sys
+d = sys.argv[1]
+v = [(1, 1, 1), (1, -1, -1), (-1, 1, -1), (-1, -1, 1)]
+f = [(0, 1, 2), (0, 3, 1), (0, 2, 3), (1, 3, 2)]
+for name, header in (("binary.stl", b"tetrahedron"), ("solid_header.stl", b"solid tet")):
+    out = header.ljust(80, b" ") + struct.pack("<I", len(f))
+    for t in f:
+        out += struct.pack("<3f", 0, 0, 0) + b"".join(struct.pack("<3f", *v[i]) for i in t) + b"\0\0"
+    open(f"{d}/{name}", "wb").write(out)
+text = "solid tet\n" + "".join(
+    "facet normal 0 0 0\nouter loop\n" + "".join("vertex %g %g %g\n" % v[i] for i in t) +
+    "endloop\nendfacet\n" for t in f) + "endsolid tet\n"
+open(f"{d}/ascii.stl", "w").write(text)
+for enc, fmt in (("ascii", None), ("binary_little_endian", "<"), ("binary_big_endian", ">")):
+    head = (f"ply\nformat {enc} 1.0\nelement vertex 4\nproperty float x\nproperty float y\n"
+            "property float z\nproperty uchar red\nelement face 4\n"
+            "property list uchar int vertex_indices\nend_header\n").encode()
+    if fmt is None:
+        body = "".join("%g %g %g 7\n" % p for p in v) + "".join("3 %d %d %d\n" % t for t in f)
+        open(f"{d}/{enc}.ply", "wb").write(head + body.encode())
+    else:
+        body = b"".join(struct.pack(fmt + "3fB", *p, 7) for p in v)
+        body += b"".join(struct.pack(fmt + "B3i", 3, *t) for t in f)
+        open(f"{d}/{enc}.ply", "wb").write(head + body)
+PY
 elif [ "$target" = options_fuzzer ]; then  # the options the tests and the README use
   printf '%s' '{"draco": true, "draco_position_bits": 16, "layout": "welded"}' > "$seeds/a.json"
   printf '%s' '{"method": "paper", "max_iterations": 200, "time_limit_seconds": 0.5}' > "$seeds/b.json"

@@ -15,8 +15,13 @@ export interface paths {
         put?: never;
         /**
          * Submit a mapping job
-         * @description The mesh is read and checked before the job is queued: a malformed file is 400,
-         *     one over the caps 413, a valid glTF that is not a closed, manifold, genus-0,
+         * @description The mesh is glTF (GLB or JSON), OBJ, OFF, STL (binary or ASCII) or PLY (ASCII or
+         *     binary), told by the Content-Type, by the file name of the multipart `mesh` part,
+         *     or, for `application/octet-stream` (and `text/plain`: OBJ, OFF, ASCII STL, ASCII
+         *     PLY), by its bytes; an STL's three corners per triangle are welded like glTF's
+         *     split vertices. The mesh is read and checked before the job is queued: a malformed
+         *     file is 400 (`malformed_gltf`, or `malformed_mesh` for the other formats), one over
+         *     the caps 413, a valid mesh that is not a closed, manifold, genus-0,
          *     single-component surface 422 (with the failed check and its counts). Options can
          *     be given as query parameters (e.g. `?draco=true&layout=welded`) or, with a
          *     multipart body, as an `options` JSON part; query parameters win. A `.gltf` whose
@@ -301,7 +306,7 @@ export interface components {
             options?: components["schemas"]["JobOptions"];
             input?: {
                 /** @enum {string} */
-                format?: "glb" | "gltf";
+                format?: "glb" | "gltf" | "obj" | "off" | "stl" | "ply";
                 bytes?: number;
                 vertices?: number;
                 faces?: number;
@@ -318,7 +323,7 @@ export interface components {
                 energy?: number;
                 elapsed_seconds?: number;
             };
-            /** @description as metrics.json: bijective (the certified verdict: no fold and no degenerate triangle in double, float32 and as written), bijective_double, bijective_as_written, problem, quality, folds, distortion (area_distortion.mean_abs_log), stretch, seconds per stage, preparation (method, and the faces dropped, shortened and flipped by prepare=repair) */
+            /** @description as metrics.json: bijective (the certified verdict: no fold and no degenerate triangle in double, float32 and as written), bijective_double, bijective_as_written, problem, quality, folds, distortion (area_distortion.mean_abs_log), stretch, seconds per stage, preparation (method, and the faces dropped, shortened and flipped by prepare=repair); input_warnings when the input was read leniently (a glTF bufferView with byteStride 0 read as packed) */
             metrics?: Record<string, never>;
             artifacts?: {
                 [key: string]: {
@@ -332,8 +337,8 @@ export interface components {
             links: Record<string, never>;
         };
         /**
-         * @description Slugs of `type` (/v1/problems/<slug>): malformed_gltf, empty_body, missing_mesh,
-         *     invalid_options (400); unauthorized (401, with API keys); not_found, job_not_found,
+         * @description Slugs of `type` (/v1/problems/<slug>): malformed_gltf, malformed_mesh (OBJ, OFF,
+         *     STL, PLY), empty_body, missing_mesh, invalid_options (400); unauthorized (401, with API keys); not_found, job_not_found,
          *     artifact_not_found (404); method_not_allowed (405, with Allow);
          *     not_ready (409); gone (410); too_large (413); unsupported_media_type (415);
          *     not_mappable (422, with `check`: empty, non_finite, repeated_vertex,
@@ -428,10 +433,15 @@ export interface operations {
             content: {
                 "model/gltf-binary": string;
                 "model/gltf+json": string;
+                "model/obj": string;
+                "model/stl": string;
+                "application/ply": string;
+                "model/off": string;
+                "application/octet-stream": string;
                 "multipart/form-data": {
                     /**
                      * Format: binary
-                     * @description a .glb or .gltf file
+                     * @description a .glb, .gltf, .obj, .off, .stl or .ply file: the format from its file name (any case), else its Content-Type, else its bytes
                      */
                     mesh: string;
                     options?: components["schemas"]["JobOptions"];
@@ -472,6 +482,12 @@ export interface operations {
         requestBody: {
             content: {
                 "model/gltf-binary": string;
+                "model/gltf+json": string;
+                "model/obj": string;
+                "model/stl": string;
+                "application/ply": string;
+                "model/off": string;
+                "application/octet-stream": string;
                 "multipart/form-data": {
                     /** Format: binary */
                     mesh?: string;
