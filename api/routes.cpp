@@ -255,7 +255,8 @@ httplib::Server::Handler guarded(Body body) {
 std::string allowed_methods(const std::string& path) {
   if (path == "/v1/jobs" || path == "/v1/map") return "POST, OPTIONS";
   if (path == "/" || path == "/healthz" || path == "/readyz" || path == "/metrics" ||
-      path == "/v1/openapi.yaml" || (path.starts_with("/web/") && path.size() > 5))
+      path == "/v1/openapi.yaml" || (path.starts_with("/web/") && path.size() > 5) ||
+      (path.starts_with("/examples/") && path.size() > 10))
     return "GET, OPTIONS";
   constexpr std::string_view kJobs = "/v1/jobs/";
   if (!path.starts_with(kJobs)) return "";
@@ -297,10 +298,11 @@ void serve_asset(const httplib::Request& request, httplib::Response& response) {
   std::string type(asset->content_type);
   if (type.starts_with("text/")) type += "; charset=utf-8";
   response.set_content(std::string(asset->bytes), type);
-  // The page itself may change with a new server; three.js is pinned by its path.
-  response.set_header("Cache-Control", request.path.starts_with("/web/three/")
-                                           ? "public, max-age=86400"
-                                           : "no-cache");
+  // The page itself may change with a new server; three.js is pinned by its path, and the
+  // example mesh (106 KB) does not change with the page's code.
+  const bool fixed =
+      request.path.starts_with("/web/three/") || request.path.starts_with("/examples/");
+  response.set_header("Cache-Control", fixed ? "public, max-age=86400" : "no-cache");
 }
 
 }  // namespace
@@ -512,6 +514,7 @@ void install_api(GuardedServer& http, Backend& service) {
   install_probes(http, service);
   http.Get("/", guarded(serve_asset));
   http.Get(R"(/web/[A-Za-z0-9_./-]+)", guarded(serve_asset));
+  http.Get(R"(/examples/[A-Za-z0-9_.-]+)", guarded(serve_asset));
   http.Get("/v1/openapi.yaml", [](const httplib::Request&, httplib::Response& response) {
     response.set_content(kOpenApiYaml, "application/yaml");
   });

@@ -1,8 +1,8 @@
 // Writes the generated test meshes as GLB files for the shell tests and the load bench
 // (no corpus needed): make_test_meshes OUTDIR -> OUTDIR/{icosphere2,icosphere4,horseshoe,
-// torus,textured_horseshoe}.glb; with --stress [--million], the stress set as OBJ (bench/quality);
-// with --stress-glb, the stress set as GLB (the service's slow jobs in tests and benches);
-// with --random COUNT SEED, random_stress_meshes as OBJ (the stress probe).
+// torus,textured_horseshoe,ellipsoid}.glb; with --stress [--million], the stress set as OBJ
+// (bench/quality); with --stress-glb, the stress set as GLB (the service's slow jobs in tests and
+// benches); with --random COUNT SEED, random_stress_meshes as OBJ (the stress probe).
 #include <cstdio>
 #include <string>
 
@@ -50,6 +50,8 @@ int main(int argc, char** argv) {
   write("icosphere4", testing::icosphere(4));  // 5,120 triangles
   write("horseshoe", testing::horseshoe());    // 744 triangles, the paper's loop never unfolds it
   write("torus", testing::torus(16, 12));      // genus 1: refused with 422
+  // Elongated, 1 x 1 x 5 along z (depth from the front): the page must frame it side-on.
+  write("ellipsoid", testing::scaled(testing::icosphere(3), {1.0, 1.0, 5.0}));
   // Seams on every edge, TEXCOORD_0 and an embedded texture: outputs must keep them.
   write_binary_file(dir + "/textured_horseshoe.glb", testing::textured_glb(testing::horseshoe()));
   return 0;

@@ -601,6 +601,14 @@ TEST(Service, ServesThePageAndItsModules) {
     EXPECT_GT(module->body.size(), 1000u) << path;
   }
   expect_problem(client.Get("/web/nothing.js"), 404, "not_found");
+  // The page's "Try an example" mesh: examples/spot.glb as it is in the repository.
+  auto example = client.Get("/examples/spot.glb");
+  ASSERT_EQ(example->status, 200);
+  EXPECT_EQ(example->get_header_value("Content-Type"), "model/gltf-binary");
+  EXPECT_EQ(example->get_header_value("Cache-Control"), "public, max-age=86400");
+  EXPECT_EQ(example->body.substr(0, 4), "glTF");
+  EXPECT_EQ(example->body, read_bytes(SPHEREMAP_SOURCE_DIR "/examples/spot.glb"));
+  expect_problem(client.Get("/examples/nothing.glb"), 404, "not_found");
 }
 
 TEST(Service, RemeshUvAndMorphArtifacts) {

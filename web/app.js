@@ -8,7 +8,12 @@ import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
 import { MeshoptDecoder } from 'three/addons/libs/meshopt_decoder.module.js';
 
 const $ = (id) => document.getElementById(id);
-const state = { files: [], extraOptions: {}, events: null, poll: null, models: {}, view: null };
+const state = {
+  files: [], extraOptions: {}, events: null, poll: null, models: {}, view: null,
+  newJob: true,  // the next view framed picks its own direction (side-on), not the current one
+  fitted: null,  // the last fit's box, redone when the canvas changes shape
+  touched: false,  // the person moved the camera since that fit: a resize keeps their view
+};
 
 // A service started with API keys wants `Authorization: Bearer KEY` on every /v1 call; the
 // key is asked for after the first 401 and kept for this tab only.
@@ -41,17 +46,22 @@ headlight.position.set(1, 2, 3);
 camera.add(headlight);
 scene.add(camera);
 
+controls.addEventListener('start', () => { state.touched = true; });
+
+// The drawing buffer and the camera's aspect follow the canvas's size on the page; true
+// when they changed.
 function resize() {
   const { clientWidth: w, clientHeight: h } = canvas;
-  if (canvas.width !== Math.floor(w * renderer.getPixelRatio()) ||
-      canvas.height !== Math.floor(h * renderer.getPixelRatio())) {
-    renderer.setSize(w, h, false);
-    camera.aspect = w / Math.max(h, 1);
-    camera.updateProjectionMatrix();
-  }
+  if (canvas.width === Math.floor(w * renderer.getPixelRatio()) &&
+      canvas.height === Math.floor(h * renderer.getPixelRatio())) return false;
+  renderer.setSize(w, h, false);
+  camera.aspect = w / Math.max(h, 1);
+  camera.updateProjectionMatrix();
+  return true;
 }
 renderer.setAnimationLoop(() => {
-  resize();
+  // A canvas of a new shape frames the object again, unless the person moved the camera.
+  if (resize() && state.fitted && !state.touched) fit(state.fitted);
   controls.update();
   renderer.render(scene, camera);
 });
@@ -61,8 +71,8 @@ function gltfLoader(manager) {
   return new GLTFLoader(manager).setDRACOLoader(draco).setMeshoptDecoder(MeshoptDecoder);
 }
 
-// Centres an object on the origin and scales it into the unit ball, so every view frames
-// alike (the sphere, the remesh and the morph are already there).
+// Centres an object on the origin and scales it into the unit ball (the sphere and the
+// remesh are already there), so the views of one job are alike in size.
 function framed(object) {
   const box = new THREE.Box3().setFromObject(object);
   const sphere = box.getBoundingSphere(new THREE.Sphere());
@@ -73,34 +83,179 @@ function framed(object) {
   return holder;
 }
 
+// ---- framing: each view fits its object to the canvas ----------------------------------
+const MARGIN = 1.2;  // the object spans at most 1 / 1.2 = 83% of the canvas either way
+const FRONT = new THREE.Vector3(0, 0.4, 2.4).normalize();  // a little from above, +y up
+const SIDE = new THREE.Vector3(2.4, 0.4, 0).normalize();
+
+// An elongated object is seen side-on: the camera looks across its longer horizontal extent.
+function sideOn(box) {
+  const size = box.getSize(new THREE.Vector3());
+  return size.z > 1.2 * size.x ? SIDE : FRONT;
+}
+
+// The camera on `direction` from the box's centre, as near as keeps the object whole in
+// the frustum with the margin, at the canvas's aspect: the nearer of two fits that both
+// hold it, every corner of its box inside, or its sphere (`radius` about the box's centre)
+// inside. Near/far, the orbit target and the zoom limits follow the object's size.
+function fit(shape, direction = camera.position.clone().sub(controls.target)) {
+  resize();
+  state.fitted = shape;
+  state.touched = false;
+  const { box } = shape;
+  const center = box.getCenter(new THREE.Vector3());
+  const radius = Math.max(shape.radius, 1e-6);
+  const back = direction.clone().normalize();
+  const right = new THREE.Vector3().crossVectors(camera.up, back);
+  if (right.lengthSq() < 1e-12) right.set(1, 0, 0);  // looking straight down or up
+  right.normalize();
+  const up = new THREE.Vector3().crossVectors(back, right);
+  const tanV = Math.tan(THREE.MathUtils.degToRad(camera.fov / 2)) / MARGIN;
+  const tanH = tanV * camera.aspect;
+  const tanMin = Math.min(tanV, tanH);
+  const sphereDistance = radius * Math.sqrt(1 + 1 / (tanMin * tanMin));  // r / sin(half angle)
+  let boxDistance = 0;
+  const corner = new THREE.Vector3();
+  for (let i = 0; i < 8; ++i) {
+    corner.set(i & 1 ? box.max.x : box.min.x, i & 2 ? box.max.y : box.min.y,
+      i & 4 ? box.max.z : box.min.z).sub(center);
+    const depthNeeded = Math.max(Math.abs(corner.dot(right)) / tanH, Math.abs(corner.dot(up)) / tanV);
+    boxDistance = Math.max(boxDistance, corner.dot(back) + Math.max(depthNeeded, 0.01 * radius));
+  }
+  const distance = Math.min(sphereDistance, boxDistance);
+  camera.position.copy(center).addScaledVector(back, distance);
+  camera.near = 0.01 * radius;
+  camera.far = 8 * distance + 2 * radius;
+  camera.updateProjectionMatrix();
+  controls.target.copy(center);
+  controls.minDistance = 0.05 * radius;
+  controls.maxDistance = 6 * distance;
+  camera.lookAt(center);
+  controls.update();
+}
+
+// The exact box of what a model shows: its vertices as morphed now (three's own box of a
+// morphed mesh is the union over every target).
+function boxOf(object) {
+  object.updateMatrixWorld(true);
+  return new THREE.Box3().setFromObject(object, true);
+}
+
+// The distance from `center` to the model's farthest vertex, as morphed now.
+function radiusAbout(object, center) {
+  let farthest = 0;
+  const vertex = new THREE.Vector3();
+  object.traverse((o) => {
+    const position = o.isMesh ? o.geometry?.attributes.position : null;
+    for (let i = 0; i < (position?.count ?? 0); ++i) {
+      o.getVertexPosition(i, vertex).applyMatrix4(o.matrixWorld);
+      farthest = Math.max(farthest, vertex.distanceToSquared(center));
+    }
+  });
+  return Math.sqrt(farthest);
+}
+
+function setInfluence(value) {
+  state.models.morph?.traverse((o) => {
+    if (o.morphTargetInfluences) o.morphTargetInfluences[0] = value;
+  });
+}
+
+function disposeModel(object) {
+  object.traverse((o) => {
+    o.geometry?.dispose();
+    for (const m of [o.material, o.userData.plain].flat()) m?.dispose?.();
+  });
+}
+
+// A new job: the last one's models go, and its first view picks a direction of its own.
+function clearModels() {
+  for (const object of Object.values(state.models)) {
+    scene.remove(object);
+    disposeModel(object);
+  }
+  state.models = {};
+  state.view = null;
+  state.newJob = true;
+  for (const button of document.querySelectorAll('#views button')) {
+    button.disabled = true;
+    button.setAttribute('aria-selected', 'false');
+  }
+  $('morph-control').hidden = true;
+  $('morph').value = '0';
+  updateHeatToggle();
+}
+
 function setModel(name, object) {
-  if (state.models[name]) scene.remove(state.models[name]);
+  if (state.models[name]) {
+    scene.remove(state.models[name]);
+    disposeModel(state.models[name]);
+  }
   state.models[name] = object;
   object.visible = false;
   scene.add(object);
   document.querySelector(`#views [data-view="${name}"]`).disabled = false;
+  $('hint').hidden = true;
+  updateHeatToggle();
+}
+
+// The heat map is the distortion of the map, per triangle of the morph (mesh and sphere in
+// one): with it on, the input view shows the morph held at the mesh, the sphere view the
+// morph held at the sphere. The remesh is a resampling with triangles of its own: no heat.
+const HEAT_SHAPE = { input: 0, sphere: 1 };
+const heatPossible = (view) => !!state.models.morph && (view === 'morph' || view in HEAT_SHAPE);
+
+function updateHeatToggle() {
+  const possible = heatPossible(state.view);
+  $('heat').disabled = !possible;
+  $('heat-toggle').title = possible ? 'Colour each triangle by how much the map grows or shrinks it'
+    : !state.models.morph ? 'Map a mesh with the mesh-to-sphere morph output first'
+    : 'The remesh resamples the sphere on a grid of its own: the distortion shows in the other views';
 }
 
 function show(name) {
   state.view = name;
-  for (const [key, object] of Object.entries(state.models)) object.visible = key === name;
+  const heat = $('heat').checked && heatPossible(name);
+  const shown = heat ? 'morph' : name;
+  for (const [key, object] of Object.entries(state.models)) object.visible = key === shown;
   for (const button of document.querySelectorAll('#views button'))
     button.setAttribute('aria-selected', String(button.dataset.view === name));
   $('morph-control').hidden = name !== 'morph';
-  applyHeat();
+  updateHeatToggle();
+  applyHeat(heat);
+  const object = state.models[shown];
+  if (!object) return;
+  // The morph view fits its mesh and its sphere at once, so the slider never leaves the
+  // canvas; the heat map's input and sphere views hold the morph at one end.
+  const influences = name === 'morph' ? [0, 1] : shown === 'morph' ? [HEAT_SHAPE[name]] : [null];
+  const box = new THREE.Box3();
+  for (const t of influences) {
+    if (t !== null) setInfluence(t);
+    box.union(boxOf(object));
+  }
+  if (box.isEmpty()) return;
+  const center = box.getCenter(new THREE.Vector3());
+  let radius = 0;
+  for (const t of influences) {
+    if (t !== null) setInfluence(t);
+    radius = Math.max(radius, radiusAbout(object, center));
+  }
+  if (name === 'morph') setInfluence(Number($('morph').value));
+  fit({ box, radius }, state.newJob ? sideOn(box) : undefined);
+  state.newJob = false;
 }
 
 for (const button of document.querySelectorAll('#views button'))
   button.addEventListener('click', () => show(button.dataset.view));
 $('morph').addEventListener('input', () => {
-  state.models.morph?.traverse((o) => {
-    if (o.morphTargetInfluences) o.morphTargetInfluences[0] = Number($('morph').value);
-  });
+  if (state.view === 'morph') setInfluence(Number($('morph').value));
 });
 
 // Our outputs keep a textured input's own material (the duck stays a duck on its sphere);
 // anything else gets a plain surface, so the map's shape is what one sees. Triangle edges
-// too, except on the morph (a wireframe would not follow its target).
+// too, except on the morph (a wireframe would not follow its target) and on meshes of more
+// than 50,000 triangles (a 256 x 256 remesh): their edges, denser than the canvas's pixels,
+// only darken the surface, and they cost software WebGL seconds a frame.
 function surface(object, color, edges = true) {
   object.traverse((o) => {
     if (!o.isMesh) return;
@@ -110,7 +265,7 @@ function surface(object, color, edges = true) {
     if (own) own.side = THREE.DoubleSide;
     o.userData.own = own ? o.material : null;
     o.material = o.userData.own ?? o.userData.plain;
-    if (!edges || !o.geometry.index || o.geometry.index.count > 600000) return;
+    if (!edges || !o.geometry.index || o.geometry.index.count > 3 * 50000) return;
     o.add(new THREE.LineSegments(new THREE.WireframeGeometry(o.geometry),
       new THREE.LineBasicMaterial({ color: 0x000000, transparent: true, opacity: 0.12 })));
   });
@@ -163,8 +318,7 @@ function heatColors(geometry) {
   return new THREE.BufferAttribute(colors, 3);
 }
 
-function applyHeat() {
-  const on = $('heat').checked && state.view === 'morph';
+function applyHeat(on) {
   $('heat-legend').hidden = !on;
   state.models.morph?.traverse((o) => {
     if (!o.isMesh) return;
@@ -179,7 +333,7 @@ function applyHeat() {
     o.userData.plain.needsUpdate = true;
   });
 }
-$('heat').addEventListener('change', applyHeat);
+$('heat').addEventListener('change', () => { if (state.view) show(state.view); });
 
 async function loadGlb(url) {
   const bytes = await (await api(url)).arrayBuffer();
@@ -197,7 +351,7 @@ async function previewInput(main) {
   try {
     const gltf = await gltfLoader(manager).parseAsync(await main.arrayBuffer(), '');
     setModel('input', framed(gltf.scene));
-    show('input');
+    if (!state.view) show('input');  // unless a result came back first
   } catch (error) {
     console.warn('no preview of the input:', error.message);
   } finally {
@@ -257,7 +411,9 @@ async function submit() {
   showError('');
   $('results').hidden = true;
   $('run').disabled = false;
+  $('hint').hidden = true;
   setStatus('submitting');
+  clearModels();
   previewInput(main);
   const form = new FormData();
   form.append('mesh', main, main.name);
@@ -377,7 +533,6 @@ async function finished(job) {
     if (artifacts['remesh.glb']) setModel('remesh', surface(await loadGlb(artifacts['remesh.glb'].href), 0x9ad0a1));
     if (artifacts['morph.glb']) {
       setModel('morph', framed(surface(await loadGlb(artifacts['morph.glb'].href), 0xd8b06a, false)));
-      $('heat').disabled = false;
     }
     if (state.models.sphere) show('sphere');
   } catch (error) {
@@ -394,6 +549,23 @@ function choose(fileList) {
   if (state.files.length) submit();
 }
 $('file').addEventListener('change', (e) => choose(e.target.files));
+
+// The example (examples/spot.glb, built into the service) goes in as a chosen file would.
+async function tryExample() {
+  try {
+    const response = await fetch('/examples/spot.glb');
+    if (!response.ok) throw new Error(`GET /examples/spot.glb answered ${response.status}`);
+    const file = new File([await response.blob()], 'spot.glb', { type: 'model/gltf-binary' });
+    const chosen = new DataTransfer();
+    chosen.items.add(file);
+    $('file').files = chosen.files;  // the file input names it, as if it had been chosen
+    choose(chosen.files);
+  } catch (error) {
+    showError(`Could not load the example: ${error.message}`);
+  }
+}
+for (const button of document.querySelectorAll('button.example'))
+  button.addEventListener('click', tryExample);
 $('run').addEventListener('click', submit);
 const drop = $('drop');
 drop.addEventListener('dragover', (e) => { e.preventDefault(); drop.classList.add('over'); });

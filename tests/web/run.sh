@@ -3,7 +3,8 @@
 # the real server on a loopback port: a GLB (a corpus model, or a generated one without
 # the corpus), a generated textured GLB (its sphere must show its texture) and a .gltf
 # chosen with its .bin and textures must end `succeeded` with a drawn canvas and no
-# console error. Exit 77 (skipped) without chromium or npm.
+# console error; every view must frame its object (framing_test.mjs) and the "Try an
+# example" button must map the built-in example. Exit 77 (skipped) without chromium or npm.
 set -uo pipefail
 spheremap=$1 make_meshes=$2 corpus=$3
 here=$(cd "$(dirname "$0")" && pwd)
@@ -30,4 +31,7 @@ if [ -d "$box" ]; then
     "$box/glTF Logo With Spaces.png" "$box/Normal Map.png" "$box/Roughness Metallic.png" ||
     fail "page test on a .gltf with its .bin and textures"
 fi
+# Every view fits its object, on an elongated mesh and on a unit sphere; the example button.
+CHROMIUM=$chromium node "$here/framing_test.mjs" "$url" "$work/ellipsoid.glb" "$work/icosphere4.glb" ||
+  fail "framing test"
 echo "page: ok"
