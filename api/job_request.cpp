@@ -111,6 +111,14 @@ std::unique_ptr<JobSpec> read_job_request(const httplib::Request& request,
   JobOptions options = parse_job_options(body.options);
   options.gltf.max_vertices = config.max_vertices;
   options.gltf.max_triangles = config.max_faces;
+  // Read once per source, buffers and images never need more than twice the body (its
+  // buffers, and images copied out of them); more would mean a duplicating reference.
+  size_t sent = request.body.size();  // empty for multipart: its parts are in `files`
+  for (const auto& [name, part] : request.files) sent += part.content.size();
+  options.gltf.max_resource_bytes = std::min(config.max_resource_bytes, 2 * sent + (1u << 20));
+  // The reader asks while it works, so an intake thread is freed within a second of the
+  // deadline (or of a shutdown), not at the end of the stage.
+  options.gltf.should_stop = [&deadline] { return deadline.passed(); };
 
   auto spec = std::make_unique<JobSpec>();
   GltfReadStats stats;
@@ -119,6 +127,7 @@ std::unique_ptr<JobSpec> read_job_request(const httplib::Request& request,
     spec->input = read_gltf({reinterpret_cast<const uint8_t*>(body.mesh.data()), body.mesh.size()},
                             options.gltf, &stats, &resources, &spec->look);
   } catch (const InputError& e) {
+    if (e.check() == "stopped") deadline.check("reading part of the glTF");
     nlohmann::json extra = {{"check", e.check()}};
     if (!e.fix().empty()) extra["fix"] = fix_json(e.fix());
     const std::string hint = e.fix().empty() ? "" : option_hint(e.fix());
@@ -131,7 +140,13 @@ std::unique_ptr<JobSpec> read_job_request(const httplib::Request& request,
     throw Problem(400, "malformed_gltf", "Malformed glTF", e.what() + hint, extra);
   }
   deadline.check("reading the glTF");
-  spec->prepared = prepare_mesh(spec->input, options.prepare);
+  options.prepare.should_stop = options.gltf.should_stop;
+  try {
+    spec->prepared = prepare_mesh(spec->input, options.prepare);
+  } catch (const InputError& e) {
+    if (e.check() == "stopped") deadline.check("part of the weld");
+    throw;
+  }
   deadline.check("welding and the topology checks");
   const auto failures = input_failures(spec->prepared, &stats);
   if (!failures.empty()) {

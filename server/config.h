@@ -32,6 +32,10 @@ struct ServerConfig {
   size_t max_body_bytes = 64u << 20;   // queued inputs stay under queue_capacity x this
   size_t max_vertices = 2'000'000;     // of the glTF as sent (before welding)
   size_t max_faces = 4'000'000;        // triangles of the glTF as sent
+  // Bytes of glTF buffers and images held while one submission is read (each distinct
+  // source once); 413 beyond. At most twice the body is ever needed, so the cap in use is
+  // the lower of this and 2 x the request's body.
+  size_t max_resource_bytes = 256u << 20;
   double job_time_limit_seconds = 300;
   double result_ttl_seconds = 3600;          // finished jobs are kept this long...
   size_t result_memory_bytes = 1024u << 20;  // ...and within this many artifact bytes

@@ -51,8 +51,11 @@ void keep_largest_component(WeldResult& welded) {
 
 PreparedMesh prepare_mesh(const PolygonMesh& input, const PrepareOptions& options) {
   PreparedMesh prepared;
-  prepared.welded = weld(input, options.weld_tolerance);
+  StopCheck stop(&options.should_stop);
+  prepared.welded = weld(input, options.weld_tolerance, &stop);
+  stop.check();
   if (options.largest_component) keep_largest_component(prepared.welded);
+  stop.check();
   prepared.topology = analyze_topology(prepared.welded.mesh);
   return prepared;
 }

@@ -2,6 +2,7 @@
 // tool and the service: weld -> validate -> map -> verify -> metrics.
 #pragma once
 
+#include <functional>
 #include <string>
 
 #include "core/map/metrics.h"
@@ -16,6 +17,8 @@ struct PrepareOptions {
   // Keep only the connected component with the most faces (others are dropped, their
   // input vertices then map to nothing); otherwise several components are an error.
   bool largest_component = false;
+  // Asked while welding: true stops with InputError("stopped") (see StopCheck).
+  std::function<bool()> should_stop;
 };
 
 struct PreparedMesh {

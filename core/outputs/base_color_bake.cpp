@@ -73,7 +73,7 @@ size_t unsigned_or(const nlohmann::json& object, const char* key, size_t fallbac
   return it != object.end() && it->is_number_unsigned() ? it->get<size_t>() : fallback;
 }
 
-// The base colour of every material, decoding each image it uses once.
+// The base colour of every material, decoding each distinct image it uses once.
 std::vector<BaseColor> base_colors(const GltfAppearance& look, std::map<size_t, RgbaImage>& images,
                                    size_t& decoded) {
   std::vector<BaseColor> out(look.materials.size());
@@ -99,12 +99,16 @@ std::vector<BaseColor> base_colors(const GltfAppearance& look, std::map<size_t, 
       out[m].wrap_s = static_cast<int>(unsigned_or(s, "wrapS", kRepeat));
       out[m].wrap_t = static_cast<int>(unsigned_or(s, "wrapT", kRepeat));
     }
-    if (!images.count(source) && source < look.image_bytes.size())
-      if (auto image = decode_image(look.image_bytes[source], kMaxImagePixels)) {
-        images.emplace(source, std::move(*image));
+    // Keyed by the image's bytes, not the image: images sharing bytes decode once.
+    const std::string* bytes = look.image_bytes(source);
+    if (!bytes) continue;
+    const size_t data = look.image_source[source];
+    if (!images.count(data))
+      if (auto image = decode_image(*bytes, kMaxImagePixels)) {
+        images.emplace(data, std::move(*image));
         ++decoded;
       }
-    if (const auto it = images.find(source); it != images.end()) out[m].image = &it->second;
+    if (const auto it = images.find(data); it != images.end()) out[m].image = &it->second;
   }
   return out;
 }
