@@ -7,6 +7,7 @@
 #include "api/problem.h"
 #include "core/io/bounded_json.h"
 #include "core/mesh/input_error.h"
+#include "core/outputs/base_color_bake.h"
 #include "core/outputs/report_json.h"
 
 namespace spheremap::api {
@@ -164,6 +165,17 @@ std::unique_ptr<JobSpec> read_job_request(const httplib::Request& request,
                             {"topology", topology_json(spec->prepared, &stats)}};
     if (!fix.empty()) extra["fix"] = fix_json(fix), detail += option_hint(fix);
     throw Problem(422, "not_mappable", "Mesh cannot be mapped", detail, extra);
+  }
+  if (std::count(options.outputs.begin(), options.outputs.end(), "remesh")) {
+    // Counted from the images' headers now, so that the colour bake cannot fail later.
+    const size_t pixels = base_color_pixels(spec->look);
+    if (pixels > config.max_image_pixels)
+      throw Problem(413, "too_large", "Textures too large",
+                    "the remesh's colour bake would decode " + std::to_string(pixels) +
+                        " pixels of base-colour images, over max_image_pixels (" +
+                        std::to_string(config.max_image_pixels) +
+                        "); ask for the other outputs, or send smaller textures",
+                    {{"check", "image_pixels"}});
   }
   spec->map = options.map;
   spec->layout = options.layout;

@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "api/log.h"
+#include "core/outputs/base_color_bake.h"
 
 namespace spheremap::server {
 
@@ -16,6 +17,8 @@ size_t estimated_job_bytes(const api::JobSpec& spec) {
   if (wants("remesh")) {
     const size_t side = static_cast<size_t>(std::max(spec.remesh_resolution, 1));
     bytes += (96u << 20) + 400 * side * side;
+    // The colour bake holds each distinct base-colour image decoded, 4 bytes a pixel.
+    bytes += 4 * base_color_pixels(spec.look);
   }
   if (wants("uv")) bytes += 100 * triangles;
   if (wants("morph")) bytes += 100 * triangles;

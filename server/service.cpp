@@ -38,6 +38,7 @@ ApiSettings api_settings(const ServerConfig& c) {
   s.max_vertices = c.max_vertices;
   s.max_faces = c.max_faces;
   s.max_resource_bytes = c.max_resource_bytes;
+  s.max_image_pixels = c.max_image_pixels;
   s.sync_timeout_seconds = c.sync_timeout_seconds;
   s.keep_alive_timeout_seconds = c.keep_alive_timeout_seconds;
   s.read_timeout_seconds = c.read_timeout_seconds;

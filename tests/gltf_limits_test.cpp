@@ -8,6 +8,7 @@
 
 #include "core/io/gltf_reader.h"
 #include "core/map/pipeline.h"
+#include "core/outputs/base_color_bake.h"
 #include "core/outputs/sphere_asset.h"
 #include "tests/gltf_files.h"
 #include "tests/mesh_generators.h"
@@ -163,6 +164,24 @@ TEST(GltfLimits, AWeldStopsWhenAsked) {
   }
   options.should_stop = [] { return false; };
   EXPECT_EQ(prepare_mesh(mesh, options).welded.mesh.vertex_count(), mesh.vertex_count());
+}
+
+TEST(GltfLimits, BaseColorPixelsCountEachDrawnImageOnce) {
+  Glb glb(testing::textured_glb(testing::horseshoe()));
+  // A second image naming the same bytes, a texture and an undrawn material using it, and
+  // a third image (other bytes) used by no drawn material.
+  glb.json["images"].push_back(glb.json["images"][0]);
+  glb.json["textures"].push_back({{"source", 1}});
+  nlohmann::json unused = glb.json["materials"][0];
+  unused["pbrMetallicRoughness"]["baseColorTexture"]["index"] = 1;
+  glb.json["materials"].push_back(unused);
+  GltfAppearance look;
+  read_gltf(as_bytes(glb.bytes()), {}, nullptr, nullptr, &look);
+  EXPECT_EQ(base_color_pixels(look), 16u * 16u);  // the 16 x 16 texture, once
+  look.primitives[0].material = 1;                // drawn with the other material
+  EXPECT_EQ(base_color_pixels(look), 16u * 16u);  // the same bytes: still once
+  look.primitives[0].material = -1;
+  EXPECT_EQ(base_color_pixels(look), 0u);  // nothing drawn with a texture
 }
 
 }  // namespace

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "server/job_memory.h"
+#include "tests/gltf_files.h"
 
 namespace spheremap {
 namespace {
@@ -96,6 +97,17 @@ TEST(JobMemory, EstimatesGrowWithTrianglesAndTheRemesh) {
   spec.outputs = {"sphere", "remesh"};
   spec.remesh_resolution = 1024;
   EXPECT_EQ(server::estimated_job_bytes(spec), small + (96u << 20) + 400 * 1024 * 1024);
+}
+
+TEST(JobMemory, TheRemeshCountsItsDecodedBaseColourPixels) {
+  api::JobSpec spec;
+  spec.input = read_gltf(testing::as_bytes(testing::textured_glb(testing::horseshoe())), {},
+                         nullptr, nullptr, &spec.look);
+  spec.outputs = {"sphere", "remesh"};
+  spec.remesh_resolution = 64;
+  const size_t textured = server::estimated_job_bytes(spec);
+  spec.look.primitives[0].material = -1;  // no texture sampled
+  EXPECT_EQ(textured - server::estimated_job_bytes(spec), 4u * 16 * 16);
 }
 
 }  // namespace

@@ -74,6 +74,22 @@ TEST(ServiceSecurity, ResourcesOverTheCapAre413) {
   EXPECT_EQ(client.Get("/healthz")->status, 200);
 }
 
+TEST(ServiceSecurity, ARemeshWhoseTexturesExceedMaxImagePixelsIs413) {
+  server::ServerConfig config = security_config();
+  config.max_image_pixels = 100;  // the test texture has 16 x 16
+  testing::TestServer server(config);
+  auto client = server.client();
+  const std::string glb = testing::textured_glb(testing::horseshoe());
+  auto remesh = client.Post("/v1/jobs?outputs=remesh", glb, "model/gltf-binary");
+  ASSERT_TRUE(remesh);
+  EXPECT_EQ(remesh->status, 413) << remesh->body;
+  EXPECT_EQ(json::parse(remesh->body)["check"], "image_pixels");
+  EXPECT_NE(remesh->body.find("256 pixels"), std::string::npos) << remesh->body;
+  auto sphere = client.Post("/v1/jobs", glb, "model/gltf-binary");  // no bake: accepted
+  ASSERT_TRUE(sphere);
+  EXPECT_EQ(sphere->status, 202) << sphere->body;
+}
+
 TEST(ServiceSecurity, TheReaderStopsInsideTheGltfAtTheDeadline) {
   httplib::Request request;
   request.set_header("Content-Type", "model/gltf-binary");
