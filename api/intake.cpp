@@ -99,8 +99,8 @@ void Intake::run(const std::function<void(const IntakeDeadline&)>& work) {
                         "): every one is reading other "
                         "meshes; retry later");
     }
-    // Running: it sees the deadline at its next stage boundary; `work` (and the request
-    // it reads) must outlive it, so wait.
+    // Running: it sees the deadline within milliseconds (the readers ask as they go);
+    // `work` (and the request it reads) must outlive it, so wait.
   }
   done.get();
 }

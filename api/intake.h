@@ -9,9 +9,10 @@
 //   number of connections, and the HTTP threads only wait.
 // - The deadline (from the moment the request reaches intake) covers the wait for an
 //   intake thread and the work: a request still waiting when it passes is answered 503
-//   intake_busy; work that outlasts it stops at its next stage boundary with 503
-//   intake_timeout. Stages are bounded by the input caps (max_vertices, max_faces,
-//   max_body_bytes), so the overrun is at most one stage.
+//   intake_busy; work that outlasts it stops with 503 intake_timeout: the glTF reader
+//   and the weld ask IntakeDeadline::passed() every few thousand elements, so an intake
+//   thread is free again within milliseconds of the deadline, and stop_reading() (on
+//   SIGTERM) ends them the same way (503 shutting_down).
 //
 // The HTTP thread waits for the answer because the API answers a bad mesh at once (400,
 // 413, 422) rather than as a failed job later; it holds the request, whose bytes the
