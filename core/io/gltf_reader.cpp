@@ -475,34 +475,62 @@ class Reader {
           value.get<uint64_t>() >= accessors)
         continue;
       const size_t accessor = value.get<size_t>();
-      const std::vector<double>* values = nullptr;
+      std::vector<double> values;
       int components = 0;
       try {
         const gltf::Document::AccessorShape shape = doc_.accessor_shape(accessor);
         if (shape.count != vertex_count || !shape_fits(name, shape)) continue;
-        values = &decoded_attribute(accessor, &components);
+        values = decoded_attribute(accessor, &components);
       } catch (const InputError& e) {
         if (e.check() != "gltf") throw;  // a limit or a stop is not the accessor's fault
         continue;                        // a broken UV accessor costs the UVs, not the map
       }
-      if (auto fitted = fitted_attribute(name, components, *values))
+      if (auto fitted = fitted_attribute(name, components, std::move(values)))
         out.push_back(std::move(*fitted));
     }
     return out;
   }
 
-  // Accessor `index` decoded, once for all the primitives that name it.
-  const std::vector<double>& decoded_attribute(size_t index, int* components) {
-    auto it = decoded_attributes_.find(index);
-    if (it == decoded_attributes_.end()) {
-      int c = 0;
-      std::vector<double> values = doc_.read_attribute(index, &c);
-      it = decoded_attributes_.emplace(index, std::make_pair(c, std::move(values))).first;
+  // Accessor `index` decoded, once for all the primitive attributes that name it: kept
+  // until the last of them (by the JSON's count) has taken it, not kept when only one
+  // does (the usual file: no copy of its attributes beyond the look's own).
+  std::vector<double> decoded_attribute(size_t index, int* components) {
+    size_t& uses_left = attribute_references()[index];
+    if (uses_left > 0) --uses_left;
+    if (const auto kept = decoded_attributes_.find(index); kept != decoded_attributes_.end()) {
+      *components = kept->second.first;
+      if (uses_left > 0) return kept->second.second;
+      std::vector<double> last = std::move(kept->second.second);
+      decoded_attributes_.erase(kept);
+      return last;
     }
-    *components = it->second.first;
-    return it->second.second;
+    std::vector<double> values = doc_.read_attribute(index, components);
+    if (uses_left > 0) decoded_attributes_.emplace(index, std::make_pair(*components, values));
+    return values;
+  }
+
+  // Per accessor, how many carried attributes of the file's primitives name it.
+  std::map<size_t, size_t>& attribute_references() {
+    if (references_counted_) return attribute_references_;
+    references_counted_ = true;
+    const nlohmann::json& json = doc_.json();
+    if (!json.contains("meshes") || !json["meshes"].is_array()) return attribute_references_;
+    for (const auto& mesh : json["meshes"]) {
+      const auto primitives = mesh.is_object() ? mesh.find("primitives") : mesh.end();
+      if (primitives == mesh.end() || !primitives->is_array()) continue;
+      for (const auto& p : *primitives) {
+        const auto attributes = p.is_object() ? p.find("attributes") : p.end();
+        if (attributes == p.end() || !attributes->is_object()) continue;
+        for (const auto& [name, value] : attributes->items())
+          if (carried_attribute(name) && value.is_number_unsigned())
+            ++attribute_references_[value.get<size_t>()];
+      }
+    }
+    return attribute_references_;
   }
   std::map<size_t, std::pair<int, std::vector<double>>> decoded_attributes_;
+  std::map<size_t, size_t> attribute_references_;
+  bool references_counted_ = false;
 
   std::vector<LookAttribute> draco_look_attributes(const draco::Mesh& mesh,
                                                    const nlohmann::json& ids) const {
