@@ -110,5 +110,17 @@ TEST(JobMemory, TheRemeshCountsItsDecodedBaseColourPixels) {
   EXPECT_EQ(textured - server::estimated_job_bytes(spec), 4u * 16 * 16);
 }
 
+TEST(JobMemory, TheInputsImagesCountOnceEach) {
+  api::JobSpec spec;
+  spec.input = read_gltf(testing::as_bytes(testing::many_images_naming_one_view(1 << 20, 100)), {},
+                         nullptr, nullptr, &spec.look);
+  const size_t with_images = server::estimated_job_bytes(spec);
+  const size_t image_bytes = spec.look.image_data[0].size() + spec.look.image_data[1].size();
+  spec.look.image_data.clear();
+  // Held, and written into sphere.glb: twice the distinct bytes, not 101 x.
+  EXPECT_EQ(with_images - server::estimated_job_bytes(spec), 2 * image_bytes);
+  EXPECT_LT(2 * image_bytes, size_t{3} << 20);
+}
+
 }  // namespace
 }  // namespace spheremap
