@@ -166,6 +166,19 @@ TEST(GltfLimits, AWeldStopsWhenAsked) {
   EXPECT_EQ(prepare_mesh(mesh, options).welded.mesh.vertex_count(), mesh.vertex_count());
 }
 
+TEST(GltfLimits, TheTopologyAnalysisStopsWhenAsked) {
+  const PolygonMesh mesh = testing::icosphere(3);
+  const std::function<bool()> stop_now = [] { return true; };
+  const StopCheck stop(&stop_now);
+  try {
+    analyze_topology(mesh, &stop);
+    FAIL() << "expected the analysis to stop";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.check(), "stopped");
+  }
+  EXPECT_EQ(analyze_topology(mesh).genus(), 0);
+}
+
 TEST(GltfLimits, BaseColorPixelsCountEachDrawnImageOnce) {
   Glb glb(testing::textured_glb(testing::horseshoe()));
   // A second image naming the same bytes, a texture and an undrawn material using it, and

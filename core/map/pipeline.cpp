@@ -56,7 +56,7 @@ PreparedMesh prepare_mesh(const PolygonMesh& input, const PrepareOptions& option
   stop.check();
   if (options.largest_component) keep_largest_component(prepared.welded);
   stop.check();
-  prepared.topology = analyze_topology(prepared.welded.mesh);
+  prepared.topology = analyze_topology(prepared.welded.mesh, &stop);
   return prepared;
 }
 
