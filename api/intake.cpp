@@ -19,6 +19,10 @@ std::string seconds_text(double seconds) {
 
 void IntakeDeadline::check(const char* stage) const {
   if (!passed()) return;
+  if (stopping_ && stopping_->load())
+    throw Problem(
+        503, "shutting_down", "Shutting down",
+        std::string("the server is shutting down; it stopped reading this mesh after ") + stage);
   throw Problem(503, "intake_timeout", "Mesh preparation too slow",
                 std::string("reading and checking the mesh took longer than "
                             "intake_timeout_seconds (") +
@@ -44,6 +48,7 @@ Intake::Intake(size_t threads, double timeout_seconds) : timeout_seconds_(timeou
 }
 
 Intake::~Intake() {
+  stop_reading_ = true;
   {
     std::lock_guard lock(mutex_);
     stopping_ = true;
@@ -76,8 +81,8 @@ void Intake::serve() {
 void Intake::run(const std::function<void(const IntakeDeadline&)>& work) {
   const auto timeout = std::chrono::duration_cast<IntakeDeadline::Clock::duration>(
       std::chrono::duration<double>(timeout_seconds_));
-  auto task = std::make_shared<Task>(
-      &work, IntakeDeadline(IntakeDeadline::Clock::now() + timeout, timeout_seconds_));
+  auto task = std::make_shared<Task>(&work, IntakeDeadline(IntakeDeadline::Clock::now() + timeout,
+                                                           timeout_seconds_, &stop_reading_));
   std::future<void> done = task->done.get_future();
   {
     std::lock_guard lock(mutex_);
@@ -94,8 +99,8 @@ void Intake::run(const std::function<void(const IntakeDeadline&)>& work) {
                         "): every one is reading other "
                         "meshes; retry later");
     }
-    // Running: it sees the deadline at its next stage boundary; `work` (and the request
-    // it reads) must outlive it, so wait.
+    // Running: it sees the deadline within milliseconds (the readers ask as they go);
+    // `work` (and the request it reads) must outlive it, so wait.
   }
   done.get();
 }

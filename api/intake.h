@@ -9,15 +9,17 @@
 //   number of connections, and the HTTP threads only wait.
 // - The deadline (from the moment the request reaches intake) covers the wait for an
 //   intake thread and the work: a request still waiting when it passes is answered 503
-//   intake_busy; work that outlasts it stops at its next stage boundary with 503
-//   intake_timeout. Stages are bounded by the input caps (max_vertices, max_faces,
-//   max_body_bytes), so the overrun is at most one stage.
+//   intake_busy; work that outlasts it stops with 503 intake_timeout: the glTF reader
+//   and the weld ask IntakeDeadline::passed() every few thousand elements, so an intake
+//   thread is free again within milliseconds of the deadline, and stop_reading() (on
+//   SIGTERM) ends them the same way (503 shutting_down).
 //
 // The HTTP thread waits for the answer because the API answers a bad mesh at once (400,
 // 413, 422) rather than as a failed job later; it holds the request, whose bytes the
 // intake thread reads in place (no copy of the body).
 #pragma once
 
+#include <atomic>
 #include <chrono>
 #include <condition_variable>
 #include <deque>
@@ -29,12 +31,15 @@
 
 namespace spheremap::api {
 
-// When a preparation must be done by; `check` throws Problem 503 intake_timeout after it.
+// When a preparation must be done by; `check` throws Problem 503 intake_timeout after it,
+// or 503 shutting_down once the intake is told to stop (`stopping`, may be null).
 class IntakeDeadline {
  public:
   using Clock = std::chrono::steady_clock;
-  IntakeDeadline(Clock::time_point at, double seconds) : at_(at), seconds_(seconds) {}
-  bool passed() const { return Clock::now() >= at_; }
+  IntakeDeadline(Clock::time_point at, double seconds, const std::atomic<bool>* stopping = nullptr)
+      : at_(at), seconds_(seconds), stopping_(stopping) {}
+  // Cheap enough to ask every few thousand elements (the readers do).
+  bool passed() const { return (stopping_ && stopping_->load()) || Clock::now() >= at_; }
   Clock::time_point at() const { return at_; }
   // `stage`: what was just done, for the problem's detail.
   void check(const char* stage) const;
@@ -42,6 +47,7 @@ class IntakeDeadline {
  private:
   Clock::time_point at_;
   double seconds_;
+  const std::atomic<bool>* stopping_;
 };
 
 class Intake {
@@ -59,11 +65,16 @@ class Intake {
 
   size_t threads() const { return threads_.size(); }
 
+  // Shutdown: work under way sees its deadline as passed (the readers stop within
+  // milliseconds), so that no reader holds the process after SIGTERM.
+  void stop_reading() { stop_reading_ = true; }
+
  private:
   struct Task;
   void serve();
 
   double timeout_seconds_;
+  std::atomic<bool> stop_reading_{false};
   std::mutex mutex_;
   std::condition_variable wake_;
   std::deque<std::shared_ptr<Task>> tasks_;

@@ -10,6 +10,7 @@
 #include "core/io/mesh_format.h"
 #include "core/io/stl.h"
 #include "core/mesh/input_error.h"
+#include "core/outputs/base_color_bake.h"
 #include "core/outputs/report_json.h"
 
 namespace spheremap::api {
@@ -121,6 +122,7 @@ PolygonMesh read_gltf_body(Body& body, const GltfReadOptions& options, GltfReadS
     return read_gltf({reinterpret_cast<const uint8_t*>(body.mesh.data()), body.mesh.size()},
                      options, &stats, &resources, &look);
   } catch (const InputError& e) {
+    if (e.check() == "stopped") throw;  // the caller answers it as the deadline's
     nlohmann::json extra = {{"check", e.check()}};
     if (!e.fix().empty()) extra["fix"] = fix_json(e.fix());
     const std::string hint = e.fix().empty() ? "" : option_hint(e.fix());
@@ -174,16 +176,36 @@ std::unique_ptr<JobSpec> read_job_request(const httplib::Request& request,
   JobOptions options = parse_job_options(body.options);
   options.gltf.max_vertices = config.max_vertices;
   options.gltf.max_triangles = config.max_faces;
+  // Read once per source, buffers and images never need more than twice the body (its
+  // buffers, and images copied out of them); more would mean a duplicating reference.
+  size_t sent = request.body.size();  // empty for multipart: its parts are in `files`
+  for (const auto& [name, part] : request.files) sent += part.content.size();
+  options.gltf.max_resource_bytes = std::min(config.max_resource_bytes, 2 * sent + (1u << 20));
+  // The reader asks while it works, so an intake thread is freed within a second of the
+  // deadline (or of a shutdown), not at the end of the stage.
+  options.gltf.should_stop = [&deadline] { return deadline.passed(); };
 
   auto spec = std::make_unique<JobSpec>();
   GltfReadStats stats;
   const bool gltf = body.format == MeshFormat::kGlb || body.format == MeshFormat::kGltf;
-  if (gltf)
-    spec->input = read_gltf_body(body, options.gltf, stats, spec->look);
-  else
-    spec->input = read_other_body(body, config);
+  try {
+    if (gltf)
+      spec->input = read_gltf_body(body, options.gltf, stats, spec->look);
+    else
+      spec->input = read_other_body(body, config);
+  } catch (const InputError& e) {
+    if (e.check() == "stopped")
+      deadline.check(gltf ? "reading part of the glTF" : "reading part of the mesh");
+    throw;
+  }
   deadline.check(gltf ? "reading the glTF" : "reading the mesh");
-  spec->prepared = prepare_input(spec->input, &spec->look, options.prepare);
+  options.prepare.should_stop = options.gltf.should_stop;
+  try {
+    spec->prepared = prepare_input(spec->input, &spec->look, options.prepare);
+  } catch (const InputError& e) {
+    if (e.check() == "stopped") deadline.check("part of the weld");
+    throw;
+  }
   deadline.check("welding and the topology checks");
   // An STL has three vertices per triangle until welded: its vertex cap is on the welded.
   if (body.format == MeshFormat::kStl)
@@ -204,6 +226,17 @@ std::unique_ptr<JobSpec> read_job_request(const httplib::Request& request,
                             {"topology", topology_json(spec->prepared, &stats)}};
     if (!fix.empty()) extra["fix"] = fix_json(fix), detail += option_hint(fix);
     throw Problem(422, "not_mappable", "Mesh cannot be mapped", detail, extra);
+  }
+  if (std::count(options.outputs.begin(), options.outputs.end(), "remesh")) {
+    // Counted from the images' headers now, so that the colour bake cannot fail later.
+    const size_t pixels = base_color_pixels(spec->look);
+    if (pixels > config.max_image_pixels)
+      throw Problem(413, "too_large", "Textures too large",
+                    "the remesh's colour bake would decode " + std::to_string(pixels) +
+                        " pixels of base-colour images, over max_image_pixels (" +
+                        std::to_string(config.max_image_pixels) +
+                        "); ask for the other outputs, or send smaller textures",
+                    {{"check", "image_pixels"}});
   }
   spec->map = options.map;
   spec->layout = options.layout;

@@ -4,6 +4,7 @@
 #include <atomic>
 #include <charconv>
 #include <cmath>
+#include <new>
 
 #include "api/client_address.h"
 #include "api/job_events.h"
@@ -50,6 +51,12 @@ std::shared_ptr<Job> find_job(Backend& service, const httplib::Request& request)
   throw Problem(404, "job_not_found", "No such job", "no job with id " + id);
 }
 
+Problem out_of_memory_problem() {
+  return Problem(503, "out_of_memory", "Out of memory",
+                 "the server ran out of memory handling this request; nothing was kept; retry "
+                 "later or send a smaller mesh");
+}
+
 // Reads, checks and queues a submission; throws Problems for every refusal.
 std::shared_ptr<Job> submit(Backend& service, const httplib::Request& request) {
   if (service.draining()) {
@@ -75,6 +82,10 @@ std::shared_ptr<Job> submit(Backend& service, const httplib::Request& request) {
   } catch (const Problem& p) {
     service.metrics().rejected(p.extra.value("check", p.slug));
     throw;
+  } catch (const std::bad_alloc&) {
+    // What was allocated for this mesh is freed by now: the server goes on.
+    service.metrics().rejected("out_of_memory");
+    throw out_of_memory_problem();
   }
   spec->tenant = tenant_of(service, request);
   std::shared_ptr<Job> job;
@@ -469,6 +480,9 @@ void install_api(GuardedServer& http, Backend& service) {
         std::string what = "unknown exception";
         try {
           std::rethrow_exception(error);
+        } catch (const std::bad_alloc&) {
+          send_problem(response, out_of_memory_problem(), request.path);
+          return;
         } catch (const std::exception& e) {
           what = e.what();
         } catch (...) {

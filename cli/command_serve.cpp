@@ -41,6 +41,11 @@ jobs (shutdown_grace_seconds) and exits 0.
   --max-body-bytes N        largest request body (default 67108864)
   --max-vertices N, --max-faces N
                             largest mesh accepted (default 2000000 / 4000000)
+  --max-resource-bytes N    glTF buffers and images held while one upload is read, each
+                            distinct buffer, file or image once (default 268435456; the
+                            lower of this and 2 x the body applies); 413 beyond
+  --max-image-pixels N      pixels of the distinct base-colour images a remesh decodes
+                            for its colour bake (default 67108864); 413 beyond
   --job-time-limit-seconds S  per job (default 300)
   --result-ttl-seconds S, --result-memory-bytes N, --max-jobs-kept N
                             how long and how much finished results are kept (defaults

@@ -41,6 +41,8 @@ const std::vector<Setting>& settings() {
       {"max_body_bytes", &ServerConfig::max_body_bytes, 1024, 4e9},
       {"max_vertices", &ServerConfig::max_vertices, 4, 1e8},
       {"max_faces", &ServerConfig::max_faces, 4, 2e8},
+      {"max_resource_bytes", &ServerConfig::max_resource_bytes, 1024, 1e11},
+      {"max_image_pixels", &ServerConfig::max_image_pixels, 1, 67108864},
       {"job_time_limit_seconds", &ServerConfig::job_time_limit_seconds, 0.01, 86400},
       {"result_ttl_seconds", &ServerConfig::result_ttl_seconds, 1, 30 * 86400.0},
       {"result_memory_bytes", &ServerConfig::result_memory_bytes, 0, 1e12},

@@ -32,6 +32,13 @@ struct ServerConfig {
   size_t max_body_bytes = 64u << 20;   // queued inputs stay under queue_capacity x this
   size_t max_vertices = 2'000'000;     // of the mesh as sent (before welding; STL: after)
   size_t max_faces = 4'000'000;        // triangles of the mesh as sent (an n-gon is n - 2)
+  // Bytes of glTF buffers and images held while one submission is read (each distinct
+  // source once); 413 beyond. At most twice the body is ever needed, so the cap in use is
+  // the lower of this and 2 x the request's body.
+  size_t max_resource_bytes = 256u << 20;
+  // Pixels of the distinct base-colour images a remesh decodes for its colour bake; a
+  // remesh job over it is refused (413) at submission.
+  size_t max_image_pixels = size_t{1} << 26;
   double job_time_limit_seconds = 300;
   double result_ttl_seconds = 3600;          // finished jobs are kept this long...
   size_t result_memory_bytes = 1024u << 20;  // ...and within this many artifact bytes

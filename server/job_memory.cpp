@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "api/log.h"
+#include "core/outputs/base_color_bake.h"
 
 namespace spheremap::server {
 
@@ -13,9 +14,15 @@ size_t estimated_job_bytes(const api::JobSpec& spec) {
     return std::find(spec.outputs.begin(), spec.outputs.end(), output) != spec.outputs.end();
   };
   size_t bytes = (16u << 20) + 400 * triangles;
+  // The input's images, held once each, and written once into each output that keeps them.
+  size_t image_bytes = 0;
+  for (const std::string& image : spec.look.image_data) image_bytes += image.size();
+  bytes += 2 * image_bytes;
   if (wants("remesh")) {
     const size_t side = static_cast<size_t>(std::max(spec.remesh_resolution, 1));
     bytes += (96u << 20) + 400 * side * side;
+    // The colour bake holds each distinct base-colour image decoded, 4 bytes a pixel.
+    bytes += 4 * base_color_pixels(spec.look);
   }
   if (wants("uv")) bytes += 100 * triangles;
   if (wants("morph")) bytes += 100 * triangles;

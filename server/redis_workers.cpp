@@ -6,6 +6,7 @@
 #include <optional>
 
 #include "api/log.h"
+#include "server/job_guard.h"
 #include "server/job_memory.h"
 
 namespace spheremap::server {
@@ -156,7 +157,8 @@ void RedisWorkers::run_one(RedisConnection& redis, RedisConnection& beat,
     }
   });
   const auto charge = charge_job(budget_, *job);
-  const JobStatus status = process ? process->run(*job, run_) : run_job(*job, run_);
+  const JobStatus status =
+      run_guarded(*job, [&] { return process ? process->run(*job, run_) : run_job(*job, run_); });
   {
     std::lock_guard lock(companion_mutex);
     done = true;

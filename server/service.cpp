@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "api/log.h"
+#include "server/job_guard.h"
 #include "server/job_memory.h"
 #include "server/job_runner.h"
 #include "server/worker_process.h"
@@ -36,6 +37,8 @@ ApiSettings api_settings(const ServerConfig& c) {
   s.max_body_bytes = c.max_body_bytes;
   s.max_vertices = c.max_vertices;
   s.max_faces = c.max_faces;
+  s.max_resource_bytes = c.max_resource_bytes;
+  s.max_image_pixels = c.max_image_pixels;
   s.sync_timeout_seconds = c.sync_timeout_seconds;
   s.keep_alive_timeout_seconds = c.keep_alive_timeout_seconds;
   s.read_timeout_seconds = c.read_timeout_seconds;
@@ -124,14 +127,14 @@ void Service::work() {
   if (config_.worker_isolation == "thread") {
     while (std::shared_ptr<Job> job = store.next()) {
       const auto charge = charge_job(budget_, *job);
-      store.finish(job, run_job(*job, limits));
+      store.finish(job, run_guarded(*job, [&] { return run_job(*job, limits); }));
     }
     return;
   }
   WorkerProcess process(worker_limits(config_));
   while (std::shared_ptr<Job> job = store.next()) {
     const auto charge = charge_job(budget_, *job);
-    store.finish(job, process.run(*job, limits));
+    store.finish(job, run_guarded(*job, [&] { return process.run(*job, limits); }));
   }
 }
 
@@ -170,6 +173,7 @@ void Service::stop_now() {
 
 void Service::drain(double grace_seconds) {
   if (drained_.exchange(true)) return;
+  intake_.stop_reading();  // a mesh being read stops within milliseconds: 503 shutting_down
   if (redis_) {
     redis_->stop_accepting();
     const size_t running = redis_workers_ ? redis_workers_->running() : 0;

@@ -12,8 +12,10 @@
 #include <cmath>
 #include <condition_variable>
 #include <cstring>
+#include <exception>
 #include <fstream>
 #include <mutex>
+#include <new>
 #include <sstream>
 #include <thread>
 
@@ -187,7 +189,18 @@ JobStatus WorkerProcess::run(Job& job, const RunLimits& limits) {
     std::lock_guard lock(job.mutex);
     if (job.spec->map.time_limit_seconds > 0)
       time_limit = std::min(time_limit, job.spec->map.time_limit_seconds);
-    request = encode_request(*job.spec, limits.time_limit_seconds, limits.threads);
+    try {
+      request = encode_request(*job.spec, limits.time_limit_seconds, limits.threads);
+    } catch (const std::bad_alloc&) {
+      request = std::string();
+      job.artifacts.clear();
+      job.metrics = nullptr;
+      job.error = JobError{507, "out_of_memory", "Out of memory",
+                           "the server ran out of memory writing this job's request to its "
+                           "worker; the job failed, the server and the other jobs are "
+                           "unaffected; try a smaller mesh"};
+      return JobStatus::kFailed;
+    }
   }
   if (!start()) {
     fail_job(job, 503, "worker_unavailable", "No worker process",
@@ -195,6 +208,15 @@ JobStatus WorkerProcess::run(Job& job, const RunLimits& limits) {
     return JobStatus::kFailed;
   }
   ++jobs_;
+  // Whatever throws from here on (std::bad_alloc buffering an answer) leaves no child
+  // behind with half an answer in its pipe: it is killed, the next job gets a fresh one.
+  struct KillOnThrow {
+    WorkerProcess& process;
+    int pending = std::uncaught_exceptions();
+    ~KillOnThrow() {
+      if (std::uncaught_exceptions() > pending) process.stop(true);
+    }
+  } kill_on_throw{*this};
   // Length first, then the request. The child reads all of it before it writes anything,
   // so the two never wait on each other. A child that has died makes the write fail
   // (EPIPE; SIGPIPE is ignored by the service) and the read below sees it.

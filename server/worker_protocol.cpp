@@ -51,8 +51,10 @@ class Writer {
                                  {"scene_name", look.scene_name},
                                  {"primitives", primitives}};
     put_string(json.dump());
-    put<uint64_t>(look.image_bytes.size());
-    for (const std::string& bytes : look.image_bytes) put_string(bytes);
+    // Each distinct image's bytes once, then which one each image uses.
+    put<uint64_t>(look.image_data.size());
+    for (const std::string& bytes : look.image_data) put_string(bytes);
+    put_vector(look.image_source);
     put<uint64_t>(look.attributes.size());
     for (const auto& a : look.attributes) {
       put_string(a.name);
@@ -114,7 +116,12 @@ class Reader {
                                  p[9].get<std::vector<std::string>>()});
     const uint64_t images = get<uint64_t>();
     if (images > json.at("images").size()) throw std::runtime_error("bad image count");
-    for (uint64_t i = 0; i < images; ++i) look.image_bytes.push_back(get_string());
+    for (uint64_t i = 0; i < images; ++i) look.image_data.push_back(get_string());
+    look.image_source = get_vector<size_t>();
+    if (look.image_source.size() != look.images.size()) throw std::runtime_error("bad images");
+    for (const size_t data : look.image_source)
+      if (data >= images && data != GltfAppearance::kNoImageData)
+        throw std::runtime_error("bad image source");
     const uint64_t attributes = get<uint64_t>();
     if (attributes > 16) throw std::runtime_error("bad attribute count");
     for (uint64_t i = 0; i < attributes; ++i) {

@@ -42,7 +42,8 @@ void expect_same_look(const GltfAppearance& in, const GltfAppearance& out) {
   EXPECT_EQ(out.textures, in.textures);
   EXPECT_EQ(out.samplers, in.samplers);
   EXPECT_EQ(out.cameras, in.cameras);
-  EXPECT_EQ(out.image_bytes, in.image_bytes);
+  EXPECT_EQ(out.image_data, in.image_data);
+  EXPECT_EQ(out.image_source, in.image_source);
   ASSERT_EQ(out.primitives.size(), in.primitives.size());
   for (size_t p = 0; p < in.primitives.size(); ++p) {
     EXPECT_EQ(out.primitives[p].material, in.primitives[p].material);
@@ -90,9 +91,10 @@ TEST(Appearance, ReadsMaterialsTexcoordsImagesAndNodes) {
   EXPECT_EQ(p.face_count, in.mesh.face_count());
   EXPECT_FALSE(p.mirrored);
   EXPECT_EQ(in.look.materials.size(), 1u);
-  ASSERT_EQ(in.look.image_bytes.size(), 1u);
+  ASSERT_EQ(in.look.image_data.size(), 1u);
+  ASSERT_NE(in.look.image_bytes(0), nullptr);
   EXPECT_EQ(in.look.images[0]["mimeType"], "image/png");
-  const auto image = decode_image(in.look.image_bytes[0], 1 << 20);
+  const auto image = decode_image(*in.look.image_bytes(0), 1 << 20);
   ASSERT_TRUE(image);
   EXPECT_EQ(image->width, 16);
   EXPECT_EQ(in.look.nodes.size(), 2u);
@@ -253,7 +255,8 @@ TEST(Appearance, GltfTextOutputReadsAsTheSameAsset) {
   const ReadBack a = read_with_look(glb), b = read_with_look(text);
   EXPECT_EQ(a.mesh.positions, b.mesh.positions);
   EXPECT_EQ(a.mesh.indices, b.mesh.indices);
-  EXPECT_EQ(a.look.image_bytes, b.look.image_bytes);
+  EXPECT_EQ(a.look.image_data, b.look.image_data);
+  EXPECT_EQ(a.look.image_source, b.look.image_source);
   EXPECT_THROW(glb_to_gltf("not a glb"), std::invalid_argument);
 }
 
@@ -295,13 +298,13 @@ TEST(Appearance, MissingImageBecomesAPlaceholder) {
   glb.json["images"][0].erase("bufferView");
   glb.json["images"][0]["uri"] = "texture.png";  // not supplied
   const ReadBack in = read_with_look(glb.bytes());
-  ASSERT_EQ(in.look.image_bytes.size(), 1u);
-  EXPECT_TRUE(in.look.image_bytes[0].empty());
+  ASSERT_EQ(in.look.images.size(), 1u);
+  EXPECT_EQ(in.look.image_bytes(0), nullptr);
   const MappedMesh mapped = map_mesh(in.mesh, {}, {});
   const ReadBack out =
       read_with_look(sphere_asset(in.mesh, mapped, {}, SphereLayout::kOriginal, 0, &in.look).glb);
-  ASSERT_EQ(out.look.image_bytes.size(), 1u);
-  const auto placeholder = decode_image(out.look.image_bytes[0], 16);
+  ASSERT_NE(out.look.image_bytes(0), nullptr);
+  const auto placeholder = decode_image(*out.look.image_bytes(0), 16);
   ASSERT_TRUE(placeholder);
   EXPECT_EQ(placeholder->width, 1);
 }

@@ -22,6 +22,7 @@ declare -A value=(
   [prepare]=exact [seconds]=2 [host]=127.0.0.1 [port]=0 [timeout]=1 [config]=$tmp/config.json
   [http-threads]=4 [job-time-limit-seconds]=60 [keep-alive-timeout-seconds]=2
   [max-body-bytes]=1000000 [max-faces]=1000 [max-jobs-kept]=10 [max-vertices]=1000
+  [max-resource-bytes]=2000000 [max-image-pixels]=1000000
   [queue-capacity]=4 [read-timeout-seconds]=5 [result-memory-bytes]=1000000
   [result-ttl-seconds]=60 [shutdown-grace-seconds]=1 [sync-timeout-seconds]=5
   [threads-per-job]=1 [workers]=1 [worker-isolation]=thread [worker-memory-bytes]=4000000000

@@ -70,4 +70,55 @@ inline std::string read_error(const std::string& bytes) {
   return "";
 }
 
+// A textured horseshoe whose bin also holds `image_bytes` of a PNG-looking image (its
+// signature, then zeros: enough for the reader, which only sniffs the type), named by
+// `references` more images.
+inline std::string many_images_naming_one_view(size_t image_bytes, size_t references) {
+  Glb glb(textured_glb(horseshoe()));
+  std::string image = "\x89PNG\r\n\x1a\n";
+  image.resize(image_bytes, '\0');
+  while (glb.bin.size() % 4) glb.bin.push_back('\0');
+  const size_t view = glb.json["bufferViews"].size();
+  glb.json["bufferViews"].push_back(
+      {{"buffer", 0}, {"byteOffset", glb.bin.size()}, {"byteLength", image.size()}});
+  glb.bin += image;
+  glb.json["buffers"][0]["byteLength"] = glb.bin.size();
+  for (size_t i = 0; i < references; ++i)
+    glb.json["images"].push_back({{"bufferView", view}, {"mimeType", "image/png"}});
+  return glb.bytes();
+}
+
+// `primitives` one-triangle primitives, each naming accessor 1 (a MAT4 float accessor of
+// `big_count` elements) as TEXCOORD_0, NORMAL and COLOR_0, and accessor 2 (VEC2 float,
+// 3 elements: a valid TEXCOORD_1) shared by all of them.
+inline std::string primitives_naming_one_big_accessor(size_t primitives, size_t big_count) {
+  Glb glb(sphere_glb());
+  const float triangle[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+  const float uv[6] = {0, 0, 1, 0, 0, 1};
+  std::string bin(reinterpret_cast<const char*>(triangle), sizeof triangle);
+  bin.append(reinterpret_cast<const char*>(uv), sizeof uv);
+  const size_t big_at = bin.size();
+  bin.resize(big_at + big_count * 64, '\0');
+  glb.bin = bin;
+  glb.json["buffers"] = {{{"byteLength", bin.size()}}};
+  glb.json["bufferViews"] = {
+      {{"buffer", 0}, {"byteOffset", 0}, {"byteLength", 36}},
+      {{"buffer", 0}, {"byteOffset", big_at}, {"byteLength", big_count * 64}},
+      {{"buffer", 0}, {"byteOffset", 36}, {"byteLength", 24}}};
+  glb.json["accessors"] = {
+      {{"bufferView", 0}, {"componentType", 5126}, {"count", 3}, {"type", "VEC3"}},
+      {{"bufferView", 1}, {"componentType", 5126}, {"count", big_count}, {"type", "MAT4"}},
+      {{"bufferView", 2}, {"componentType", 5126}, {"count", 3}, {"type", "VEC2"}}};
+  nlohmann::json list = nlohmann::json::array();
+  for (size_t p = 0; p < primitives; ++p)
+    list.push_back(
+        {{"attributes",
+          {{"POSITION", 0}, {"TEXCOORD_0", 1}, {"NORMAL", 1}, {"COLOR_0", 1}, {"TEXCOORD_1", 2}}}});
+  glb.json["meshes"] = {{{"primitives", list}}};
+  glb.json["nodes"] = {{{"mesh", 0}}};
+  glb.json["scenes"] = {{{"nodes", {0}}}};
+  glb.json["scene"] = 0;
+  return glb.bytes();
+}
+
 }  // namespace spheremap::testing

@@ -85,5 +85,26 @@ TEST(Intake, WorkPastTheDeadlineStopsAtItsNextStage) {
             "503 intake_timeout");
 }
 
+// SIGTERM: a reader under way sees its deadline as passed (the glTF reader and the weld
+// ask every few thousand elements), so no reader holds the process, whatever its timeout.
+TEST(Intake, StopReadingEndsWorkUnderWayAsShuttingDown) {
+  Intake intake(1, 3600);
+  std::atomic<bool> started{false};
+  std::thread stopper([&] {
+    while (!started) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    intake.stop_reading();
+  });
+  EXPECT_EQ(slug_of([&] {
+              intake.run([&](const IntakeDeadline& deadline) {
+                started = true;
+                while (!deadline.passed())  // as the readers' should_stop asks
+                  std::this_thread::sleep_for(std::chrono::milliseconds(1));
+                deadline.check("a test stage");
+              });
+            }),
+            "503 shutting_down");
+  stopper.join();
+}
+
 }  // namespace
 }  // namespace spheremap

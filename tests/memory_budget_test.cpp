@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "server/job_memory.h"
+#include "tests/gltf_files.h"
 
 namespace spheremap {
 namespace {
@@ -96,6 +97,29 @@ TEST(JobMemory, EstimatesGrowWithTrianglesAndTheRemesh) {
   spec.outputs = {"sphere", "remesh"};
   spec.remesh_resolution = 1024;
   EXPECT_EQ(server::estimated_job_bytes(spec), small + (96u << 20) + 400 * 1024 * 1024);
+}
+
+TEST(JobMemory, TheRemeshCountsItsDecodedBaseColourPixels) {
+  api::JobSpec spec;
+  spec.input = read_gltf(testing::as_bytes(testing::textured_glb(testing::horseshoe())), {},
+                         nullptr, nullptr, &spec.look);
+  spec.outputs = {"sphere", "remesh"};
+  spec.remesh_resolution = 64;
+  const size_t textured = server::estimated_job_bytes(spec);
+  spec.look.primitives[0].material = -1;  // no texture sampled
+  EXPECT_EQ(textured - server::estimated_job_bytes(spec), 4u * 16 * 16);
+}
+
+TEST(JobMemory, TheInputsImagesCountOnceEach) {
+  api::JobSpec spec;
+  spec.input = read_gltf(testing::as_bytes(testing::many_images_naming_one_view(1 << 20, 100)), {},
+                         nullptr, nullptr, &spec.look);
+  const size_t with_images = server::estimated_job_bytes(spec);
+  const size_t image_bytes = spec.look.image_data[0].size() + spec.look.image_data[1].size();
+  spec.look.image_data.clear();
+  // Held, and written into sphere.glb: twice the distinct bytes, not 101 x.
+  EXPECT_EQ(with_images - server::estimated_job_bytes(spec), 2 * image_bytes);
+  EXPECT_LT(2 * image_bytes, size_t{3} << 20);
 }
 
 }  // namespace

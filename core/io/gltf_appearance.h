@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cstddef>
 #include <cstdint>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -27,9 +28,15 @@ struct GltfAppearance {
   nlohmann::json samplers = nlohmann::json::array();
   nlohmann::json cameras = nlohmann::json::array();
   nlohmann::json images = nlohmann::json::array();  // name and mimeType only
-  // Encoded bytes per image; empty when the file did not carry them (an external image
-  // not supplied): writers put a 1x1 grey placeholder there.
-  std::vector<std::string> image_bytes;
+  // Encoded bytes per distinct image source (a bufferView, a data: URI, a file), each read
+  // once: images that name one source share its entry, and every output writes it once
+  // (a file whose 480 images name one bufferView holds its bytes once, not 480 times).
+  std::vector<std::string> image_data;
+  // Per image, its entry in image_data, or kNoImageData when the file did not carry its
+  // bytes (an external image not supplied, an unknown format): writers put a 1x1 grey
+  // placeholder there.
+  static constexpr size_t kNoImageData = SIZE_MAX;
+  std::vector<size_t> image_source;
   // Extensions the copied arrays use (materials, textures): for extensionsUsed/Required.
   std::vector<std::string> extensions_used, extensions_required;
 
@@ -63,6 +70,12 @@ struct GltfAppearance {
     std::vector<float> values;
   };
   std::vector<Attribute> attributes;
+
+  // The encoded bytes of image `image`, or nullptr when there are none.
+  const std::string* image_bytes(size_t image) const {
+    if (image >= image_source.size() || image_source[image] >= image_data.size()) return nullptr;
+    return &image_data[image_source[image]];
+  }
 
   const Attribute* attribute(const std::string& name) const {
     for (const Attribute& a : attributes)

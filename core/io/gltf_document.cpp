@@ -37,7 +37,7 @@ uint32_t read_u32(std::span<const uint8_t> bytes, size_t at) {
   return v;  // glTF is little-endian, as every platform we build for
 }
 
-std::vector<uint8_t> decode_base64(std::string_view text) {
+std::string decode_base64(std::string_view text, StopCheck& stop) {
   auto value = [](char c) -> int {
     if (c >= 'A' && c <= 'Z') return c - 'A';
     if (c >= 'a' && c <= 'z') return c - 'a' + 26;
@@ -46,11 +46,12 @@ std::vector<uint8_t> decode_base64(std::string_view text) {
     if (c == '/') return 63;
     return -1;
   };
-  std::vector<uint8_t> out;
+  std::string out;
   out.reserve(text.size() / 4 * 3);
   uint32_t accumulator = 0;
   int bits = 0;
   for (char c : text) {
+    stop.tick();
     if (c == '=') break;
     const int v = value(c);
     if (v < 0) fail("a data: URI holds a character that is not base64");
@@ -58,7 +59,7 @@ std::vector<uint8_t> decode_base64(std::string_view text) {
     bits += 6;
     if (bits >= 8) {
       bits -= 8;
-      out.push_back(static_cast<uint8_t>(accumulator >> bits));
+      out.push_back(static_cast<char>(accumulator >> bits));
     }
   }
   return out;
@@ -140,8 +141,12 @@ size_t index_field(const nlohmann::json& object, const char* key, size_t limit, 
 }
 
 Document::Document(std::span<const uint8_t> bytes, const GltfResources* resources,
-                   size_t max_decoded_bytes)
-    : resources_(resources), decode_budget_(max_decoded_bytes) {
+                   const DocumentLimits& limits)
+    : resources_(resources),
+      resource_limit_(limits.max_resource_bytes),
+      resource_budget_(limits.max_resource_bytes),
+      stop_(limits.should_stop),
+      decode_budget_(limits.max_decoded_bytes) {
   std::span<const uint8_t> json_text = bytes, bin;
   bool has_bin = false;
   if (bytes.empty()) fail("empty file (0 bytes)");
@@ -191,7 +196,7 @@ Document::Document(std::span<const uint8_t> bytes, const GltfResources* resource
       (*asset)["version"].get<std::string>().rfind("2.", 0) != 0)
     fail("not a glTF 2.0 asset (asset.version must be \"2.x\")");
   check_required_extensions();
-  load_buffers(bin, has_bin, resources);
+  load_buffers(bin, has_bin);
 }
 
 bool Document::uses_extension(const char* name) const {
@@ -219,8 +224,7 @@ void Document::check_required_extensions() const {
   }
 }
 
-void Document::load_buffers(std::span<const uint8_t> bin, bool has_bin,
-                            const GltfResources* resources) {
+void Document::load_buffers(std::span<const uint8_t> bin, bool has_bin) {
   const auto it = json_.find("buffers");
   if (it == json_.end()) return;
   if (!it->is_array()) fail("buffers is not an array");
@@ -233,7 +237,8 @@ void Document::load_buffers(std::span<const uint8_t> bin, bool has_bin,
     if (length_it == b.end() || !length_it->is_number_unsigned())
       fail("buffer " + std::to_string(i) + " has no valid byteLength");
     const uint64_t declared = length_it->get<uint64_t>();
-    std::vector<uint8_t> data;
+    const std::string name = "buffer " + std::to_string(i);
+    std::span<const uint8_t> data;
     const auto meshopt = b.find("extensions");
     const bool fallback = meshopt != b.end() && meshopt->is_object() &&
                           meshopt->contains("EXT_meshopt_compression") &&
@@ -247,19 +252,20 @@ void Document::load_buffers(std::span<const uint8_t> bin, bool has_bin,
         if (comma == std::string::npos ||
             text.substr(0, comma).find(";base64") == std::string::npos)
           fail("buffer " + std::to_string(i) + " has a data: URI that is not base64");
-        data = decode_base64(std::string_view(text).substr(comma + 1));
+        const std::string& decoded =
+            owned_.emplace_back(decode_data_uri(std::string_view(text).substr(comma + 1), name));
+        data = {reinterpret_cast<const uint8_t*>(decoded.data()), decoded.size()};
       } else {
         const std::string path = checked_resource_path(text);
-        std::optional<std::string> bytes;
-        if (resources) bytes = resources->fetch(path, kMaxResourceBytes);
+        const auto bytes = file(path);
         if (!bytes) {
           if (missing.size() < 8) missing.push_back(describe_json(path));
           continue;
         }
-        data.assign(bytes->begin(), bytes->end());
+        data = *bytes;
       }
     } else if (i == 0 && has_bin) {
-      data.assign(bin.begin(), bin.end());
+      data = bin;  // read in place: the caller's bytes outlive the Document
     } else if (fallback) {
       placeholder_[i] = 1;  // its views are all compressed; nothing to read here
       buffers_.emplace_back();
@@ -270,16 +276,50 @@ void Document::load_buffers(std::span<const uint8_t> bin, bool has_bin,
     if (data.size() < declared)
       fail("buffer " + std::to_string(i) + " declares " + std::to_string(declared) +
            " bytes but holds " + std::to_string(data.size()));
-    data.resize(static_cast<size_t>(declared));
-    buffers_.push_back(std::move(data));
+    buffers_.push_back(data.first(static_cast<size_t>(declared)));
   }
   if (!missing.empty()) {
     std::string list;
     for (const auto& m : missing) list += (list.empty() ? "" : ", ") + m;
     throw InputError("missing_resources",
                      "the .gltf names file(s) that were not supplied: " + list +
-                         (resources ? "; " + resources->how_to_supply() : std::string()));
+                         (resources_ ? "; " + resources_->how_to_supply() : std::string()));
   }
+}
+
+std::optional<std::span<const uint8_t>> Document::file(const std::string& path) const {
+  if (const auto known = files_.find(path); known != files_.end()) return known->second;
+  if (!resources_) return std::nullopt;
+  std::optional<std::string> bytes;
+  try {
+    bytes = resources_->fetch(path, std::min(kMaxResourceBytes, resource_budget_));
+  } catch (const InputError& e) {
+    if (e.check() != "too_large" || resource_budget_ >= kMaxResourceBytes) throw;
+    throw InputError("too_large", "the file " + describe_json(path) +
+                                      " takes the glTF's buffers and images over " +
+                                      std::to_string(resource_limit_) + " bytes in all, the limit");
+  }
+  if (!bytes) return std::nullopt;
+  charge(bytes->size(), "the file " + describe_json(path));
+  const std::string& kept = owned_.emplace_back(std::move(*bytes));
+  const std::span<const uint8_t> span(reinterpret_cast<const uint8_t*>(kept.data()), kept.size());
+  files_.emplace(path, span);
+  return span;
+}
+
+std::string Document::decode_data_uri(std::string_view base64, const std::string& what) const {
+  charge(base64.size() / 4 * 3 + 3, what + "'s data: URI");  // before the bytes are made
+  return decode_base64(base64, stop_);
+}
+
+void Document::charge(size_t bytes, const std::string& what) const {
+  if (bytes > resource_budget_)
+    throw InputError("too_large", what + " (" + std::to_string(bytes) +
+                                      " bytes) takes the glTF's buffers and images over " +
+                                      std::to_string(resource_limit_) +
+                                      " bytes in all, the limit (each distinct source counts "
+                                      "once)");
+  resource_budget_ -= bytes;
 }
 
 const nlohmann::json& Document::element(const char* key, size_t index) const {
@@ -307,7 +347,7 @@ std::span<const uint8_t> Document::buffer_range(const nlohmann::json& object, si
   if (offset > available || length > available - offset)
     fail(name + " (bytes " + std::to_string(offset) + "+" + std::to_string(length) +
          ") runs past its buffer of " + std::to_string(available) + " bytes");
-  return std::span<const uint8_t>(buffers_[buffer]).subspan(offset, length);
+  return buffers_[buffer].subspan(offset, length);
 }
 
 std::span<const uint8_t> Document::buffer_view(size_t index) const {
@@ -421,10 +461,12 @@ std::vector<double> Document::read_numbers(const AccessorView& v, size_t index) 
   const size_t size = component_size(v.component_type);
   const size_t components = static_cast<size_t>(v.components);
   std::vector<double> out(v.count * components);
-  for (size_t i = 0; i < v.count; ++i)
+  for (size_t i = 0; i < v.count; ++i) {
+    stop_.tick(components);
     for (size_t c = 0; c < components; ++c)
       out[i * components + c] =
           component_value(v.bytes.data() + i * v.stride + size * c, v.component_type, normalized);
+  }
   return out;
 }
 
@@ -446,6 +488,13 @@ std::vector<double> Document::read_positions(size_t index) const {
   return read_numbers(v, index);
 }
 
+Document::AccessorShape Document::accessor_shape(size_t index) const {
+  const AccessorView v = accessor(index);
+  const nlohmann::json& a = element("accessors", index);
+  return {v.count, v.components, v.component_type,
+          a.contains("normalized") && a["normalized"] == true};
+}
+
 std::vector<double> Document::read_attribute(size_t index, int* components) const {
   const AccessorView v = accessor(index);
   *components = v.components;
@@ -457,6 +506,7 @@ std::optional<std::string> Document::image_bytes(size_t index) const {
   if (const size_t view = index_field(image, "bufferView", SIZE_MAX, "image.bufferView");
       view != SIZE_MAX) {
     const std::span<const uint8_t> bytes = buffer_view(view);
+    charge(bytes.size(), "image " + std::to_string(index));
     return std::string(reinterpret_cast<const char*>(bytes.data()), bytes.size());
   }
   const auto uri = image.find("uri");
@@ -466,11 +516,13 @@ std::optional<std::string> Document::image_bytes(size_t index) const {
     const size_t comma = text.find(',');
     if (comma == std::string::npos || text.substr(0, comma).find(";base64") == std::string::npos)
       return std::nullopt;
-    const std::vector<uint8_t> data = decode_base64(std::string_view(text).substr(comma + 1));
-    return std::string(data.begin(), data.end());
+    return decode_data_uri(std::string_view(text).substr(comma + 1),
+                           "image " + std::to_string(index));
   }
-  if (!resources_) return std::nullopt;
-  return resources_->fetch(checked_resource_path(text), kMaxResourceBytes);
+  const auto bytes = file(checked_resource_path(text));
+  if (!bytes) return std::nullopt;
+  charge(bytes->size(), "image " + std::to_string(index));
+  return std::string(reinterpret_cast<const char*>(bytes->data()), bytes->size());
 }
 
 std::vector<uint32_t> Document::read_indices(size_t index, size_t vertex_count) const {
@@ -480,6 +532,7 @@ std::vector<uint32_t> Document::read_indices(size_t index, size_t vertex_count) 
     fail("index accessor " + std::to_string(index) + " must be an unsigned SCALAR");
   std::vector<uint32_t> out(v.count);
   for (size_t i = 0; i < v.count; ++i) {
+    stop_.tick();
     const uint8_t* p = v.bytes.data() + i * v.stride;
     uint32_t value = 0;
     if (v.component_type == 5121)

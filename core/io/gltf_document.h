@@ -2,6 +2,8 @@
 // access to accessors. Internal to the glTF reader.
 #pragma once
 
+#include <deque>
+#include <functional>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <optional>
@@ -10,6 +12,7 @@
 #include <vector>
 
 #include "core/io/gltf_resources.h"
+#include "core/mesh/stop_check.h"
 
 namespace spheremap::gltf {
 
@@ -19,14 +22,21 @@ namespace spheremap::gltf {
 // image formats): what outputs that keep the input's materials may keep.
 bool material_extension(const std::string& name);
 
+struct DocumentLimits {
+  size_t max_decoded_bytes = SIZE_MAX;   // EXT_meshopt_compression views decoded, in all
+  size_t max_resource_bytes = SIZE_MAX;  // buffers and images held, in all
+  const std::function<bool()>* should_stop = nullptr;  // see GltfReadOptions
+};
+
 class Document {
  public:
-  // bytes: a GLB file or glTF JSON text. `resources` supplies the files that buffer URIs
-  // name (none: every such URI is reported missing). EXT_meshopt_compression views decode
-  // to at most `max_decoded_bytes` in all. Checks extensionsRequired first: an extension
-  // that changes geometry and is not read here is refused by name.
+  // bytes: a GLB file or glTF JSON text, which must outlive the Document (its binary
+  // chunk is read in place). `resources` supplies the files that URIs name (none: every
+  // such URI is reported missing); each file is fetched once however many buffers name
+  // it. Checks extensionsRequired first: an extension that changes geometry and is not
+  // read here is refused by name.
   Document(std::span<const uint8_t> bytes, const GltfResources* resources,
-           size_t max_decoded_bytes);
+           const DocumentLimits& limits);
 
   const nlohmann::json& json() const { return json_; }
   // The bytes of bufferView `index`, checked against its buffer.
@@ -38,9 +48,19 @@ class Document {
   // Any accessor as doubles (normalized integers scaled to [0, 1] or [-1, 1]), `components`
   // per element, which is set.
   std::vector<double> read_attribute(size_t index, int* components) const;
+  // Accessor `index`'s declared count, type's components and componentType, checked
+  // against its view but not decoded: what a caller checks before it decodes.
+  struct AccessorShape {
+    size_t count;
+    int components, component_type;
+    bool normalized;
+  };
+  AccessorShape accessor_shape(size_t index) const;
   // The encoded bytes of image `index` (its bufferView, data: URI or file from the
-  // resources), or nothing when they are not available.
+  // resources), or nothing when they are not available. Charged to max_resource_bytes.
   std::optional<std::string> image_bytes(size_t index) const;
+  // Asks the stop callback every few thousand calls (see StopCheck).
+  void tick(size_t elements = 1) const { stop_.tick(elements); }
 
   // Array element `index` of json()[key], or fail naming the reference.
   const nlohmann::json& element(const char* key, size_t index) const;
@@ -58,15 +78,27 @@ class Document {
   AccessorView accessor(size_t index) const;
   std::vector<double> read_numbers(const AccessorView& view, size_t index) const;
   void check_required_extensions() const;
-  void load_buffers(std::span<const uint8_t> bin_chunk, bool has_bin,
-                    const GltfResources* resources);
+  void load_buffers(std::span<const uint8_t> bin_chunk, bool has_bin);
   std::span<const uint8_t> buffer_range(const nlohmann::json& object, size_t buffer_limit,
                                         const std::string& name) const;
   bool uses_extension(const char* name) const;
+  // The file at `path` from the resources, fetched once and kept; nothing when missing.
+  std::optional<std::span<const uint8_t>> file(const std::string& path) const;
+  // A data: URI's bytes, decoded (and charged) here.
+  std::string decode_data_uri(std::string_view base64, const std::string& what) const;
+  // Takes `bytes` from the resource budget, or throws InputError("too_large").
+  void charge(size_t bytes, const std::string& what) const;
 
   nlohmann::json json_;
   const GltfResources* resources_;  // lives as long as the Document (read_gltf's caller)
-  std::vector<std::vector<uint8_t>> buffers_;
+  // Per buffer, its bytes: in the GLB's binary chunk, or in `owned_` (decoded data:
+  // URIs, fetched files). Buffers naming one file share its one copy.
+  std::vector<std::span<const uint8_t>> buffers_;
+  mutable std::deque<std::string> owned_;  // a deque: spans into it stay valid
+  mutable std::map<std::string, std::span<const uint8_t>> files_;
+  size_t resource_limit_;
+  mutable size_t resource_budget_;
+  mutable StopCheck stop_;
   // Buffers that only stand in for EXT_meshopt_compression data ("fallback": true, no uri).
   std::vector<char> placeholder_;
   // Decoded EXT_meshopt_compression views, by view index, and the bytes left to decode.

@@ -56,6 +56,17 @@ bool texture_resolves(const nlohmann::json& texture, size_t images, size_t sampl
   return true;
 }
 
+// Which bytes an image names, so that images naming the same ones share one copy: its
+// bufferView or its URI (data: or a file); empty when it names neither.
+std::string image_source_key(const nlohmann::json& image) {
+  if (!image.is_object()) return "";
+  if (const auto view = image.find("bufferView"); view != image.end())
+    return "view:" + view->dump();
+  if (const auto uri = image.find("uri"); uri != image.end() && uri->is_string())
+    return "uri:" + uri->get<std::string>();
+  return "";
+}
+
 std::vector<std::string> appearance_extensions(const nlohmann::json& json, const char* key) {
   std::vector<std::string> out;
   for (const auto& e : array_of(json, key))
@@ -113,22 +124,37 @@ void copy_scene_look(const Document& doc, const std::vector<size_t>& roots,
     look.materials = look.textures = look.samplers = nlohmann::json::array();
     for (auto& p : look.primitives) p.material = -1;
   } else {
+    std::map<std::string, size_t> data_of_source;  // image_source_key -> image_data entry
+    std::vector<std::string> types;                // per image_data entry
     for (size_t i = 0; i < images; ++i) {
       const nlohmann::json& image = json["images"][i];
-      std::string bytes;
-      try {
-        if (image.is_object()) bytes = doc.image_bytes(i).value_or("");
-      } catch (const InputError&) {
-        bytes.clear();  // an image we cannot read is replaced, not a reason to refuse
+      const std::string key = image_source_key(image);
+      size_t data = GltfAppearance::kNoImageData;
+      if (const auto known = data_of_source.find(key);
+          !key.empty() && known != data_of_source.end()) {
+        data = known->second;
+      } else {
+        std::string bytes;
+        try {
+          if (image.is_object()) bytes = doc.image_bytes(i).value_or("");
+        } catch (const InputError& e) {
+          // An image we cannot read is replaced, not a reason to refuse; a limit is.
+          if (e.check() != "gltf") throw;
+          bytes.clear();
+        }
+        if (std::string type = image_type(bytes); !type.empty()) {
+          data = look.image_data.size();
+          look.image_data.push_back(std::move(bytes));
+          types.push_back(std::move(type));
+        }
+        if (!key.empty()) data_of_source.emplace(key, data);
       }
       nlohmann::json copy = nlohmann::json::object();
       if (image.is_object() && image.contains("name") && image["name"].is_string())
         copy["name"] = image["name"];
-      const std::string type = image_type(bytes);
-      if (type.empty()) bytes.clear();
-      copy["mimeType"] = type.empty() ? "image/png" : type;
+      copy["mimeType"] = data == GltfAppearance::kNoImageData ? "image/png" : types[data];
       look.images.push_back(std::move(copy));
-      look.image_bytes.push_back(std::move(bytes));
+      look.image_source.push_back(data);
     }
     look.extensions_used = appearance_extensions(json, "extensionsUsed");
     look.extensions_required = appearance_extensions(json, "extensionsRequired");

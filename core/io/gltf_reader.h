@@ -9,6 +9,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <span>
 #include <string>
 
@@ -27,6 +28,13 @@ struct GltfReadOptions {
   // Over either cap: InputError("too_large") (the service answers 413).
   size_t max_vertices = 20'000'000;
   size_t max_triangles = 40'000'000;
+  // Bytes of buffers and images held in all (data: URIs decoded, files supplied, images
+  // copied out), each distinct source counted once however many references name it;
+  // over it: InputError("too_large").
+  size_t max_resource_bytes = size_t{4} << 30;
+  // Asked every few thousand elements while reading: true stops the read with
+  // InputError("stopped") (an intake deadline passed, the process is shutting down).
+  std::function<bool()> should_stop;
 };
 
 // What was read, for reports: primitives used and skipped (points, lines).

@@ -58,6 +58,30 @@ std::string image_type(std::string_view bytes) {
   return "";
 }
 
+size_t image_pixels(std::string_view bytes) {
+  const std::string type = image_type(bytes);
+  if (type == "image/png") {
+    png_image image{};
+    image.version = PNG_IMAGE_VERSION;
+    if (!png_image_begin_read_from_memory(&image, bytes.data(), bytes.size())) return 0;
+    const size_t pixels = static_cast<size_t>(image.width) * image.height;
+    png_image_free(&image);
+    return pixels;
+  }
+  if (type == "image/jpeg") {
+    const std::unique_ptr<void, int (*)(tjhandle)> handle(tjInitDecompress(), tjDestroy);
+    int width = 0, height = 0, subsampling = 0, colorspace = 0;
+    if (!handle ||
+        tjDecompressHeader3(handle.get(), reinterpret_cast<const unsigned char*>(bytes.data()),
+                            static_cast<unsigned long>(bytes.size()), &width, &height, &subsampling,
+                            &colorspace) ||
+        width <= 0 || height <= 0)
+      return 0;
+    return static_cast<size_t>(width) * static_cast<size_t>(height);
+  }
+  return 0;
+}
+
 std::optional<RgbaImage> decode_image(std::string_view bytes, size_t max_pixels) {
   const std::string type = image_type(bytes);
   if (type == "image/png") return decode_png(bytes, max_pixels);

@@ -20,6 +20,10 @@ struct RgbaImage {
 // "" when none of these.
 std::string image_type(std::string_view bytes);
 
+// The width x height a PNG's or JPEG's header declares, without decoding a pixel; 0 when
+// it is neither or its header does not read.
+size_t image_pixels(std::string_view bytes);
+
 // The image, or nothing when it is not a PNG or JPEG that decodes, or has more than
 // `max_pixels` pixels.
 std::optional<RgbaImage> decode_image(std::string_view bytes, size_t max_pixels);

@@ -159,12 +159,17 @@ GlbParts build_scene_glb(const GltfAppearance& look, const SceneGeometry& g,
     meshes[it->second]["primitives"].push_back(std::move(primitive));
   }
   if (!meshes.empty()) meshes[0]["extras"] = extras;
+  // Each distinct image's bytes once, however many images name them (one view each).
   nlohmann::json images = nlohmann::json::array();
+  std::map<size_t, size_t> view_of_data;  // image_data entry (kNoImageData: placeholder)
   for (size_t i = 0; i < look.images.size(); ++i) {
-    const bool present = i < look.image_bytes.size() && !look.image_bytes[i].empty();
+    const std::string* bytes = look.image_bytes(i);
+    const size_t data = bytes ? look.image_source[i] : GltfAppearance::kNoImageData;
+    auto [view, added] = view_of_data.emplace(data, 0);
+    if (added) view->second = b.add_view(bytes ? *bytes : placeholder_png());
     nlohmann::json image = look.images[i];
-    image["bufferView"] = b.add_view(present ? look.image_bytes[i] : placeholder_png());
-    if (!present) image["mimeType"] = "image/png";
+    image["bufferView"] = view->second;
+    if (!bytes) image["mimeType"] = "image/png";
     images.push_back(std::move(image));
   }
   nlohmann::json scene = {{"nodes", roots}};

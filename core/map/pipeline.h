@@ -2,6 +2,7 @@
 // tool and the service: weld -> validate -> map -> verify -> metrics.
 #pragma once
 
+#include <functional>
 #include <string>
 
 #include "core/map/metrics.h"

@@ -181,12 +181,18 @@ long long TopologyReport::genus() const {
   return (2 - euler_characteristic) / 2;
 }
 
-TopologyReport analyze_topology(const PolygonMesh& mesh) {
+TopologyReport analyze_topology(const PolygonMesh& mesh, const StopCheck* stop) {
+  const auto ask = [stop] {
+    if (stop) stop->check();
+  };
   TopologyReport r;
   r.faces = mesh.face_count();
   count_faces(mesh, r);
+  ask();
   measure_geometry(mesh, r);
+  ask();
   analyze_edges(mesh, r);
+  ask();
   find_components(mesh, r);
   r.euler_characteristic = static_cast<long long>(r.vertices) - static_cast<long long>(r.edges) +
                            static_cast<long long>(r.faces);

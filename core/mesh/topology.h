@@ -10,6 +10,7 @@
 
 #include "core/mesh/input_error.h"
 #include "core/mesh/mesh.h"
+#include "core/mesh/stop_check.h"
 
 namespace spheremap {
 
@@ -39,7 +40,9 @@ struct TopologyReport {
   long long genus() const;
 };
 
-TopologyReport analyze_topology(const PolygonMesh& mesh);
+// `stop` (optional) is asked between its passes (each well under a second at the
+// service's caps): it may end the analysis with InputError("stopped").
+TopologyReport analyze_topology(const PolygonMesh& mesh, const StopCheck* stop = nullptr);
 
 struct ValidationFailure {
   ValidationFailure(std::string check_name, std::string text, Fix option = {})

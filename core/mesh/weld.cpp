@@ -31,7 +31,7 @@ void unite_equal(const std::vector<Vec3>& p, UnionFind& sets) {
 // pair within radius and skipping cells already in one set. A large tolerance no longer
 // compares every pair (measured: weld_tolerance = 1 was O(n^2) on the HTTP thread); the
 // comparisons are still capped, with an error that names the option.
-void unite_within(const std::vector<Vec3>& p, double radius, UnionFind& sets) {
+void unite_within(const std::vector<Vec3>& p, double radius, UnionFind& sets, StopCheck& stop) {
   const double cell = radius / std::sqrt(3.0);
   auto cell_of = [&](const Vec3& q) {
     return std::array<int64_t, 3>{static_cast<int64_t>(std::floor(q.x / cell)),
@@ -46,8 +46,10 @@ void unite_within(const std::vector<Vec3>& p, double radius, UnionFind& sets) {
     }
   };
   std::unordered_map<std::array<int64_t, 3>, std::vector<uint32_t>, CellHash> grid;
-  for (uint32_t i = 0; i < p.size(); ++i)
+  for (uint32_t i = 0; i < p.size(); ++i) {
+    stop.tick();
     if (is_finite(p[i])) grid[cell_of(p[i])].push_back(i);
+  }
   for (const auto& [key, members] : grid)
     for (uint32_t m : members) sets.unite(members.front(), m);
   const double r2 = radius * radius;
@@ -65,7 +67,7 @@ void unite_within(const std::vector<Vec3>& p, double radius, UnionFind& sets) {
           bool joined = false;
           for (uint32_t i : members) {
             for (uint32_t j : other->second)
-              if (++tests, squared_norm(p[i] - p[j]) <= r2) {
+              if (++tests, stop.tick(), squared_norm(p[i] - p[j]) <= r2) {
                 joined = true;
                 break;
               }
@@ -92,12 +94,16 @@ double bounding_box_diagonal(const std::vector<Vec3>& p) {
 
 }  // namespace
 
-WeldResult weld(const PolygonMesh& input, double relative_tolerance) {
+WeldResult weld(const PolygonMesh& input, double relative_tolerance, StopCheck* stop) {
+  StopCheck never(nullptr);
+  StopCheck& check = stop ? *stop : never;
   const size_t n = input.vertex_count();
   UnionFind sets(n);
+  check.check();
   unite_equal(input.positions, sets);
+  check.check();  // the sort is not ticked: asked before and after it (~1 s at the caps)
   const double radius = relative_tolerance * bounding_box_diagonal(input.positions);
-  if (radius > 0) unite_within(input.positions, radius, sets);
+  if (radius > 0) unite_within(input.positions, radius, sets, check);
 
   std::vector<char> referenced(n, 0);
   for (uint32_t v : input.indices) referenced[v] = 1;

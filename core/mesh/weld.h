@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "core/mesh/mesh.h"
+#include "core/mesh/stop_check.h"
 
 namespace spheremap {
 
@@ -21,6 +22,8 @@ struct WeldResult {
 // tolerance = 0 welds exactly equal positions; > 0 welds positions closer than
 // tolerance * (bounding-box diagonal). Non-finite positions are never welded.
 // For an input without duplicates or unreferenced vertices the order is unchanged.
-WeldResult weld(const PolygonMesh& input, double relative_tolerance = 0.0);
+// `stop` (optional) is ticked as it goes: it may end the weld with InputError("stopped").
+WeldResult weld(const PolygonMesh& input, double relative_tolerance = 0.0,
+                StopCheck* stop = nullptr);
 
 }  // namespace spheremap

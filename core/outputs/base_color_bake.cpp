@@ -3,9 +3,11 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <set>
 
 #include "core/io/image_reader.h"
 #include "core/io/png_writer.h"
+#include "core/mesh/input_error.h"
 #include "core/mesh/parallel.h"
 #include "core/outputs/octahedral.h"
 #include "core/outputs/sphere_asset.h"
@@ -73,11 +75,35 @@ size_t unsigned_or(const nlohmann::json& object, const char* key, size_t fallbac
   return it != object.end() && it->is_number_unsigned() ? it->get<size_t>() : fallback;
 }
 
-// The base colour of every material, decoding each image it uses once.
+// Per material, whether a primitive draws with it.
+std::vector<char> drawn_materials(const GltfAppearance& look) {
+  std::vector<char> drawn(look.materials.size(), 0);
+  for (const auto& p : look.primitives)
+    if (p.material >= 0 && static_cast<size_t>(p.material) < drawn.size())
+      drawn[static_cast<size_t>(p.material)] = 1;
+  return drawn;
+}
+
+// The image material `m` takes its base colour from, or SIZE_MAX for none.
+size_t base_color_image(const GltfAppearance& look, size_t m) {
+  const auto pbr = look.materials[m].find("pbrMetallicRoughness");
+  if (pbr == look.materials[m].end() || !pbr->is_object()) return SIZE_MAX;
+  const auto info = pbr->find("baseColorTexture");
+  if (info == pbr->end() || !info->is_object()) return SIZE_MAX;
+  const nlohmann::json& t = look.textures.at(unsigned_or(*info, "index", 0));  // checked
+  return t.contains("source") && t["source"].is_number_unsigned() ? t["source"].get<size_t>()
+                                                                  : SIZE_MAX;
+}
+
+// The base colour of every material drawn, decoding each distinct image it uses once,
+// at most kMaxBaseColorPixels in all.
 std::vector<BaseColor> base_colors(const GltfAppearance& look, std::map<size_t, RgbaImage>& images,
                                    size_t& decoded) {
   std::vector<BaseColor> out(look.materials.size());
+  const std::vector<char> drawn = drawn_materials(look);
+  size_t pixels = 0;
   for (size_t m = 0; m < look.materials.size(); ++m) {
+    if (!drawn[m]) continue;  // its image is never sampled: not decoded
     const nlohmann::json pbr = look.materials[m].contains("pbrMetallicRoughness")
                                    ? look.materials[m]["pbrMetallicRoughness"]
                                    : nlohmann::json::object();
@@ -99,17 +125,40 @@ std::vector<BaseColor> base_colors(const GltfAppearance& look, std::map<size_t, 
       out[m].wrap_s = static_cast<int>(unsigned_or(s, "wrapS", kRepeat));
       out[m].wrap_t = static_cast<int>(unsigned_or(s, "wrapT", kRepeat));
     }
-    if (!images.count(source) && source < look.image_bytes.size())
-      if (auto image = decode_image(look.image_bytes[source], kMaxImagePixels)) {
-        images.emplace(source, std::move(*image));
+    // Keyed by the image's bytes, not the image: images sharing bytes decode once.
+    const std::string* bytes = look.image_bytes(source);
+    if (!bytes) continue;
+    const size_t data = look.image_source[source];
+    if (!images.count(data)) {
+      pixels += std::min(image_pixels(*bytes), kMaxImagePixels + 1);
+      if (pixels > kMaxBaseColorPixels)
+        throw InputError("too_large", "the base-colour images the remesh samples hold over " +
+                                          std::to_string(kMaxBaseColorPixels) +
+                                          " pixels in all, the limit of the colour bake");
+      if (auto image = decode_image(*bytes, kMaxImagePixels)) {
+        images.emplace(data, std::move(*image));
         ++decoded;
       }
-    if (const auto it = images.find(source); it != images.end()) out[m].image = &it->second;
+    }
+    if (const auto it = images.find(data); it != images.end()) out[m].image = &it->second;
   }
   return out;
 }
 
 }  // namespace
+
+size_t base_color_pixels(const GltfAppearance& look) {
+  const std::vector<char> drawn = drawn_materials(look);
+  std::set<size_t> counted;  // image_data entries
+  size_t pixels = 0;
+  for (size_t m = 0; m < look.materials.size(); ++m) {
+    const size_t image = drawn[m] ? base_color_image(look, m) : SIZE_MAX;
+    const std::string* bytes = image == SIZE_MAX ? nullptr : look.image_bytes(image);
+    if (bytes && counted.insert(look.image_source[image]).second)
+      pixels += std::min(image_pixels(*bytes), kMaxImagePixels + 1);
+  }
+  return pixels;
+}
 
 std::optional<BakedBaseColor> bake_base_color(const PolygonMesh& input, const GltfAppearance& look,
                                               const MappedMesh& mapped,

@@ -24,6 +24,14 @@ struct BakedBaseColor {
 // no material and no vertex colour. Preconditions: mapped.map.check.bijective; `look`
 // and `input` from one read_gltf() call, `mapped` prepared from `input`; `oriented` the
 // welded mesh's oriented_triangles() (the remesh has them already).
+// The most pixels bake_base_color decodes in all (4 bytes each); over it, it throws
+// InputError("too_large").
+inline constexpr size_t kMaxBaseColorPixels = size_t{1} << 26;
+
+// The pixels of each distinct image a drawn material takes its base colour from, read
+// from the images' headers (nothing decoded): what bake_base_color would decode.
+size_t base_color_pixels(const GltfAppearance& look);
+
 std::optional<BakedBaseColor> bake_base_color(const PolygonMesh& input, const GltfAppearance& look,
                                               const MappedMesh& mapped,
                                               std::span<const Triangle> oriented, int size,

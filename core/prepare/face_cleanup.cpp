@@ -210,11 +210,14 @@ std::vector<char> faces_to_flip(const PolygonMesh& welded, const std::vector<Vec
 
 }  // namespace
 
-FaceCleanup clean_faces(const PolygonMesh& input, double weld_tolerance) {
+FaceCleanup clean_faces(const PolygonMesh& input, double weld_tolerance, StopCheck* stop) {
   FaceCleanup report;
-  const WeldResult welded = weld(input, weld_tolerance);
+  const WeldResult welded = weld(input, weld_tolerance, stop);
+  if (stop) stop->check();
   WorkingFaces faces = drop_collapsed(input, welded.input_to_welded, report);
+  if (stop) stop->check();
   const std::vector<char> duplicate = duplicate_faces(faces.welded_ids);
+  if (stop) stop->check();
   report.duplicate_faces = static_cast<size_t>(std::count(duplicate.begin(), duplicate.end(), 1));
   if (report.duplicate_faces) faces = without(faces, duplicate);
   const std::vector<char> flip = faces_to_flip(faces.welded_ids, welded.mesh.positions, report);

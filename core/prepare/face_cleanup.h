@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "core/mesh/mesh.h"
+#include "core/mesh/stop_check.h"
 
 namespace spheremap {
 
@@ -34,6 +35,7 @@ struct FaceCleanup {
 // weld_tolerance as weld(): relative to the bounding-box diagonal, 0 = equal positions.
 // A part made consistent is made outward when it is closed (positive signed volume),
 // else keeps the orientation of most of its faces; parts already consistent are untouched.
-FaceCleanup clean_faces(const PolygonMesh& input, double weld_tolerance);
+// `stop` (may be null) is asked as it goes, as in weld().
+FaceCleanup clean_faces(const PolygonMesh& input, double weld_tolerance, StopCheck* stop = nullptr);
 
 }  // namespace spheremap

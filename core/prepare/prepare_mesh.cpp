@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "core/mesh/stop_check.h"
 #include "core/mesh/union_find.h"
 #include "core/prepare/face_cleanup.h"
 
@@ -58,15 +59,18 @@ const char* prepare_method_name(PrepareMethod method) {
 
 PreparedMesh prepare_mesh(const PolygonMesh& input, const PrepareOptions& options) {
   PreparedMesh prepared;
-  prepared.welded = weld(input, options.weld_tolerance);
+  StopCheck stop(&options.should_stop);
+  prepared.welded = weld(input, options.weld_tolerance, &stop);
+  stop.check();
   if (options.largest_component) keep_largest_component(prepared.welded);
-  prepared.topology = analyze_topology(prepared.welded.mesh);
+  stop.check();
+  prepared.topology = analyze_topology(prepared.welded.mesh, &stop);
   prepared.preparation.input_faces = input.face_count();
   if (!options.largest_component && prepared.topology.component_vertices.size() > 1) {
     WeldResult largest = prepared.welded;
     keep_largest_component(largest);
     prepared.largest_component_faces = largest.mesh.face_count();
-    prepared.largest_component_failures = mapping_failures(analyze_topology(largest.mesh));
+    prepared.largest_component_failures = mapping_failures(analyze_topology(largest.mesh, &stop));
   }
   return prepared;
 }
@@ -75,7 +79,8 @@ namespace {
 
 PreparedMesh prepare_once(PolygonMesh& input, GltfAppearance* look, const PrepareOptions& options) {
   if (options.method == PrepareMethod::kExact) return prepare_mesh(input, options);
-  FaceCleanup cleanup = clean_faces(input, options.weld_tolerance);
+  StopCheck stop(&options.should_stop);
+  FaceCleanup cleanup = clean_faces(input, options.weld_tolerance, &stop);
   const size_t input_faces = input.face_count();
   if (cleanup.changed()) {
     input = std::move(cleanup.mesh);

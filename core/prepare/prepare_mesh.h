@@ -4,6 +4,7 @@
 // caller checks the report (mapping_failures) and says why.
 #pragma once
 
+#include <functional>
 #include <string>
 
 #include "core/io/gltf_appearance.h"
@@ -25,6 +26,9 @@ struct PrepareOptions {
   // Keep only the connected component with the most faces (others are dropped, their
   // input vertices then map to nothing); otherwise several components are an error.
   bool largest_component = false;
+  // Asked while cleaning, welding and checking: true stops with InputError("stopped")
+  // (see StopCheck).
+  std::function<bool()> should_stop;
 };
 
 // What preparation did to the input, for the metrics ("preparation").

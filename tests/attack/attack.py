@@ -7,6 +7,7 @@ import http.client
 import json
 import os
 import socket
+import struct
 import sys
 import threading
 import time
@@ -211,6 +212,105 @@ expect("draco_position_bits=30", status, body, 400, "invalid_options")
 
 status, body = request("POST", "/v1/jobs", b"\x00" * 1000, {"Content-Type": "model/gltf-binary"})
 expect("1,000 zero bytes as GLB", status, body, 400, "malformed_gltf")
+
+
+def glb_parts(data):
+    """A GLB's JSON and binary chunk."""
+    json_length = int.from_bytes(data[12:16], "little")
+    document = json.loads(data[20:20 + json_length])
+    at = 20 + json_length
+    bin_length = int.from_bytes(data[at:at + 4], "little")
+    return document, data[at + 8:at + 8 + bin_length]
+
+
+def glb_of(document, binary):
+    text = json.dumps(document).encode()
+    text += b" " * (-len(text) % 4)
+    binary += b"\0" * (-len(binary) % 4)
+    total = 12 + 8 + len(text) + 8 + len(binary)
+    u32 = lambda v: v.to_bytes(4, "little")
+    return (u32(0x46546C67) + u32(2) + u32(total) + u32(len(text)) + u32(0x4E4F534A) + text +
+            u32(len(binary)) + u32(0x004E4942) + binary)
+
+
+def finished(job_id, seconds=120):
+    for _ in range(seconds * 10):
+        status, body = request("GET", "/v1/jobs/" + job_id)
+        answer = json.loads(body)
+        if answer["status"] in ("succeeded", "failed", "cancelled"):
+            return answer
+        time.sleep(0.1)
+    fail(f"job {job_id} did not finish in {seconds} s")
+
+
+# Security III: one buffer copied per reference. 480 images naming one 4 MB bufferView
+# were 480 copies in the server (std::bad_alloc under this cap: the server exited with
+# 134) and in the worker and sphere.glb; now the bytes are held and written once.
+document, binary = glb_parts(glb)
+image = b"\x89PNG\r\n\x1a\n" + b"\0" * (4 << 20)
+binary += b"\0" * (-len(binary) % 4)
+document["bufferViews"].append({"buffer": 0, "byteOffset": len(binary), "byteLength": len(image)})
+binary += image
+document["buffers"][0]["byteLength"] = len(binary)
+view = len(document["bufferViews"]) - 1
+document["images"] = [{"bufferView": view, "mimeType": "image/png"} for _ in range(480)]
+status, body = request("POST", "/v1/jobs", glb_of(document, binary),
+                       {"Content-Type": "model/gltf-binary"})
+if status != 202:
+    fail(f"480 images naming one 4 MB bufferView: {status} {body[:300]!r}")
+answer = finished(json.loads(body)["id"])
+if answer["status"] != "succeeded":
+    fail("480 images naming one 4 MB bufferView: " + json.dumps(answer)[:300])
+status, sphere = request("GET", answer["artifacts"]["sphere.glb"]["href"])
+if status != 200 or len(sphere) > 6 << 20:
+    fail(f"480 images naming one 4 MB bufferView: sphere.glb {status}, {len(sphere)} bytes")
+print(f"480 images naming one 4 MB bufferView: mapped, sphere.glb {len(sphere) >> 10} KiB "
+      "(the image once)")
+
+# The same through a multipart .gltf whose 200 buffers all name one 4 MB part.
+document, binary = glb_parts(glb)
+binary += b"\0" * (4 << 20)
+document["buffers"] = [{"uri": "scene.bin", "byteLength": len(binary)} for _ in range(200)]
+parts = [("mesh", "scene.gltf", json.dumps(document).encode()), ("scene.bin", "scene.bin", binary)]
+form = b"".join(f"--{boundary}\r\nContent-Disposition: form-data; name=\"{name}\"; "
+                f"filename=\"{file}\"\r\nContent-Type: application/octet-stream\r\n\r\n"
+                .encode() + data + b"\r\n" for name, file, data in parts) + f"--{boundary}--\r\n".encode()
+status, body = request("POST", "/v1/jobs", form,
+                       {"Content-Type": f"multipart/form-data; boundary={boundary}"})
+if status != 202:
+    fail(f".gltf with 200 buffers naming one 4 MB part: {status} {body[:300]!r}")
+if finished(json.loads(body)["id"])["status"] != "succeeded":
+    fail(".gltf with 200 buffers naming one 4 MB part: the job failed")
+print(".gltf with 200 buffers naming one 4 MB part: mapped (the part read once)")
+
+# Security III: attributes decoded per primitive before their counts were checked. 2,000
+# three-vertex primitives naming one 4 MB MAT4 accessor as TEXCOORD_0, NORMAL and COLOR_0
+# were 2,000 x 3 decodes (minutes of an intake thread, past its deadline and SIGTERM);
+# now the accessor's count (not POSITION's) leaves it out before it is decoded, and the
+# 2,000 separate triangles are refused as not closed, at once.
+big_count = 65536
+triangle = struct.pack("<9f", 0, 0, 0, 1, 0, 0, 0, 1, 0)
+binary = triangle + b"\0" * (big_count * 64)
+document = {
+    "asset": {"version": "2.0"},
+    "buffers": [{"byteLength": len(binary)}],
+    "bufferViews": [{"buffer": 0, "byteLength": 36},
+                    {"buffer": 0, "byteOffset": 36, "byteLength": big_count * 64}],
+    "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3",
+                   "min": [0, 0, 0], "max": [1, 1, 0]},
+                  {"bufferView": 1, "componentType": 5126, "count": big_count, "type": "MAT4"}],
+    "meshes": [{"primitives": [{"attributes": {"POSITION": 0, "TEXCOORD_0": 1, "NORMAL": 1,
+                                               "COLOR_0": 1}} for _ in range(2000)]}],
+    "nodes": [{"mesh": 0}], "scenes": [{"nodes": [0]}], "scene": 0}
+started = time.monotonic()
+status, body = request("POST", "/v1/jobs", glb_of(document, binary),
+                       {"Content-Type": "model/gltf-binary"}, timeout=60)
+took = time.monotonic() - started
+expect("2,000 primitives naming one 4 MB MAT4 accessor as attributes", status, body, 422,
+       "not_mappable")
+if took > 10:
+    fail(f"2,000 primitives naming one 4 MB MAT4 accessor: answered after {took:.1f} s")
+print(f"  answered in {took:.2f} s")
 
 # 200 requests at once, each a 60,000-deep document: the threads refuse them in turn.
 errors = []
