@@ -14,6 +14,7 @@
 #include "core/outputs/map_outputs.h"
 #include "core/outputs/octahedral.h"
 #include "core/outputs/remesh.h"
+#include "core/outputs/sphere_alignment.h"
 #include "core/outputs/sphere_asset.h"
 #include "core/outputs/sphere_locator.h"
 #include "core/outputs/surface_distance.h"
@@ -196,6 +197,31 @@ TEST(MapOutputs, AssetsOfAMappedHorseshoe) {
   EXPECT_NE(morph.glb.find("\"targets\""), std::string::npos);
   EXPECT_NE(morph.glb.find("\"path\":\"weights\""), std::string::npos);
   EXPECT_EQ(read_gltf(bytes(morph.glb)).vertex_count(), mapped.prepared.welded.mesh.vertex_count());
+}
+
+// The morph's sphere end faces the way the surface does: a known rotation is recovered,
+// and a mapped elongated shape morphs to a sphere whose points lie the way its vertices
+// do (the raw map can be turned anywhere).
+TEST(SphereAlignment, RecoversARotationAndAlignsTheMorph) {
+  const PolygonMesh ball = testing::icosphere(2);
+  const double c = std::cos(2.0), s = std::sin(2.0);  // 115 degrees about (0, 0.6, 0.8)
+  const Vec3 axis{0, 0.6, 0.8};
+  std::vector<Vec3> turned;
+  for (const Vec3& p : ball.positions)  // Rodrigues
+    turned.push_back(p * c + cross(axis, p) * s + axis * (dot(axis, p) * (1 - c)));
+  const SphereAlignment back = align_sphere_to_surface(ball.positions, turned, Vec3{});
+  EXPECT_LT(back.mean_cosine_before, 0.2);
+  EXPECT_NEAR(back.mean_cosine_after, 1.0, 1e-9);
+  for (size_t v = 0; v < ball.positions.size(); ++v)
+    EXPECT_NEAR(norm(back.sphere[v] - ball.positions[v]), 0, 1e-9);
+
+  const MappedMesh mapped =
+      map_mesh(testing::scaled(testing::icosphere(3), {1, 1, 4}), {}, MapOptions{});
+  ASSERT_TRUE(mapped.map.check.bijective);
+  const MorphAsset morph = morph_asset(mapped, 3);
+  EXPECT_GT(morph.metrics["direction_agreement"].get<double>(), 0.8) << morph.metrics.dump(2);
+  EXPECT_GE(morph.metrics["direction_agreement"].get<double>(),
+            morph.metrics["direction_agreement_unrotated"].get<double>());
 }
 
 // An icosphere with one triangle split by a vertex 1e-4 of the way from a corner to the

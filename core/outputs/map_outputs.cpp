@@ -12,6 +12,7 @@
 #include "core/mesh/topology.h"
 #include "core/outputs/base_color_bake.h"
 #include "core/outputs/remesh.h"
+#include "core/outputs/sphere_alignment.h"
 #include "core/outputs/sphere_asset.h"
 #include "core/outputs/surface_distance.h"
 #include "core/outputs/texcoords.h"
@@ -70,7 +71,8 @@ std::string geometry_image(const OctahedralRemesh& remesh, nlohmann::json& descr
 // input's normals where every primitive has them, else the welded surface's.
 SceneGeometry scene_morph(const PolygonMesh& input, const GltfAppearance& look,
                           const MappedMesh& mapped, const std::vector<Vec3>& welded_normals,
-                          const Vec3& centroid, double radius, double seconds) {
+                          const std::vector<Vec3>& sphere, const Vec3& centroid, double radius,
+                          double seconds) {
   const auto& to_welded = mapped.prepared.welded.input_to_welded;
   SceneGeometry g;
   g.input = &input;
@@ -80,7 +82,7 @@ SceneGeometry scene_morph(const PolygonMesh& input, const GltfAppearance& look,
                                             [](const auto& p) { return p.has("NORMAL"); });
   for (size_t v = 0; v < input.vertex_count(); ++v) {
     const uint32_t w = to_welded[v];
-    const Vec3 s = w == kUnreferenced ? Vec3{0, 0, 1} : mapped.map.sphere[w];
+    const Vec3 s = w == kUnreferenced ? Vec3{0, 0, 1} : sphere[w];
     g.morph_positions.push_back(w == kUnreferenced ? input.positions[v] : centroid + s * radius);
     g.morph_normals.push_back(s);
     if (!all_have_normals)
@@ -218,12 +220,15 @@ MorphAsset morph_asset(const MappedMesh& mapped, double seconds, const PolygonMe
   if (area > 0) centroid *= 1 / area;
   const double radius = std::sqrt(area / (4 * M_PI));
   const std::vector<Vec3> normals = vertex_normals(mesh.positions, oriented.triangles);
+  // The morph's sphere end turned to face the way the surface does (sphere_alignment.h).
+  const SphereAlignment aligned =
+      align_sphere_to_surface(mesh.positions, mapped.map.sphere, centroid);
   GlbMesh glb;
   glb.positions = mesh.positions;
   glb.normals = normals;
   glb.triangles = oriented.triangles;
   for (size_t v = 0; v < mesh.vertex_count(); ++v) {
-    const Vec3& s = mapped.map.sphere[v];
+    const Vec3& s = aligned.sphere[v];
     glb.morph_positions.push_back(centroid + s * radius - mesh.positions[v]);
     glb.morph_normals.push_back(s - normals[v]);
   }
@@ -233,14 +238,22 @@ MorphAsset morph_asset(const MappedMesh& mapped, double seconds, const PolygonMe
                    {"triangles", oriented.triangles.size()},
                    {"sphere_center", {centroid.x, centroid.y, centroid.z}},
                    {"sphere_radius", radius},
+                   {"sphere_rotation",
+                    {aligned.rotation[0][0], aligned.rotation[0][1], aligned.rotation[0][2],
+                     aligned.rotation[1][0], aligned.rotation[1][1], aligned.rotation[1][2],
+                     aligned.rotation[2][0], aligned.rotation[2][1], aligned.rotation[2][2]}},
+                   {"direction_agreement", aligned.mean_cosine_after},
+                   {"direction_agreement_unrotated", aligned.mean_cosine_before},
                    {"animation_seconds", seconds}};
   glb.extras = {{"spheremap_morph", without_timings(asset.metrics)}};
   if (input && appearance && !appearance->empty()) {
     asset.metrics["kept_appearance"] = true;
     glb.extras["spheremap_morph"]["kept_appearance"] = true;
-    asset.glb = serialize_glb(build_scene_glb(
-        *appearance, scene_morph(*input, *appearance, mapped, normals, centroid, radius, seconds),
-        glb.extras));
+    asset.glb =
+        serialize_glb(build_scene_glb(*appearance,
+                                      scene_morph(*input, *appearance, mapped, normals,
+                                                  aligned.sphere, centroid, radius, seconds),
+                                      glb.extras));
   } else {
     asset.glb = format_glb(glb);
   }
