@@ -398,14 +398,18 @@ function options() {
   for (const name of ['remesh', 'morph', 'uv']) if ($(`out-${name}`).checked) outputs.push(name);
   const chosen = { quality: $('quality').value, outputs, ...state.extraOptions };
   if ($('largest').checked) chosen.largest_component = true;
+  if ($('prepare').value !== 'repair') chosen.prepare = $('prepare').value;
   return chosen;
 }
 
+// The file that is the mesh; the others are a .gltf's resources.
+const MESH_FILE = /\.(glb|gltf|obj|stl|ply|off)$/i;
+
 async function submit() {
   stopFollowing();
-  const main = state.files.find((f) => /\.(glb|gltf)$/i.test(f.name));
+  const main = state.files.find((f) => MESH_FILE.test(f.name));
   if (!main) {
-    showError('Choose a .glb or .gltf file (with the .bin files a .gltf names).');
+    showError('Choose a .glb, .obj, .stl, .ply or .off file, or a .gltf with the .bin files it names.');
     return;
   }
   showError('');
@@ -414,7 +418,8 @@ async function submit() {
   $('hint').hidden = true;
   setStatus('submitting');
   clearModels();
-  previewInput(main);
+  // The browser previews glTF itself; other formats show once mapped (the morph's start).
+  if (/\.(glb|gltf)$/i.test(main.name)) previewInput(main);
   const form = new FormData();
   form.append('mesh', main, main.name);
   // A .gltf's files go along as parts named by their file name (the service matches URIs).
@@ -513,6 +518,16 @@ async function finished(job) {
     ['quality', metrics.quality ?? '–'],
     ['map time (s)', number(seconds, 2)],
   ];
+  const prepared = metrics.preparation;
+  if (prepared) {
+    const changes = [
+      [prepared.duplicate_faces_dropped, 'duplicate faces dropped'],
+      [prepared.collapsed_faces_dropped, 'collapsed faces dropped'],
+      [prepared.faces_shortened, 'polygons shortened'],
+      [prepared.faces_flipped, 'faces flipped'],
+    ].filter(([count]) => count > 0).map(([count, what]) => `${count.toLocaleString()} ${what}`);
+    rows.push([`preparation (${prepared.method})`, changes.length ? changes.join(', ') : 'none needed']);
+  }
   if (metrics.remesh?.distance?.hausdorff !== undefined)
     rows.push(['remesh Hausdorff (% of diagonal)', number(100 * metrics.remesh.distance.hausdorff, 2)]);
   $('metrics').replaceChildren(...rows.map(([k, v]) => {
@@ -533,6 +548,10 @@ async function finished(job) {
     if (artifacts['remesh.glb']) setModel('remesh', surface(await loadGlb(artifacts['remesh.glb'].href), 0x9ad0a1));
     if (artifacts['morph.glb']) {
       setModel('morph', framed(surface(await loadGlb(artifacts['morph.glb'].href), 0xd8b06a, false)));
+      // An input the browser cannot preview (OBJ, STL, PLY, OFF): the morph at its mesh end
+      // is that input, welded.
+      if (!state.models.input)
+        setModel('input', framed(surface(await loadGlb(artifacts['morph.glb'].href), 0xc8c8c8)));
     }
     if (state.models.sphere) show('sphere');
   } catch (error) {

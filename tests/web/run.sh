@@ -3,7 +3,7 @@
 # the real server on a loopback port: a GLB (a corpus model, or a generated one without
 # the corpus), a generated textured GLB (its sphere must show its texture) and a .gltf
 # chosen with its .bin and textures must end `succeeded` with a drawn canvas and no
-# console error; every view must frame its object (framing_test.mjs) and the "Try an
+# console error, and so must an OBJ; every view must frame its object (framing_test.mjs) and the "Try an
 # example" button must map the built-in example. Exit 77 (skipped) without chromium or npm.
 set -uo pipefail
 spheremap=$1 make_meshes=$2 corpus=$3
@@ -31,6 +31,9 @@ if [ -d "$box" ]; then
     "$box/glTF Logo With Spaces.png" "$box/Normal Map.png" "$box/Roughness Metallic.png" ||
     fail "page test on a .gltf with its .bin and textures"
 fi
+# An OBJ goes in as a glTF does (the service reads it; the page shows it once mapped).
+obj=$(cd "$here/../.." && pwd)/examples/spot.obj
+CHROMIUM=$chromium node "$here/page_test.mjs" "$url" "$obj" || fail "page test on an OBJ"
 # Every view fits its object, on an elongated mesh and on a unit sphere; the example button.
 CHROMIUM=$chromium node "$here/framing_test.mjs" "$url" "$work/ellipsoid.glb" "$work/icosphere4.glb" ||
   fail "framing test"
