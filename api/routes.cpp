@@ -529,11 +529,12 @@ void install_api(GuardedServer& http, Backend& service) {
              const std::shared_ptr<Job> job = find_job(service, request);
              send_json(response, 200, job_json(*job, service.queue().queue_position(*job)));
            }));
-  auto event_streams = std::make_shared<std::atomic<int>>(0);
+  auto event_streams = std::make_shared<EventStreamSlots>();
   http.Get(std::string("/v1/jobs/") + kJobId + "/events",
            guarded([&service, event_streams](const httplib::Request& request,
                                              httplib::Response& response) {
-             stream_job_events(service, find_job(service, request), response, event_streams);
+             stream_job_events(service, find_job(service, request), tenant_of(service, request),
+                               response, event_streams);
            }));
   http.Get(std::string("/v1/jobs/") + kJobId + "/artifacts/([A-Za-z0-9_.-]+)",
            guarded([&service](const httplib::Request& request, httplib::Response& response) {
