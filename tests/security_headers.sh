@@ -40,7 +40,7 @@ done
 curl -s -m 5 -D "$work/h" -o /dev/null -X OPTIONS -H 'Origin: https://elsewhere.example' \
   -H 'Access-Control-Request-Method: POST' "$url/v1/jobs"
 grep -qi '^Access-Control-Allow' "$work/h" && fail "preflight allowed by default"
-kill $server; wait $server 2> /dev/null; server=
+kill "$server"; wait "$server" 2> /dev/null; server=
 
 keys=$work/keys
 printf 'alpha alpha-key-0123456789abcdef\n' > "$keys"
