@@ -15,6 +15,7 @@
 #include <mutex>
 #include <string>
 #include <thread>
+#include <vector>
 
 #include "api/job_view.h"
 #include "core/map/pipeline.h"
@@ -378,6 +379,31 @@ TEST_F(RedisQueueTest, WorkersStartingTogetherBothClaim) {
   std::shared_ptr<server::Job> job;
   ASSERT_EQ(queue.submit(spec(), job), JobQueue::Admission::kAccepted);
   EXPECT_EQ(claim(queue, redis, "n1").id, job->id);
+}
+
+// A worker of the process that submitted a job tells "running" only after the job's
+// "queued" was told (the observer writes the job log), however slow that was.
+TEST_F(RedisQueueTest, AWorkerHereTellsRunningAfterQueued) {
+  std::mutex order_mutex;
+  std::vector<std::string> order;
+  RedisJobQueue queue(address(), {},
+                      [&](const std::shared_ptr<server::Job>&, server::JobStatus status) {
+                        if (status != server::JobStatus::kQueued) return;
+                        std::this_thread::sleep_for(std::chrono::milliseconds(200));
+                        std::lock_guard lock(order_mutex);
+                        order.push_back("queued");
+                      });
+  RedisConnection redis(address());
+  std::thread worker([&] {
+    const auto delivery = claim(queue, redis, "n1");
+    queue.wait_until_told(delivery.id);
+    std::lock_guard lock(order_mutex);
+    order.push_back("running");
+  });
+  std::shared_ptr<server::Job> job;
+  EXPECT_EQ(queue.submit(spec(), job), JobQueue::Admission::kAccepted);
+  worker.join();
+  EXPECT_EQ(order, (std::vector<std::string>{"queued", "running"}));
 }
 
 TEST(RedisAddress, ParsesAndRefuses) {
