@@ -31,8 +31,8 @@ struct ApiSettings {
   double sync_timeout_seconds = 30;
   double keep_alive_timeout_seconds = 5;
   double read_timeout_seconds = 30;
-  ConnectionLimits connection;  // its `exempt` = trusted_proxies
-  std::string cors_origins = "*";
+  ConnectionLimits connection;               // its `exempt` = trusted_proxies
+  std::string cors_origins;                  // "" = no CORS headers at all
   std::vector<std::string> trusted_proxies;  // peers whose X-Forwarded-For is believed
   int workers = 0;                           // on this node, for /metrics
 };

@@ -64,6 +64,15 @@ void answer_too_many_connections(socket_t socket, size_t cap) {
 
 }  // namespace
 
+GuardedServer::GuardedServer() {
+  // A restart may rebind a port with connections still in TIME_WAIT; a port another
+  // socket listens on stays refused (EADDRINUSE), which SO_REUSEPORT would allow.
+  set_socket_options([](socket_t socket) {
+    int yes = 1;
+    ::setsockopt(socket, SOL_SOCKET, SO_REUSEADDR, &yes, sizeof(yes));
+  });
+}
+
 bool GuardedServer::admit(const std::string& address) {
   if (limits_.max_connections_per_address == 0 || is_loopback(address) ||
       std::find(limits_.exempt.begin(), limits_.exempt.end(), address) != limits_.exempt.end())

@@ -22,7 +22,9 @@ namespace spheremap::api {
 
 class GuardedServer : public httplib::Server {
  public:
-  GuardedServer() = default;
+  // Listens with SO_REUSEADDR only: the library's default adds SO_REUSEPORT, which lets a
+  // second process bind a port already listening and take half its connections.
+  GuardedServer();
   // Set before listening.
   void set_connection_limits(ConnectionLimits limits) { limits_ = std::move(limits); }
   const ConnectionLimits& connection_limits() const { return limits_; }

@@ -15,25 +15,31 @@ std::string event(const char* name, const nlohmann::json& data) {
 
 struct Stream {
   std::shared_ptr<Job> job;
-  std::shared_ptr<std::atomic<int>> streams;
+  std::unique_ptr<EventStreamSlots::Slot> slot;  // given back when the stream ends
   std::string last_progress;
   Clock::time_point last_write = Clock::now();
 };
 
 }  // namespace
 
-void stream_job_events(Backend& service, const std::shared_ptr<Job>& job,
-                       httplib::Response& response, std::shared_ptr<std::atomic<int>> streams) {
+void stream_job_events(Backend& service, const std::shared_ptr<Job>& job, const std::string& tenant,
+                       httplib::Response& response,
+                       const std::shared_ptr<EventStreamSlots>& slots) {
   const int max_streams = std::max(1, service.settings().http_threads / 4);
-  if (streams->fetch_add(1) >= max_streams) {
-    streams->fetch_sub(1);
+  EventStreamSlots::Refusal refusal;
+  auto slot = EventStreamSlots::acquire(slots, tenant, max_streams, refusal);
+  if (refusal == EventStreamSlots::Refusal::kServerFull)
     throw Problem(503, "too_many_streams", "Too many event streams",
                   "at most " + std::to_string(max_streams) +
                       " event streams at once; poll GET /v1/jobs/{id} instead");
-  }
+  if (refusal == EventStreamSlots::Refusal::kTenantFull)
+    throw Problem(503, "too_many_streams", "Too many event streams",
+                  "at most " + std::to_string(EventStreamSlots::per_tenant(max_streams)) +
+                      " event streams at once per client (of " + std::to_string(max_streams) +
+                      " for the server); poll GET /v1/jobs/{id} instead");
   auto stream = std::make_shared<Stream>();
   stream->job = job;
-  stream->streams = std::move(streams);
+  stream->slot = std::move(slot);
   response.set_header("Cache-Control", "no-cache");
   response.set_header("X-Accel-Buffering", "no");  // nginx: pass events through at once
   response.set_chunked_content_provider(
@@ -74,7 +80,7 @@ void stream_job_events(Backend& service, const std::shared_ptr<Job>& job,
         if (terminal) sink.done();
         return true;
       },
-      [stream](bool) { stream->streams->fetch_sub(1); });
+      [stream](bool) { stream->slot.reset(); });
 }
 
 }  // namespace spheremap::api

@@ -5,20 +5,22 @@
 // every 250 ms), then one `status` (data: the whole job, as GET /v1/jobs/{id} answers it)
 // when the job ends, and the stream closes. A comment line every 15 s keeps proxies from
 // closing an idle stream. Each stream holds an HTTP thread while it lasts, so at most a
-// quarter of them stream at once; beyond that the answer is 503 with Retry-After and the
-// client polls instead.
+// quarter of them stream at once, and half of those for one tenant (event_stream_slots.h);
+// beyond that the answer is 503 with Retry-After and the client polls instead.
 #pragma once
 
 #include <httplib.h>
 
-#include <atomic>
 #include <memory>
+#include <string>
 
 #include "api/backend.h"
+#include "api/event_stream_slots.h"
 
 namespace spheremap::api {
 
-void stream_job_events(Backend& service, const std::shared_ptr<Job>& job,
-                       httplib::Response& response, std::shared_ptr<std::atomic<int>> streams);
+// `tenant`: the requester's (its API key's tenant, or its address).
+void stream_job_events(Backend& service, const std::shared_ptr<Job>& job, const std::string& tenant,
+                       httplib::Response& response, const std::shared_ptr<EventStreamSlots>& slots);
 
 }  // namespace spheremap::api

@@ -59,7 +59,7 @@ nlohmann::json job_json(const Job& job, size_t queue_position) {
     for (const Artifact& a : job.artifacts)
       artifacts[a.name] = {{"href", job_path(job.id) + "/artifacts/" + a.name},
                            {"type", a.content_type},
-                           {"bytes", a.bytes.size()}};
+                           {"bytes", a.size}};  // a listing (Redis) has no bytes
     out["artifacts"] = artifacts;
   }
   if (job.error)

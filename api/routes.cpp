@@ -283,7 +283,7 @@ std::string allowed_methods(const std::string& path) {
 }
 
 // CORS: browsers on other origins may call the API when `cors_origins` allows them ("*",
-// the default, or a comma-separated list of origins echoed back one at a time).
+// or a comma-separated list of origins echoed back one at a time); by default ("") none.
 void add_cors_headers(const std::string& allowed, const httplib::Request& request,
                       httplib::Response& response) {
   if (allowed.empty()) return;
@@ -302,6 +302,18 @@ void add_cors_headers(const std::string& allowed, const httplib::Request& reques
                       "Spheremap-Bijective, Spheremap-Folds");
 }
 
+// The page's policy: everything from our own origin (three.js is bundled), its one inline
+// script (the import map) by hash, WebAssembly for the Draco and meshopt decoders, their
+// workers and the user's chosen files as blob: URLs, embedded glTF buffers as data:.
+// Never framed (clickjacking of the page that holds an API key).
+std::string page_security_policy() {
+  return "default-src 'self'; script-src 'self' 'wasm-unsafe-eval' 'sha256-" +
+         std::string(web::import_map_sha256()) +
+         "'; worker-src 'self' blob:; connect-src 'self' blob: data:; "
+         "img-src 'self' blob: data:; style-src 'self'; object-src 'none'; base-uri 'none'; "
+         "form-action 'self'; frame-ancestors 'none'";
+}
+
 void serve_asset(const httplib::Request& request, httplib::Response& response) {
   const web::Asset* asset = web::find_asset(request.path);
   if (!asset)
@@ -309,6 +321,11 @@ void serve_asset(const httplib::Request& request, httplib::Response& response) {
   std::string type(asset->content_type);
   if (type.starts_with("text/")) type += "; charset=utf-8";
   response.set_content(std::string(asset->bytes), type);
+  if (asset->content_type == "text/html") {
+    response.set_header("Content-Security-Policy", page_security_policy());
+    response.set_header("X-Frame-Options", "DENY");  // frame-ancestors for older browsers
+    response.set_header("Referrer-Policy", "no-referrer");
+  }
   // The page itself may change with a new server; three.js is pinned by its path, and the
   // example mesh (106 KB) does not change with the page's code.
   const bool fixed =
@@ -387,9 +404,13 @@ void install_api(GuardedServer& http, Backend& service) {
   http.set_pre_routing_handler([&service](const httplib::Request& request,
                                           httplib::Response& response) {
     // With API keys every /v1 route but the API's own description needs a valid key,
-    // checked before any body is read. Preflights carry no credentials (CORS).
-    if (service.api_keys().enabled() && request.path.starts_with("/v1/") &&
-        request.path != "/v1/openapi.yaml" && request.method != "OPTIONS" &&
+    // checked before any body is read, and so does /metrics on this port (queue depths,
+    // tenants' activity): the health port serves it openly to the internal network.
+    // Preflights carry no credentials (CORS).
+    const bool needs_key =
+        (request.path.starts_with("/v1/") && request.path != "/v1/openapi.yaml") ||
+        request.path == "/metrics";
+    if (service.api_keys().enabled() && needs_key && request.method != "OPTIONS" &&
         !service.api_keys().tenant_for(request.get_header_value("Authorization"))) {
       response.set_header("WWW-Authenticate", "Bearer");
       send_problem(response,
@@ -438,6 +459,9 @@ void install_api(GuardedServer& http, Backend& service) {
   });
   http.set_post_routing_handler(
       [&config](const httplib::Request& request, httplib::Response& response) {
+        // Every body is what its Content-Type says: no browser guesses an artifact or a
+        // problem+json into a script or a page.
+        response.set_header("X-Content-Type-Options", "nosniff");
         add_cors_headers(config.cors_origins, request, response);
       });
   // Preflight for any path: what a browser may send cross-origin.
@@ -546,11 +570,12 @@ void install_api(GuardedServer& http, Backend& service) {
              const std::shared_ptr<Job> job = find_job(service, request);
              send_json(response, 200, job_json(*job, service.queue().queue_position(*job)));
            }));
-  auto event_streams = std::make_shared<std::atomic<int>>(0);
+  auto event_streams = std::make_shared<EventStreamSlots>();
   http.Get(std::string("/v1/jobs/") + kJobId + "/events",
            guarded([&service, event_streams](const httplib::Request& request,
                                              httplib::Response& response) {
-             stream_job_events(service, find_job(service, request), response, event_streams);
+             stream_job_events(service, find_job(service, request), tenant_of(service, request),
+                               response, event_streams);
            }));
   http.Get(std::string("/v1/jobs/") + kJobId + "/artifacts/([A-Za-z0-9_.-]+)",
            guarded([&service](const httplib::Request& request, httplib::Response& response) {

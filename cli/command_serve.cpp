@@ -57,7 +57,8 @@ jobs (shutdown_grace_seconds) and exits 0.
   --tenant-max-queued N, --tenant-max-running N, --tenant-result-memory-bytes N
                             per tenant (API key, or client address): jobs waiting (16),
                             mapping at once (0 = no cap), results kept (256 MiB)
-  --cors-origins LIST       origins whose pages may call the API (default *)
+  --cors-origins LIST       origins whose pages may call the API: * for any, or
+                            a comma-separated list (default none)
   --trusted-proxies LIST    reverse proxies whose X-Forwarded-For names the client
                             (comma-separated addresses; default none)
   --worker-isolation process|thread

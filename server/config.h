@@ -59,9 +59,9 @@ struct ServerConfig {
   size_t tenant_max_queued = 16;                   // jobs waiting, per tenant (429 beyond)
   size_t tenant_max_running = 0;                   // jobs mapping at once per tenant; 0 = no cap
   size_t tenant_result_memory_bytes = 256u << 20;  // finished results kept per tenant
-  // Origins whose pages may call the API (CORS): "*" (default), a comma-separated list, or
-  // "" for none.
-  std::string cors_origins = "*";
+  // Origins whose pages may call the API (CORS): "" (default: none; the page at / is on
+  // the API's own origin and needs none), "*" for any, or a comma-separated list.
+  std::string cors_origins;
   // Addresses of reverse proxies in front of the service, comma-separated: a request from
   // one of them is the client's named last in X-Forwarded-For (not a proxy of this list)
   // for tenants, quotas and logs. "" = none: the peer's address is the client's.

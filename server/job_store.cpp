@@ -43,9 +43,11 @@ JobStore::Admission JobStore::submit(std::unique_ptr<JobSpec> spec, std::shared_
     job->spec = std::move(spec);
     jobs_[job->id] = job;
     queue_.push_back(job);
+    // Told while no worker can take the job yet (next() needs mutex_), so its "queued"
+    // line is logged before its "running" one. Order: mutex_, then the job's mutex.
+    if (observer_) observer_(job, JobStatus::kQueued);
   }
   queue_cv_.notify_one();
-  if (observer_) observer_(job, JobStatus::kQueued);
   return Admission::kAccepted;
 }
 
@@ -78,12 +80,15 @@ std::shared_ptr<Job> JobStore::next() {
     --tenant.queued;
     ++tenant.running;
     tenant.last_start = Clock::now();
-    std::lock_guard job_lock(job->mutex);
-    job->status = JobStatus::kRunning;
-    job->started = Clock::now();
-    job->progress.stage = "starting";
+    {
+      std::lock_guard job_lock(job->mutex);
+      job->status = JobStatus::kRunning;
+      job->started = Clock::now();
+      job->progress.stage = "starting";
+    }
+    // Under mutex_ as well: a job's lines come in the order of its states.
+    if (observer_) observer_(job, JobStatus::kRunning);
   }
-  if (observer_) observer_(job, JobStatus::kRunning);
   return job;
 }
 

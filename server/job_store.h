@@ -31,7 +31,8 @@ struct StoreLimits {
 // The memory:// backend of JobQueue.
 class JobStore : public JobQueue {
  public:
-  // Called after every status change, outside the store's lock.
+  // Called after every status change: for queued and running under the store's lock (so
+  // they are told in that order; it must not call the store), for the others outside it.
   using Observer = std::function<void(const std::shared_ptr<Job>&, JobStatus)>;
 
   JobStore(StoreLimits limits, Observer observer);

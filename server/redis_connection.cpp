@@ -110,8 +110,10 @@ RedisReply RedisConnection::send(const std::vector<std::string_view>& arguments)
   RedisReply owned(reply);
   if (reply->type == REDIS_REPLY_ERROR) {
     const std::string text = owned.text();
-    // A Redis that is loading its data or is read-only answers soon; say "try again".
-    if (text.starts_with("LOADING") || text.starts_with("BUSY") || text.starts_with("READONLY") ||
+    // A Redis that is loading its data, running a long script or is read-only answers
+    // soon; say "try again". "BUSY " with its space: BUSYGROUP (a consumer group that
+    // exists) and BUSYKEY are answers about the command, not about Redis.
+    if (text.starts_with("LOADING") || text.starts_with("BUSY ") || text.starts_with("READONLY") ||
         text.starts_with("MASTERDOWN"))
       throw RedisUnavailable("redis " + address_.text() + ": " + text);
     throw std::runtime_error("redis " + std::string(arguments.front()) + ": " + text);

@@ -143,6 +143,7 @@ JobQueue::Admission RedisJobQueue::submit(std::unique_ptr<JobSpec> spec,
   return with_redis([&](RedisConnection& redis) {
     for (;;) {
       fresh->id = new_job_id();
+      const Telling telling(*this, fresh->id);  // until the observer has been told
       const RedisReply result = eval(
           redis, redis_scripts::kSubmit,
           {kQueued, tenant_queued_key(fresh->tenant), job_key(fresh->id), spec_key(fresh->id),
@@ -340,6 +341,25 @@ std::string RedisJobQueue::publish_limits() {
         redis.command({"SET", kPrefix + "limits", ours.dump(), "GET", "EX", "604800"});
     return before.is_nil() || before.text() == ours.dump() ? std::string() : before.text();
   });
+}
+
+RedisJobQueue::Telling::Telling(RedisJobQueue& queue, std::string id)
+    : queue_(queue), id_(std::move(id)) {
+  std::lock_guard lock(queue_.telling_mutex_);
+  queue_.telling_.insert(id_);
+}
+
+RedisJobQueue::Telling::~Telling() {
+  {
+    std::lock_guard lock(queue_.telling_mutex_);
+    queue_.telling_.erase(id_);
+  }
+  queue_.told_cv_.notify_all();
+}
+
+void RedisJobQueue::wait_until_told(const std::string& id) {
+  std::unique_lock lock(telling_mutex_);
+  told_cv_.wait_for(lock, std::chrono::seconds(2), [&] { return telling_.count(id) == 0; });
 }
 
 // --- the workers' side --------------------------------------------------------------

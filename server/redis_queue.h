@@ -27,8 +27,11 @@
 #pragma once
 
 #include <atomic>
+#include <condition_variable>
 #include <functional>
+#include <mutex>
 #include <optional>
+#include <set>
 
 #include "server/api_types.h"
 #include "server/redis_connection.h"
@@ -102,8 +105,25 @@ class RedisJobQueue : public JobQueue {
   // or when none are known yet). Throws QueueUnavailable.
   std::string publish_limits();
   const RedisAddress& address() const { return pool_.address(); }
+  // Waits (2 s at most) while this process is submitting job `id` and has not told the
+  // observer yet: a worker of the same process calls it before it tells "running", so
+  // that the job's lines come in order ("queued" first).
+  void wait_until_told(const std::string& id);
 
  private:
+  // Marks job `id` as being submitted by this process until destroyed.
+  class Telling {
+   public:
+    Telling(RedisJobQueue& queue, std::string id);
+    ~Telling();
+    Telling(const Telling&) = delete;
+    Telling& operator=(const Telling&) = delete;
+
+   private:
+    RedisJobQueue& queue_;
+    std::string id_;
+  };
+
   template <typename Body>
   auto with_redis(Body body);
   std::shared_ptr<Job> snapshot(RedisConnection& redis, const std::string& id, bool& gone);
@@ -115,6 +135,9 @@ class RedisJobQueue : public JobQueue {
   mutable RedisPool pool_;
   std::atomic<bool> accepting_{true};
   mutable std::atomic<int64_t> last_ping_ok_ms_{0}, last_ping_ms_{0};
+  std::mutex telling_mutex_;
+  std::condition_variable told_cv_;
+  std::set<std::string> telling_;  // jobs submitted here whose "queued" is not told yet
 };
 
 }  // namespace spheremap::server

@@ -139,6 +139,7 @@ void RedisWorkers::run_one(RedisConnection& redis, RedisConnection& beat,
     std::lock_guard lock(mutex_);
     jobs_.push_back(job.get());
   }
+  queue_.wait_until_told(job->id);  // submitted by this process: "queued" is logged first
   if (observer_) observer_(job, JobStatus::kRunning);
   // The companion: heartbeat, progress and the client's cancel, every 250 ms; woken at
   // once when the job ends, so that a short job's answer does not wait out the interval.

@@ -4,11 +4,13 @@
 #include <signal.h>
 
 #include <atomic>
+#include <cerrno>
 #include <chrono>
 #include <cstdio>
 #include <cstring>
 #include <ctime>
 #include <memory>
+#include <string>
 #include <thread>
 
 #include "api/log.h"
@@ -20,17 +22,25 @@ namespace spheremap::server {
 namespace {
 
 // Binds `http` to config.host and `port` (0: any free one); the port bound, or -1 after
-// logging why not.
+// logging why not. A port in use is named plainly: it is the common mistake (a second
+// serve, another program on 8080), and the bare strerror does not say which port.
 int bind_port(httplib::Server& http, const ServerConfig& config, int port, const char* what) {
+  errno = 0;
   const int bound = port == 0 ? http.bind_to_any_port(config.host)
                               : (http.bind_to_port(config.host, port) ? port : -1);
-  if (bound < 0)
-    log_event({{"event", "bind_failed"},
-               {"listener", what},
-               {"host", config.host},
-               {"port", port},
-               {"error", std::strerror(errno)}});
-  return bound;
+  if (bound >= 0) return bound;
+  const int cause = errno;
+  const std::string error =
+      cause == EADDRINUSE
+          ? "port " + std::to_string(port) + " on " + config.host + " is in use by another process"
+      : cause != 0 ? std::string(std::strerror(cause))
+                   : "cannot listen on " + config.host + ":" + std::to_string(port);
+  log_event({{"event", "bind_failed"},
+             {"listener", what},
+             {"host", config.host},
+             {"port", port},
+             {"error", error}});
+  return -1;
 }
 
 // Runs `server`'s accept loop on a thread of its own and returns once the loop runs.

@@ -19,6 +19,7 @@
 #include <sstream>
 #include <thread>
 
+#include "api/log.h"
 #include "server/worker_protocol.h"
 
 namespace spheremap::server {
@@ -92,6 +93,13 @@ Child spawn(const WorkerLimits& worker) {
     return {};
   }
   return {pid, to_child[1], from_child[0]};
+}
+
+// 10 -> "10", 2.5 -> "2.5".
+std::string seconds_text(double seconds) {
+  std::ostringstream text;
+  text << seconds;
+  return text.str();
 }
 
 std::string signal_text(int signal) {
@@ -183,6 +191,28 @@ int WorkerProcess::stop(bool kill_now) {
 }
 
 JobStatus WorkerProcess::run(Job& job, const RunLimits& limits) {
+  // A child that died before it read the job (killed while idle, or a replacement that
+  // could not start) never ran it: that is no verdict on the job, so it gets one more try
+  // on a fresh child. A job that began is not run again (it may be what crashed).
+  bool began = false;
+  const JobStatus status = run_once(job, limits, began);
+  if (began || status != JobStatus::kFailed || job.cancel) return status;
+  std::string first_error;
+  {
+    std::lock_guard lock(job.mutex);
+    if (job.error) first_error = job.error->detail;
+    job.error.reset();
+    job.progress.stage = "starting";
+  }
+  api::log_event({{"event", "worker_retry"},
+                  {"job", job.id},
+                  {"reason", "the worker process died before it began the job"},
+                  {"error", first_error}});
+  return run_once(job, limits, began);
+}
+
+JobStatus WorkerProcess::run_once(Job& job, const RunLimits& limits, bool& began) {
+  began = false;
   std::string request;
   double time_limit = limits.time_limit_seconds;
   {
@@ -227,9 +257,9 @@ JobStatus WorkerProcess::run(Job& job, const RunLimits& limits) {
 
   // The engine stops itself at the time limit; the output stages after it are not
   // limited, so the watchdog allows as long again (at least 30 s) before it kills.
-  const auto deadline =
-      Clock::now() + std::chrono::duration_cast<Clock::duration>(
-                         std::chrono::duration<double>(time_limit + std::max(30.0, time_limit)));
+  const double grace = std::max(limits_.min_overrun_seconds, time_limit);
+  const auto deadline = Clock::now() + std::chrono::duration_cast<Clock::duration>(
+                                           std::chrono::duration<double>(time_limit + grace));
   FrameReader frames;
   std::optional<JobStatus> status;
   bool killed_for_cancel = false, killed_for_time = false, protocol_error = false;
@@ -250,6 +280,7 @@ JobStatus WorkerProcess::run(Job& job, const RunLimits& limits) {
     const ssize_t n = read(out_, chunk.data(), chunk.size());
     if (n < 0 && errno == EINTR) continue;
     if (n <= 0) break;  // the child is gone
+    began = true;       // it answers only once it has read the whole request
     frames.append(chunk.data(), static_cast<size_t>(n));
     try {
       while (auto frame = frames.next(limits_.max_artifact_bytes))
@@ -276,12 +307,14 @@ JobStatus WorkerProcess::run(Job& job, const RunLimits& limits) {
     return JobStatus::kCancelled;
   }
   if (killed_for_time) {
+    began = true;  // whatever it was doing, it had the job for that long
     fail_job(job, 422, "time_limit", "Time limit reached",
-             "the worker was still busy " + std::to_string(static_cast<int>(time_limit)) +
-                 " s past the time limit and was stopped");
+             "the worker was still busy " + seconds_text(grace) + " s past the time limit of " +
+                 seconds_text(time_limit) + " s and was stopped");
     return JobStatus::kFailed;
   }
   if (protocol_error) {
+    began = true;
     fail_job(job, 500, "internal", "Internal error", "the worker process sent a malformed answer");
     return JobStatus::kFailed;
   }
@@ -390,6 +423,10 @@ int worker_process_main() {
     if (length > (uint64_t{1} << 40)) return 2;  // not our server
     std::string request(static_cast<size_t>(length), '\0');
     if (!read_exactly(STDIN_FILENO, request.data(), request.size())) return 0;
+    // The first frame says the job has begun: a child that dies before it was not given
+    // the job, and the server tries it again elsewhere (WorkerProcess::run).
+    const std::string begun = encode_frame(FrameType::kProgress, R"({"stage":"starting"})");
+    write_all(STDOUT_FILENO, begun.data(), begun.size());
     serve_one(request);
   }
 }

@@ -26,6 +26,9 @@ struct WorkerLimits {
   size_t memory_bytes = 0;    // RLIMIT_AS of the child; 0 = none
   double cpu_seconds = 0;     // RLIMIT_CPU of the child; 0 = none
   size_t max_artifact_bytes;  // a larger frame from the child is a bug: the job fails
+  // The watchdog kills a child still busy this long past the job's time limit, or as long
+  // again as the limit when that is longer (writing outputs is not time-limited).
+  double min_overrun_seconds = 30;
 };
 
 // One worker process, kept for job after job by the worker thread that owns it: started
@@ -40,11 +43,15 @@ class WorkerProcess {
   WorkerProcess& operator=(const WorkerProcess&) = delete;
 
   // Runs `job` in the child; same contract as run_job (never throws, returns the terminal
-  // status, the job holds results or the error).
+  // status, the job holds results or the error). A child that dies before it has read
+  // the job (killed while idle, or one that could not start) is replaced and the job
+  // given to the new one, once.
   JobStatus run(Job& job, const RunLimits& limits);
   pid_t pid() const { return pid_; }
 
  private:
+  // One try; `began` is set once the child has read the job (it answered something).
+  JobStatus run_once(Job& job, const RunLimits& limits, bool& began);
   bool start();
   int stop(bool kill_now);
 

@@ -293,6 +293,76 @@ TEST(Appearance, HostileLookValuesAreIgnored) {
   EXPECT_EQ(read_with_look(morph.glb).look.materials, in.look.materials);
 }
 
+// Node and material members the input got wrong are not copied into outputs (each made
+// every output an invalid glTF): a name that is not a string, a rotation that is not a
+// unit quaternion (normalized, as the reader applies it), a matrix beside TRS, factors
+// out of range, an unknown alpha mode, extensions we do not declare.
+TEST(Appearance, InvalidNodeAndMaterialMembersAreNotCopied) {
+  Glb glb(testing::textured_glb(testing::horseshoe()));
+  glb.json["nodes"] = {
+      {{"name", 42}, {"translation", {5, -2, 1}}, {"scale", {3, 3, 3}}, {"children", {1}}},
+      {{"name", "part"},
+       {"rotation", {0, 0.76536686472, 0, 1.84775906502}},  // twice a unit quaternion
+       {"mesh", 0}}};
+  glb.json["scenes"] = {{{"nodes", {0}}}};
+  nlohmann::json& material = glb.json["materials"][0];
+  material["name"] = 5;
+  material["pbrMetallicRoughness"]["metallicFactor"] = 7;
+  material["pbrMetallicRoughness"]["roughnessFactor"] = 0.5;
+  material["pbrMetallicRoughness"]["baseColorFactor"] = {2, 0, 0, 1};
+  material["alphaMode"] = "SOMETIMES";
+  material["doubleSided"] = "yes";
+  material["emissiveFactor"] = {0.5, 0.5, 0.5};
+  material["extensions"] = {{"FOO_unknown", {{"x", 1}}},
+                            {"KHR_materials_unlit", nlohmann::json::object()}};
+  glb.json["extensionsUsed"] = {"KHR_materials_unlit", "FOO_unknown"};
+  const ReadBack in = read_with_look(glb.bytes());
+  const MappedMesh mapped = map_mesh(in.mesh, {}, {});
+  for (const std::string& file :
+       {sphere_asset(in.mesh, mapped, {}, SphereLayout::kOriginal, 0, &in.look).glb,
+        morph_asset(mapped, 4, &in.mesh, &in.look).glb}) {
+    const Glb out(file);
+    const nlohmann::json& nodes = out.json["nodes"];
+    EXPECT_FALSE(nodes[0].contains("name")) << nodes.dump();
+    EXPECT_EQ(nodes[1]["name"], "part");
+    const auto q = nodes[1]["rotation"].get<std::vector<double>>();
+    ASSERT_EQ(q.size(), 4u);
+    EXPECT_NEAR(std::hypot(q[0], q[1], q[2]) * std::hypot(q[0], q[1], q[2]) + q[3] * q[3], 1, 1e-9);
+    const nlohmann::json& m = out.json["materials"][0];
+    EXPECT_FALSE(m.contains("name")) << m.dump();
+    EXPECT_FALSE(m["pbrMetallicRoughness"].contains("metallicFactor")) << m.dump();
+    EXPECT_FALSE(m["pbrMetallicRoughness"].contains("baseColorFactor")) << m.dump();
+    EXPECT_EQ(m["pbrMetallicRoughness"]["roughnessFactor"], 0.5);
+    EXPECT_TRUE(m["pbrMetallicRoughness"].contains("baseColorTexture"));
+    EXPECT_FALSE(m.contains("alphaMode"));
+    EXPECT_FALSE(m.contains("doubleSided"));
+    EXPECT_EQ(m["emissiveFactor"], nlohmann::json({0.5, 0.5, 0.5}));
+    EXPECT_FALSE(m["extensions"].contains("FOO_unknown")) << m.dump();
+    EXPECT_TRUE(m["extensions"].contains("KHR_materials_unlit")) << m.dump();
+    // The geometry agrees with the normalized rotation: a viewer sees the unit sphere.
+    if (!out.json.contains("animations"))  // the sphere (the morph's base is the input)
+      expect_on_unit_sphere(read_with_look(file).mesh, 1e-5);
+  }
+}
+
+// A matrix is what the reader applies: TRS beside it is dropped (glTF allows only one).
+TEST(Appearance, AMatrixNodeKeepsOnlyItsMatrix) {
+  Glb glb(testing::textured_glb(testing::horseshoe()));
+  glb.json["nodes"] = {{{"matrix", {2, 0, 0, 0, 0, 2, 0, 0, 0, 0, 2, 0, 1, 2, 3, 1}},
+                        {"translation", {9, 9, 9}},
+                        {"mesh", 0}}};
+  glb.json["scenes"] = {{{"nodes", {0}}}};
+  const ReadBack in = read_with_look(glb.bytes());
+  const MappedMesh mapped = map_mesh(in.mesh, {}, {});
+  const std::string sphere =
+      sphere_asset(in.mesh, mapped, {}, SphereLayout::kOriginal, 0, &in.look).glb;
+  const Glb out(sphere);
+  const nlohmann::json& node = out.json["nodes"][0];
+  EXPECT_TRUE(node.contains("matrix")) << node.dump();
+  EXPECT_FALSE(node.contains("translation")) << node.dump();
+  expect_on_unit_sphere(read_with_look(sphere).mesh, 1e-5);
+}
+
 TEST(Appearance, MissingImageBecomesAPlaceholder) {
   Glb glb(testing::textured_glb(testing::horseshoe()));
   glb.json["images"][0].erase("bufferView");

@@ -8,11 +8,16 @@
 #include <sys/socket.h>
 #include <unistd.h>
 
+#include <atomic>
 #include <chrono>
 #include <cstdlib>
 #include <filesystem>
+#include <mutex>
+#include <string>
 #include <thread>
+#include <vector>
 
+#include "api/job_view.h"
 #include "core/map/pipeline.h"
 #include "server/redis_queue.h"
 #include "tests/mesh_generators.h"
@@ -313,6 +318,92 @@ TEST_F(RedisQueueTest, RedisOutOfReachIsQueueUnavailable) {
   EXPECT_THROW(queue.submit(spec(), job), server::QueueUnavailable);
   EXPECT_THROW(queue.find("0123"), server::QueueUnavailable);
   EXPECT_FALSE(queue.accepting());
+}
+
+// The job as the API reads it back from Redis lists its artifacts without their bytes:
+// the size shown is the size written (it was 0, and the page said "0.0 KiB").
+TEST_F(RedisQueueTest, AListedArtifactShowsItsSize) {
+  RedisJobQueue queue(address(), {}, nullptr);
+  RedisConnection redis(address());
+  const auto job = run_to_end(queue, redis, 5000);
+  const auto found = queue.find(job->id);
+  ASSERT_TRUE(found.job);
+  const nlohmann::json view = api::job_json(*found.job, 0);
+  EXPECT_EQ(view["artifacts"]["sphere.glb"]["bytes"], 5000) << view.dump();
+}
+
+// Two worker nodes starting together on a fresh Redis both find no group and both create
+// it: the second XGROUP CREATE answers BUSYGROUP, which is "already done", not "Redis is
+// unavailable" (that was logged as redis_unavailable and retried 2 s later).
+TEST_F(RedisQueueTest, AnExistingConsumerGroupIsNotRedisUnavailable) {
+  RedisConnection redis(address());
+  redis.command({"XGROUP", "CREATE", "probe", "g", "0", "MKSTREAM"});
+  try {
+    redis.command({"XGROUP", "CREATE", "probe", "g", "0", "MKSTREAM"});
+    FAIL() << "a second XGROUP CREATE succeeded";
+  } catch (const server::RedisUnavailable& e) {
+    FAIL() << "classed as unavailable: " << e.what();
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("BUSYGROUP"), std::string::npos) << e.what();
+  }
+}
+
+TEST_F(RedisQueueTest, WorkersStartingTogetherBothClaim) {
+  for (int round = 0; round < 10; ++round) {
+    RedisConnection(address()).command({"FLUSHALL"});
+    RedisJobQueue a(address(), {}, nullptr), b(address(), {}, nullptr);
+    RedisConnection ra(address()), rb(address());
+    ra.command({"PING"}), rb.command({"PING"});  // connected, so both claims start at once
+    std::atomic<int> ready{0};
+    std::string errors;
+    std::mutex errors_mutex;
+    auto start = [&](RedisJobQueue& queue, RedisConnection& redis, const char* consumer) {
+      ++ready;
+      while (ready < 2) std::this_thread::yield();
+      try {
+        queue.claim(redis, consumer, 0.01);
+      } catch (const std::exception& e) {
+        std::lock_guard lock(errors_mutex);
+        errors += std::string(consumer) + ": " + e.what() + "\n";
+      }
+    };
+    std::thread first(start, std::ref(a), std::ref(ra), "n1");
+    std::thread second(start, std::ref(b), std::ref(rb), "n2");
+    first.join();
+    second.join();
+    ASSERT_EQ(errors, "") << "round " << round;
+  }
+  // The group both made is the one jobs reach.
+  RedisJobQueue queue(address(), {}, nullptr);
+  RedisConnection redis(address());
+  std::shared_ptr<server::Job> job;
+  ASSERT_EQ(queue.submit(spec(), job), JobQueue::Admission::kAccepted);
+  EXPECT_EQ(claim(queue, redis, "n1").id, job->id);
+}
+
+// A worker of the process that submitted a job tells "running" only after the job's
+// "queued" was told (the observer writes the job log), however slow that was.
+TEST_F(RedisQueueTest, AWorkerHereTellsRunningAfterQueued) {
+  std::mutex order_mutex;
+  std::vector<std::string> order;
+  RedisJobQueue queue(address(), {},
+                      [&](const std::shared_ptr<server::Job>&, server::JobStatus status) {
+                        if (status != server::JobStatus::kQueued) return;
+                        std::this_thread::sleep_for(std::chrono::milliseconds(200));
+                        std::lock_guard lock(order_mutex);
+                        order.push_back("queued");
+                      });
+  RedisConnection redis(address());
+  std::thread worker([&] {
+    const auto delivery = claim(queue, redis, "n1");
+    queue.wait_until_told(delivery.id);
+    std::lock_guard lock(order_mutex);
+    order.push_back("running");
+  });
+  std::shared_ptr<server::Job> job;
+  EXPECT_EQ(queue.submit(spec(), job), JobQueue::Admission::kAccepted);
+  worker.join();
+  EXPECT_EQ(order, (std::vector<std::string>{"queued", "running"}));
 }
 
 TEST(RedisAddress, ParsesAndRefuses) {

@@ -420,6 +420,10 @@ TEST(Service, ApiKeysSeparateTenants) {
                  401, "unauthorized");
   EXPECT_EQ(client.Get("/v1/openapi.yaml")->status, 200);  // the description stays public
   EXPECT_EQ(client.Get("/healthz")->status, 200);
+  // /metrics on the API port: any tenant's key (tests/security_headers.sh: the health
+  // port serves it without one).
+  expect_problem(client.Get("/metrics"), 401, "unauthorized");
+  EXPECT_EQ(client.Get("/metrics", beta)->status, 200);
 
   auto submitted = client.Post("/v1/jobs", alpha, glb, "model/gltf-binary");
   ASSERT_EQ(submitted->status, 202) << submitted->body;
@@ -533,12 +537,26 @@ TEST(Service, WrongMethodsGet405AndOddPreferIsIgnored) {
       << metrics;
 }
 
-// A browser on another origin may call the API: preflight, and the headers it needs.
+// A browser on another origin may call the API only when cors_origins lets it: by
+// default no response carries CORS headers; with "*", preflight and the headers it needs.
 TEST(Service, CorsPreflightAndHeaders) {
-  TestServer server(small_config());
+  TestServer closed(small_config());
+  auto closed_client = closed.client();
+  const httplib::Headers cross = {{"Origin", "https://pipeline.example"},
+                                  {"Access-Control-Request-Method", "POST"}};
+  auto refused_preflight = closed_client.Options("/v1/jobs", cross);
+  ASSERT_TRUE(refused_preflight);
+  EXPECT_FALSE(refused_preflight->has_header("Access-Control-Allow-Origin"));
+  EXPECT_FALSE(refused_preflight->has_header("Access-Control-Allow-Methods"));
+  auto plain = closed_client.Get("/healthz", {{"Origin", "https://pipeline.example"}});
+  EXPECT_FALSE(plain->has_header("Access-Control-Allow-Origin"));
+  EXPECT_EQ(plain->get_header_value("X-Content-Type-Options"), "nosniff");
+
+  server::ServerConfig any = small_config();
+  any.cors_origins = "*";
+  TestServer server(any);
   auto client = server.client();
-  auto preflight = client.Options("/v1/jobs", {{"Origin", "https://pipeline.example"},
-                                               {"Access-Control-Request-Method", "POST"}});
+  auto preflight = client.Options("/v1/jobs", cross);
   ASSERT_TRUE(preflight);
   EXPECT_EQ(preflight->status, 204);
   EXPECT_EQ(preflight->get_header_value("Access-Control-Allow-Origin"), "*");
@@ -593,6 +611,14 @@ TEST(Service, ServesThePageAndItsModules) {
   ASSERT_EQ(page->status, 200);
   EXPECT_EQ(page->get_header_value("Content-Type"), "text/html; charset=utf-8");
   EXPECT_NE(page->body.find("<input id=\"file\" type=\"file\""), std::string::npos);
+  // Locked down: own origin only, never framed, no sniffing (tests/security_headers.sh
+  // checks the import map's hash; tests/web that the page still works under it).
+  const std::string policy = page->get_header_value("Content-Security-Policy");
+  EXPECT_NE(policy.find("default-src 'self'"), std::string::npos) << policy;
+  EXPECT_NE(policy.find("frame-ancestors 'none'"), std::string::npos) << policy;
+  EXPECT_EQ(policy.find("unsafe-inline"), std::string::npos) << policy;
+  EXPECT_EQ(page->get_header_value("X-Content-Type-Options"), "nosniff");
+  EXPECT_EQ(page->get_header_value("X-Frame-Options"), "DENY");
   for (const char* path : {"/web/app.js", "/web/three/build/three.module.js",
                            "/web/three/examples/jsm/loaders/GLTFLoader.js"}) {
     auto module = client.Get(path);

@@ -16,5 +16,7 @@ struct Asset {
 const std::vector<Asset>& assets();
 // The asset at a URL path ("/" is "/index.html"), or nullptr.
 const Asset* find_asset(std::string_view path);
+// The base64 SHA-256 of index.html's inline import map, for its Content-Security-Policy.
+std::string_view import_map_sha256();
 
 }  // namespace spheremap::web

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <map>
 
+#include "core/io/gltf_checked.h"
 #include "core/io/image_reader.h"
 #include "core/mesh/input_error.h"
 
@@ -93,16 +94,6 @@ nlohmann::json checked_sampler(const nlohmann::json& sampler) {
   return out;
 }
 
-// A node with what the writer keeps: name, children, camera, transform.
-nlohmann::json copied_node(const nlohmann::json& node, size_t cameras) {
-  nlohmann::json out = nlohmann::json::object();
-  for (const char* key : {"name", "children", "matrix", "translation", "rotation", "scale"})
-    if (node.contains(key)) out[key] = node[key];
-  if (node.contains("camera") && index_below(node["camera"], cameras))
-    out["camera"] = node["camera"];
-  return out;
-}
-
 }  // namespace
 
 void copy_scene_look(const Document& doc, const std::vector<size_t>& roots,
@@ -124,6 +115,10 @@ void copy_scene_look(const Document& doc, const std::vector<size_t>& roots,
     look.materials = look.textures = look.samplers = nlohmann::json::array();
     for (auto& p : look.primitives) p.material = -1;
   } else {
+    look.extensions_used = appearance_extensions(json, "extensionsUsed");
+    look.extensions_required = appearance_extensions(json, "extensionsRequired");
+    for (auto& m : look.materials) m = checked_material(m, look.extensions_used);
+    for (auto& t : look.textures) t = checked_texture(t, look.extensions_used);
     std::map<std::string, size_t> data_of_source;  // image_source_key -> image_data entry
     std::vector<std::string> types;                // per image_data entry
     for (size_t i = 0; i < images; ++i) {
@@ -156,14 +151,13 @@ void copy_scene_look(const Document& doc, const std::vector<size_t>& roots,
       look.images.push_back(std::move(copy));
       look.image_source.push_back(data);
     }
-    look.extensions_used = appearance_extensions(json, "extensionsUsed");
-    look.extensions_required = appearance_extensions(json, "extensionsRequired");
   }
   if (!roots.empty()) {
     const size_t cameras = look.cameras.size();
     for (size_t n = 0; n < array_size(json, "nodes"); ++n)
-      look.nodes.push_back(n < visited.size() && visited[n] ? copied_node(json["nodes"][n], cameras)
-                                                            : nlohmann::json::object());
+      look.nodes.push_back(n < visited.size() && visited[n]
+                               ? checked_node(json["nodes"][n], cameras)
+                               : nlohmann::json::object());
     look.scene_nodes = roots;
     look.scene_name = scene_name;
   }

@@ -9,6 +9,7 @@
 #include <optional>
 
 #include "core/io/draco_header.h"
+#include "core/io/gltf_checked.h"
 #include "core/io/gltf_document.h"
 #include "core/io/gltf_look.h"
 #include "core/mesh/input_error.h"
@@ -54,8 +55,9 @@ Matrix local_transform(const nlohmann::json& node) {
   if (auto tr = numbers(node, "translation", 3); !tr.empty())
     t[12] = tr[0], t[13] = tr[1], t[14] = tr[2];
   Matrix r = kIdentity;
-  if (auto q = numbers(node, "rotation", 4); !q.empty()) {
-    const double x = q[0], y = q[1], z = q[2], w = q[3];
+  // A non-unit quaternion is normalized (the writers write it so: gltf_checked.h).
+  if (const auto q = gltf::usable_rotation(numbers(node, "rotation", 4))) {
+    const auto [x, y, z, w] = *q;
     r = {1 - 2 * (y * y + z * z),
          2 * (x * y + z * w),
          2 * (x * z - y * w),

@@ -97,7 +97,9 @@ export interface paths {
          *     changes (checked every 250 ms), then one `status` event (data: the whole job, as
          *     GET /v1/jobs/{id} answers it) when the job ends, and the stream closes. A comment
          *     line every 15 s keeps idle proxies open. At most a quarter of `http_threads`
-         *     stream at once; beyond that 503 `too_many_streams` with Retry-After: poll instead.
+         *     stream at once, and half of those for one tenant (an API key's tenant, or a client
+         *     address without keys); beyond that 503 `too_many_streams` with Retry-After: poll
+         *     instead.
          */
         get: operations["jobEvents"];
         put?: never;
@@ -187,7 +189,9 @@ export interface paths {
          *     spheremap_jobs_finished_total{status}, spheremap_rejections_total{reason},
          *     spheremap_http_responses_total{code}, spheremap_jobs_evicted_total, and the
          *     histograms spheremap_job_run_seconds, spheremap_job_wait_seconds,
-         *     spheremap_input_bytes, spheremap_input_faces.
+         *     spheremap_input_bytes, spheremap_input_faces. With API keys on, this port answers
+         *     only a request with a valid key (any tenant's); the health port (health_port)
+         *     serves the same text without one, for scrapers on the internal network.
          */
         get: operations["metrics"];
         put?: never;
@@ -709,6 +713,7 @@ export interface operations {
                     "text/plain": string;
                 };
             };
+            401: components["responses"]["Problem"];
         };
     };
     openapiDocument: {
