@@ -359,7 +359,11 @@ export interface components {
          *     artifacts exceed result_memory_bytes), worker_unavailable (503), internal (500);
          *     queue_full, tenant_quota (429); too_many_streams (503); too_many_ranges (416);
          *     intake_busy, intake_timeout (503 with Retry-After: no intake thread was free, or
-         *     reading the mesh outlasted intake_timeout_seconds). Answered on the connection
+         *     reading the mesh outlasted intake_timeout_seconds; the reader stops within a
+         *     second of it); out_of_memory (503 on a submission: the server ran out of memory
+         *     reading it; nothing was kept); too_large (413) also when the glTF's buffers and
+         *     images, each distinct source once, exceed max_resource_bytes or twice the body.
+         *     Answered on the connection
          *     before any route: header_timeout, body_timeout (408: the headers or the body
          *     did not arrive within header_timeout_seconds / body_timeout_seconds),
          *     too_many_headers, headers_too_large (431), too_many_connections (429 with
