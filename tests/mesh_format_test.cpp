@@ -92,5 +92,28 @@ TEST_F(MeshFiles, UnknownExtensionsListEveryFormat) {
   }
 }
 
+// A file that is not the text its extension says: a PNG renamed .obj, an empty file.
+TEST(MeshFormat, BinaryOrEmptyTextFilesSayWhatTheyAre) {
+  auto message = [](std::string_view bytes, MeshFormat format) {
+    try {
+      parse_mesh_text(bytes, format);
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  const std::string png("\x89PNG\r\n\x1a\n\0\0\0\rIHDR", 16);
+  const std::string as_obj = message(png, MeshFormat::kObj);
+  EXPECT_NE(as_obj.find("not an OBJ file: it holds binary bytes"), std::string::npos) << as_obj;
+  EXPECT_NE(as_obj.find("starts with \"\\x89PNG"), std::string::npos) << as_obj;
+  EXPECT_NE(message(png, MeshFormat::kOff).find("not an OFF file"), std::string::npos);
+  EXPECT_EQ(message("", MeshFormat::kObj), "empty file (0 bytes)");
+  EXPECT_EQ(message("", MeshFormat::kStl), "empty file (0 bytes)");
+  // A binary STL renamed .obj is named as what it looks like.
+  const std::string stl = testing::binary_stl(testing::icosphere(1));
+  EXPECT_NE(message(stl, MeshFormat::kObj).find("it looks like STL"), std::string::npos)
+      << message(stl, MeshFormat::kObj);
+}
+
 }  // namespace
 }  // namespace spheremap

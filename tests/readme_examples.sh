@@ -15,7 +15,9 @@ fail() { echo "FAIL: $*"; exit 1; }
 source tests/start_server.sh
 start_server "$work/server.log" --workers 1
 hostport=${url#http://}
-before=$(git status --porcelain --untracked-files=all 2> /dev/null || true)
+# Untracked files only: what the examples could write (edits to tracked files are not theirs).
+untracked() { git status --porcelain --untracked-files=all 2> /dev/null | grep '^??' || true; }
+before=$(untracked)
 
 # block NAME: the text of one marked block, with the test's port and binary.
 block() {
@@ -45,6 +47,6 @@ done
 (cd "$root" && timeout 300 bash -euo pipefail "$work/cli.sh" > "$work/cli.out") ||
   fail "the README's CLI block: $(tail -5 "$work/cli.out")"
 # Nothing written into the checkout (the examples work in temporary folders).
-[ "$(git status --porcelain --untracked-files=all 2> /dev/null)" = "$before" ] ||
-  fail "the README's examples left files in the checkout: $(git status --porcelain | head -5)"
+[ "$(untracked)" = "$before" ] ||
+  fail "the README's examples left files in the checkout: $(untracked | head -5)"
 echo "readme examples: ok"

@@ -7,6 +7,7 @@
 
 #include "core/io/bounded_json.h"
 #include "core/io/meshopt_view.h"
+#include "core/io/shown_bytes.h"
 #include "core/mesh/input_error.h"
 
 namespace spheremap::gltf {
@@ -112,24 +113,6 @@ bool looks_like_gltf(std::span<const uint8_t> bytes) {
   return at == bytes.size() || bytes[at] == '{';
 }
 
-// The first bytes of a file for a message: printable ASCII as it is, the rest as \xNN;
-// at most 8 bytes, so a message never echoes much of a client's data.
-std::string shown_prefix(std::span<const uint8_t> bytes) {
-  std::string out = "\"";
-  for (size_t i = 0; i < std::min<size_t>(bytes.size(), 8); ++i) {
-    const uint8_t c = bytes[i];
-    if (c >= 0x20 && c < 0x7F && c != '"' && c != '\\') {
-      out += static_cast<char>(c);
-    } else {
-      static const char* const kHex = "0123456789abcdef";
-      out += "\\x";
-      out += kHex[c >> 4];
-      out += kHex[c & 15];
-    }
-  }
-  return out + "\"";
-}
-
 size_t index_field(const nlohmann::json& object, const char* key, size_t limit, const char* what,
                    size_t fallback) {
   auto it = object.find(key);
@@ -154,7 +137,7 @@ Document::Document(std::span<const uint8_t> bytes, const GltfResources* resource
     fail(
         "not glTF: neither a GLB (which starts with \"glTF\") nor glTF JSON (which starts "
         "with '{'); the file starts with " +
-        shown_prefix(bytes));
+        shown_prefix({reinterpret_cast<const char*>(bytes.data()), bytes.size()}));
   if (bytes.size() >= 4 && read_u32(bytes, 0) == kGlbMagic) {
     if (bytes.size() < 20) fail("GLB is truncated: " + std::to_string(bytes.size()) + " bytes");
     if (read_u32(bytes, 4) == 1) fail(kGltf1);

@@ -1,10 +1,12 @@
 #include "core/io/mesh_format.h"
 
 #include <algorithm>
+#include <cctype>
 
 #include "core/io/obj.h"
 #include "core/io/off.h"
 #include "core/io/ply.h"
+#include "core/io/shown_bytes.h"
 #include "core/io/stl.h"
 #include "core/mesh/input_error.h"
 
@@ -93,6 +95,24 @@ std::optional<MeshFormat> sniff_mesh_format(std::string_view bytes) {
 }
 
 PolygonMesh parse_mesh_text(std::string_view bytes, MeshFormat format, const MeshLimits& limits) {
+  if (bytes.empty()) throw InputError("parse", "empty file (0 bytes)");
+  if (format == MeshFormat::kObj || format == MeshFormat::kOff) {
+    // A text format with NUL bytes is some other file (a PNG renamed .obj read as OBJ
+    // found "no faces"); say what it starts with, and what it looks like when we know.
+    if (bytes.substr(0, 65536).find('\0') != std::string_view::npos) {
+      auto upper = [](MeshFormat f) {
+        std::string name = format_name(f);
+        for (char& c : name) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+        return name;
+      };
+      const std::optional<MeshFormat> looks = sniff_mesh_format(bytes);
+      throw InputError(
+          "parse",
+          "not an " + upper(format) + " file: it holds binary bytes (it starts with " +
+              shown_prefix(bytes) + ")" +
+              (looks && *looks != format ? "; it looks like " + upper(*looks) : std::string()));
+    }
+  }
   switch (format) {
     case MeshFormat::kObj:
     case MeshFormat::kOff: {
