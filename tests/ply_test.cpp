@@ -199,7 +199,7 @@ TEST(PlyReader, HeaderErrorsNameTheLine) {
             std::string::npos);
   EXPECT_NE(error_of(head + "element vertex 1\nproperty float x\nproperty float y\nproperty "
                             "float z\nend_header\n0 0 0\n")
-                .find("no 'face' element"),
+                .find("no 'face' or 'tristrips' element"),
             std::string::npos);
   EXPECT_NE(error_of(head + "element vertex 1\nproperty float x\nproperty float y\n"
                             "element face 0\nproperty list uchar int vertex_indices\nend_header\n"
@@ -216,6 +216,32 @@ TEST(PlyReader, HeaderErrorsNameTheLine) {
   EXPECT_NE(error_of(head + "frobnicate\nend_header\n").find("unknown header keyword"),
             std::string::npos);
   EXPECT_NE(error_of(head + "end_header\n").find("no 'vertex' element"), std::string::npos);
+}
+
+// Stanford's scans store triangle strips ('tristrips', -1 between strips) instead of faces:
+// every other triangle of a strip is reversed so all face the same way, and the
+// degenerate ones that join strips are left out. Two strips make a closed tetrahedron.
+TEST(PlyReader, ReadsTriangleStrips) {
+  const std::string head =
+      "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\n"
+      "property float z\nelement tristrips 1\nproperty list int int vertex_indices\nend_header\n"
+      "1 1 1\n1 -1 -1\n-1 1 -1\n-1 -1 1\n";
+  const PolygonMesh mesh = parse_ply(head + "11 0 1 2 3 -1 2 3 0 1 1 1\n");
+  const std::vector<uint32_t> expected = {0, 1, 2, 2, 1, 3, 2, 3, 0, 0, 3, 1};
+  EXPECT_EQ(mesh.indices, expected);
+  EXPECT_EQ(mesh.face_count(), 4u);
+  // Binary, little endian: the same strips.
+  std::string binary =
+      "ply\nformat binary_little_endian 1.0\nelement vertex 4\nproperty float x\n"
+      "property float y\nproperty float z\nelement tristrips 1\n"
+      "property list int int vertex_indices\nend_header\n";
+  const float xyz[12] = {1, 1, 1, 1, -1, -1, -1, 1, -1, -1, -1, 1};
+  binary.append(reinterpret_cast<const char*>(xyz), sizeof xyz);
+  const int32_t strips[12] = {11, 0, 1, 2, 3, -1, 2, 3, 0, 1, 1, 1};
+  binary.append(reinterpret_cast<const char*>(strips), sizeof strips);
+  EXPECT_EQ(parse_ply(binary).indices, expected);
+  // A strip index out of range is named like a face's.
+  EXPECT_NE(error_of(head + "4 0 1 2 9\n").find("out of range"), std::string::npos);
 }
 
 }  // namespace

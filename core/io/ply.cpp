@@ -23,7 +23,8 @@ using ply::Type;
 }
 
 // What a property of the element being read becomes.
-enum class Role : uint8_t { kSkip, kX, kY, kZ, kCorners };
+// kStrip: a triangle strip list (Stanford's 'tristrips' element), -1 restarting it.
+enum class Role : uint8_t { kSkip, kX, kY, kZ, kCorners, kStrip };
 
 // Where an element's values come from: binary bytes or ASCII words. Both fail with
 // where they were (element, entry, property) when the file ends early or a value is bad.
@@ -154,16 +155,44 @@ std::vector<Role> roles_of(const Element& element, bool& has_xyz, bool& has_corn
       if (p.name == "z") role = Role::kZ, xyz |= 4;
       if (xyz == seen) role = Role::kSkip;  // not x, y, z, or one seen already
     }
-    if (element.name == "face" && p.is_list && !has_corners &&
+    if ((element.name == "face" || element.name == "tristrips") && p.is_list && !has_corners &&
         (p.name == "vertex_indices" || p.name == "vertex_index")) {
-      if (!ply::is_integer(p.type)) fail("the face list '" + p.name + "' holds non-integers");
-      role = Role::kCorners;
+      if (!ply::is_integer(p.type))
+        fail("the " + element.name + " list '" + p.name + "' holds non-integers");
+      role = element.name == "face" ? Role::kCorners : Role::kStrip;
       has_corners = true;
     }
     roles.push_back(role);
   }
   if (element.name == "vertex") has_xyz = xyz == 7;
   return roles;
+}
+
+// Triangles of a strip list: each index after the first two makes a triangle with the two
+// before it, every other one reversed so all face the same way; -1 starts a new strip,
+// and the degenerate triangles that join strips (a vertex twice) are left out.
+void read_strips(ValueSource& in, const Property& property, uint64_t length, PolygonMesh& mesh) {
+  int64_t a = -1, b = -1;
+  bool odd = false;
+  for (uint64_t j = 0; j < length; ++j) {
+    const double index = in.number(property.type);
+    if (index == -1) {
+      a = b = -1, odd = false;
+      continue;
+    }
+    if (index < 0 || index > std::numeric_limits<uint32_t>::max())
+      in.fail_here("vertex index " + std::to_string(static_cast<long long>(index)));
+    const auto c = static_cast<int64_t>(index);
+    if (a >= 0 && a != b && b != c && a != c) {
+      const uint32_t x = static_cast<uint32_t>(odd ? b : a), y = static_cast<uint32_t>(odd ? a : b);
+      for (uint32_t v : {x, y, static_cast<uint32_t>(c)}) mesh.indices.push_back(v);
+      if (mesh.indices.size() > std::numeric_limits<uint32_t>::max())
+        in.fail_here("more corners than 32-bit offsets can hold");
+      mesh.offsets.push_back(static_cast<uint32_t>(mesh.indices.size()));
+    }
+    if (a >= 0) odd = !odd;
+    a = b, b = c;
+  }
 }
 
 // Appends the element's positions (when `vertices`) and faces (a kCorners role) to mesh.
@@ -191,6 +220,10 @@ void read_element(ValueSource& in, const Element& element, const std::vector<Rol
         continue;
       }
       const uint64_t length = in.list_length(property.count_type, property.type);
+      if (roles[k] == Role::kStrip) {
+        read_strips(in, property, length, mesh);
+        continue;
+      }
       if (roles[k] != Role::kCorners) {
         for (uint64_t j = 0; j < length; ++j) in.skip(property.type);
         continue;
@@ -237,8 +270,11 @@ PolygonMesh parse_ply(std::string_view bytes, const MeshLimits& limits) {
     if (e.name == "vertex" && !vertex) vertex = &e;
     if (e.name == "face" && !face) face = &e;
   }
+  // Without faces, triangle strips (Stanford's scans, e.g. igea.ply, store 'tristrips').
+  for (const Element& e : header.elements)
+    if (e.name == "tristrips" && !face) face = &e;
   if (!vertex) fail("no 'vertex' element");
-  if (!face) fail("no 'face' element (a point cloud has nothing to map)");
+  if (!face) fail("no 'face' or 'tristrips' element (a point cloud has nothing to map)");
 
   // A face is at least one triangle.
   if (vertex->count > limits.max_vertices || face->count > limits.max_triangles)
@@ -249,8 +285,10 @@ PolygonMesh parse_ply(std::string_view bytes, const MeshLimits& limits) {
   PolygonMesh mesh;
   // Counts were checked against the bytes by parse_header and the limits: these are bounded.
   mesh.positions.reserve(vertex->count);
-  mesh.offsets.reserve(face->count + 1);
-  mesh.indices.reserve(3 * face->count);
+  if (face->name == "face") {  // strips: their sizes are known only as they are read
+    mesh.offsets.reserve(face->count + 1);
+    mesh.indices.reserve(3 * face->count);
+  }
   ValueSource in(bytes, header);
   bool has_xyz = false, has_corners = false;
   for (const Element& element : header.elements) {
@@ -260,7 +298,7 @@ PolygonMesh parse_ply(std::string_view bytes, const MeshLimits& limits) {
       roles = roles_of(element, has_xyz, has_corners);
       if (&element == vertex && !has_xyz) fail("the 'vertex' element lacks x, y or z");
       if (&element == face && !has_corners)
-        fail("the 'face' element has no 'vertex_indices' (or 'vertex_index') list");
+        fail("the '" + face->name + "' element has no 'vertex_indices' (or 'vertex_index') list");
     } else {
       roles.assign(element.properties.size(), Role::kSkip);
     }
