@@ -57,15 +57,18 @@ const char* prepare_method_name(PrepareMethod method) {
   return method == PrepareMethod::kExact ? "exact" : "repair";
 }
 
-PreparedMesh prepare_mesh(const PolygonMesh& input, const PrepareOptions& options) {
+namespace {
+
+// What follows the weld: the largest part when asked, the topology report, and whether
+// the largest part alone would map.
+PreparedMesh prepare_welded(WeldResult welded, size_t input_faces, const PrepareOptions& options) {
   PreparedMesh prepared;
   StopCheck stop(&options.should_stop);
-  prepared.welded = weld(input, options.weld_tolerance, &stop);
-  stop.check();
+  prepared.welded = std::move(welded);
   if (options.largest_component) keep_largest_component(prepared.welded);
   stop.check();
   prepared.topology = analyze_topology(prepared.welded.mesh, &stop);
-  prepared.preparation.input_faces = input.face_count();
+  prepared.preparation.input_faces = input_faces;
   if (!options.largest_component && prepared.topology.component_vertices.size() > 1) {
     WeldResult largest = prepared.welded;
     keep_largest_component(largest);
@@ -75,18 +78,36 @@ PreparedMesh prepare_mesh(const PolygonMesh& input, const PrepareOptions& option
   return prepared;
 }
 
+}  // namespace
+
+PreparedMesh prepare_mesh(const PolygonMesh& input, const PrepareOptions& options) {
+  StopCheck stop(&options.should_stop);
+  WeldResult welded = weld(input, options.weld_tolerance, &stop);
+  stop.check();
+  return prepare_welded(std::move(welded), input.face_count(), options);
+}
+
 namespace {
 
 PreparedMesh prepare_once(PolygonMesh& input, GltfAppearance* look, const PrepareOptions& options) {
-  if (options.method == PrepareMethod::kExact) return prepare_mesh(input, options);
+  PreparedMesh as_given = prepare_mesh(input, options);
+  // A mesh that maps as it is has nothing to clean (a duplicate face, a collapsed one or a
+  // flipped one each fails a check), so repair costs nothing there.
+  if (options.method == PrepareMethod::kExact || mapping_failures(as_given.topology).empty()) {
+    as_given.preparation.method = options.method;
+    return as_given;
+  }
   StopCheck stop(&options.should_stop);
   FaceCleanup cleanup = clean_faces(input, options.weld_tolerance, &stop);
   const size_t input_faces = input.face_count();
+  PreparedMesh prepared;
   if (cleanup.changed()) {
     input = std::move(cleanup.mesh);
     if (look) move_face_ranges(*look, cleanup.source_face);
+    prepared = prepare_mesh(input, options);
+  } else {  // nothing safe to clean: the input as given, already prepared
+    prepared = std::move(as_given);
   }
-  PreparedMesh prepared = prepare_mesh(input, options);
   PreparationReport& report = prepared.preparation;
   report.method = options.method;
   report.input_faces = input_faces;
