@@ -1009,9 +1009,14 @@ std::vector<pid_t> worker_processes() {
 
 // Waits until the job is running and its worker process has started the spheremap
 // binary (a loaded machine may take a while between fork and exec).
+// Running in a worker process that has begun the job: it has reported the engine's
+// progress (a worker killed before that is retried on a fresh one, so a test that kills
+// it must wait for this).
 void wait_running(httplib::Client& client, const std::string& id) {
   for (int i = 0; i < 1000; ++i) {
-    if (body_json(client.Get(("/v1/jobs/" + id).c_str()))["status"] == "running" &&
+    const json job = body_json(client.Get(("/v1/jobs/" + id).c_str()));
+    const std::string stage = job["progress"].value("stage", "");
+    if (job["status"] == "running" && stage != "starting" && stage != "waiting_for_memory" &&
         !worker_processes().empty())
       return;
     std::this_thread::sleep_for(std::chrono::milliseconds(10));
