@@ -23,6 +23,7 @@ class Writer {
   template <typename T>
   void put_vector(const std::vector<T>& values) {
     put<uint64_t>(values.size());
+    if (values.empty()) return;  // data() may be null
     out_.append(reinterpret_cast<const char*>(values.data()), values.size() * sizeof(T));
   }
   void put_string(const std::string& text) {
@@ -138,6 +139,7 @@ class Reader {
  private:
   void take(void* out, size_t size) {
     if (size > bytes_.size() - at_) throw std::runtime_error("truncated request");
+    if (size == 0) return;  // an empty vector's data() may be null: memcpy must not see it
     std::memcpy(out, bytes_.data() + at_, size);
     at_ += size;
   }
