@@ -137,8 +137,10 @@ JobOptions parse_job_options(const nlohmann::json& options) {
        }},
       {"prepare",
        [&](const Json& v, const std::string& k) {
-         out.prepare.method = text(v, k, {"exact", "repair"}) == "exact" ? PrepareMethod::kExact
-                                                                         : PrepareMethod::kRepair;
+         const std::string method = text(v, k, {"exact", "repair", "parts"});
+         out.prepare.method = method == "exact"    ? PrepareMethod::kExact
+                              : method == "repair" ? PrepareMethod::kRepair
+                                                   : PrepareMethod::kParts;
        }},
       {"largest_component",
        [&](const Json& v, const std::string& k) { out.prepare.largest_component = boolean(v, k); }},

@@ -23,7 +23,7 @@ const char* const kHowToSendResources =
 // The detail's last sentence for a fix, in the job options' words.
 std::string option_hint(const Fix& fix) {
   return "; the job option \"" + fix.option + "\": " + fix.value + " (or ?" + fix.option + "=" +
-         fix.value + ") " + fix.effect;
+         fix.plain_value() + ") " + fix.effect;
 }
 
 }  // namespace

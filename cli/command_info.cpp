@@ -15,7 +15,7 @@ int run_info(int argc, char** argv) {
   if (args.flag("help")) {
     std::cout
         << "Usage: spheremap info INPUT [--weld-tolerance T] [--mesh INDEX|NAME]\n"
-           "                      [--prepare exact|repair]\n\n"
+           "                      [--prepare exact|repair|parts]\n\n"
            "Prints the topology report of INPUT (.obj, .off, .stl, .ply, .glb, .gltf) as JSON:\n"
            "vertices, edges, faces, face sizes, boundary, manifoldness, orientation,\n"
            "components, genus, and whether it can be mapped (with the failed checks and,\n"
@@ -28,7 +28,7 @@ int run_info(int argc, char** argv) {
   if (args.positional().size() != 1) throw UsageError("info takes exactly one INPUT file");
   PrepareOptions prepare;
   prepare.weld_tolerance = args.number("weld-tolerance", 0, 0, 1);
-  prepare.method = parse_prepare_method(args.text("prepare", "repair"));
+  prepare.method = parse_prepare_method(args.text("prepare", "parts"));
   GltfReadStats stats;
   PolygonMesh input;
   try {

@@ -85,9 +85,13 @@ const char* const kMapOptionsHelp = R"(Mapping options:
                             only exactly equal positions)
   --largest-component       keep only the connected part with the most faces (default: several
                             parts are an error that lists their sizes)
-  --prepare exact|repair    repair (default): drop faces the weld collapses and duplicate
-                            (double-sided) faces, make each part's orientation consistent;
-                            no vertex moves, and a mesh that needs none of it is untouched.
+  --prepare M               parts (default): repair, then map every part (connected component)
+                            that is closed genus 0 on a sphere of its own, each drawn where
+                            its part is; parts that cannot map are left out and listed with
+                            their reasons in the metrics ("parts").
+                            repair: drop faces the weld collapses and duplicate (double-sided)
+                            faces, make each part's orientation consistent; no vertex moves,
+                            and a mesh that needs none of it is untouched; one part only.
                             exact: map the input as it is or refuse it
 )";
 
@@ -150,13 +154,14 @@ void read_map_options(const Arguments& args, PrepareOptions& prepare, MapOptions
       args.integer("attempts", static_cast<long long>(options.attempts), 1, 100));
   prepare.weld_tolerance = args.number("weld-tolerance", 0, 0, 1);
   prepare.largest_component = args.flag("largest-component");
-  prepare.method = parse_prepare_method(args.text("prepare", "repair"));
+  prepare.method = parse_prepare_method(args.text("prepare", "parts"));
 }
 
 PrepareMethod parse_prepare_method(const std::string& name) {
   if (name == "exact") return PrepareMethod::kExact;
   if (name == "repair") return PrepareMethod::kRepair;
-  throw UsageError("--prepare must be exact or repair, got '" + name + "'");
+  if (name == "parts") return PrepareMethod::kParts;
+  throw UsageError("--prepare must be exact, repair or parts, got '" + name + "'");
 }
 
 // Progress lines on stderr once a run has taken a second, at most twice a second.
@@ -198,7 +203,10 @@ std::string fix_hint(const Fix& fix) {
   if (fix.empty()) return "";
   std::string flag = "--" + fix.option;
   std::replace(flag.begin(), flag.end(), '_', '-');
-  if (fix.value != "true") flag += " " + fix.value;
+  if (fix.value != "true") {
+    flag += ' ';
+    flag += fix.plain_value();
+  }
   return flag + " " + fix.effect;
 }
 

@@ -174,6 +174,16 @@ std::string encode_request(const JobSpec& spec, double time_limit_seconds, int t
        {preparation.input_faces, preparation.collapsed_faces, preparation.shortened_faces,
         preparation.duplicate_faces, preparation.flipped_faces, preparation.reoriented_parts})
     w.put<uint64_t>(count);
+  w.put<uint64_t>(spec.prepared.parts.size());
+  for (const PartReport& part : spec.prepared.parts) {
+    w.put<uint64_t>(part.vertices);
+    w.put<uint64_t>(part.faces);
+    w.put<uint64_t>(part.failures.size());
+    for (const ValidationFailure& f : part.failures) {
+      w.put_string(f.check);
+      w.put_string(f.message);
+    }
+  }
   return w.take();
 }
 
@@ -207,13 +217,29 @@ WorkerRequest decode_request(const std::string& bytes) {
   PreparationReport& preparation = spec.prepared.preparation;
   const int32_t method = r.get<int32_t>();
   if (method != static_cast<int32_t>(PrepareMethod::kExact) &&
-      method != static_cast<int32_t>(PrepareMethod::kRepair))
+      method != static_cast<int32_t>(PrepareMethod::kRepair) &&
+      method != static_cast<int32_t>(PrepareMethod::kParts))
     throw std::runtime_error("unknown preparation method");
   preparation.method = static_cast<PrepareMethod>(method);
   for (size_t* count :
        {&preparation.input_faces, &preparation.collapsed_faces, &preparation.shortened_faces,
         &preparation.duplicate_faces, &preparation.flipped_faces, &preparation.reoriented_parts})
     *count = r.get<uint64_t>();
+  // Each part has a face, and each failure is one of a dozen checks.
+  const uint64_t parts = r.get<uint64_t>();
+  if (parts > spec.input.face_count()) throw std::runtime_error("more parts than faces");
+  for (uint64_t k = 0; k < parts; ++k) {
+    PartReport part;
+    part.vertices = r.get<uint64_t>();
+    part.faces = r.get<uint64_t>();
+    const uint64_t failures = r.get<uint64_t>();
+    if (failures > 16) throw std::runtime_error("too many failures of a part");
+    for (uint64_t i = 0; i < failures; ++i) {
+      std::string check = r.get_string();
+      part.failures.emplace_back(std::move(check), r.get_string());
+    }
+    spec.prepared.parts.push_back(std::move(part));
+  }
   if (!r.done()) throw std::runtime_error("trailing bytes after the request");
   spec.prepared.topology = analyze_topology(spec.prepared.welded.mesh);
   return request;

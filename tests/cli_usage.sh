@@ -36,11 +36,17 @@ msg=$("$spheremap" info "$tmp/tet.3ds" 2>&1); [ $? -eq 2 ] || fail "unknown exte
 [[ "$msg" == *"'.stl', '.ply'"* ]] || fail "unknown extension lists the formats: $msg"
 printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n' > "$tmp/tri.obj"
 "$spheremap" info "$tmp/tri.obj" > /dev/null; [ $? -eq 2 ] || fail "info on open mesh exit 2"
-# Two tetrahedra: an error naming the components, or the larger with --largest-component.
+# Two tetrahedra: both mapped by default (--prepare parts); one part at a time (--prepare
+# repair) an error naming the components and parts as the fix; the larger with
+# --largest-component.
 printf 'v 1 1 1\nv 1 -1 -1\nv -1 1 -1\nv -1 -1 1\nv 11 1 1\nv 11 -1 -1\nv 9 1 -1\nv 9 -1 1\nv 10 0 5\n' > "$tmp/two.obj"
 printf 'f 1 2 3\nf 1 4 2\nf 1 3 4\nf 2 4 3\nf 5 6 7\nf 5 8 6\nf 5 7 8\nf 6 8 7\n' >> "$tmp/two.obj"
-msg=$("$spheremap" map "$tmp/two.obj" -o "$tmp/two_s.obj" 2>&1); [ $? -eq 2 ] || fail "two parts exit 2"
+"$spheremap" map "$tmp/two.obj" -o "$tmp/two_s.obj" --quiet || fail "two parts mapped"
+[ "$(grep -c '^f' "$tmp/two_s.obj")" -eq 8 ] || fail "two parts keep 8 faces"
+msg=$("$spheremap" map "$tmp/two.obj" -o "$tmp/two_s.obj" --prepare repair 2>&1)
+[ $? -eq 2 ] || fail "two parts exit 2 under repair"
 [[ "$msg" == *"[components]"*"2 connected components"* ]] || fail "components message: $msg"
+[[ "$msg" == *"fix: --prepare parts maps every one of its 2 parts"* ]] || fail "parts fix: $msg"
 "$spheremap" map "$tmp/two.obj" -o "$tmp/two_s.obj" --largest-component --quiet || fail "largest component"
 [ "$(grep -c '^f' "$tmp/two_s.obj")" -eq 4 ] || fail "largest component keeps 4 faces"
 # GLB output, and the welded layout.

@@ -226,6 +226,21 @@ PolygonMesh reversed(PolygonMesh mesh) {
   return mesh;
 }
 
+PolygonMesh assembled(const std::vector<std::pair<PolygonMesh, Vec3>>& parts) {
+  PolygonMesh out;
+  std::vector<uint32_t> corners;
+  for (const auto& [mesh, offset] : parts) {
+    const uint32_t base = static_cast<uint32_t>(out.vertex_count());
+    for (const Vec3& p : mesh.positions) out.positions.push_back(p + offset);
+    for (size_t f = 0; f < mesh.face_count(); ++f) {
+      corners.clear();
+      for (uint32_t v : mesh.face(f)) corners.push_back(base + v);
+      out.add_face(corners);
+    }
+  }
+  return out;
+}
+
 PolygonMesh without_face(const PolygonMesh& mesh, size_t skip) {
   PolygonMesh out;
   out.positions = mesh.positions;

@@ -67,6 +67,8 @@ PolygonMesh pinched_tetrahedra();
 PolygonMesh reversed(PolygonMesh mesh);
 // The mesh without face f (a hole).
 PolygonMesh without_face(const PolygonMesh& mesh, size_t f);
+// One mesh of several parts: each (mesh, offset) moved by its offset, in the order given.
+PolygonMesh assembled(const std::vector<std::pair<PolygonMesh, Vec3>>& parts);
 
 // A textured GLB of `mesh` (fan-triangulated) as exporters write one: every triangle's
 // corners are vertices of their own (seams everywhere), TEXCOORD_0 is the planar

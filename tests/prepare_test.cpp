@@ -143,7 +143,7 @@ TEST(PrepareInput, MovesTheLookFaceRangesWithTheFacesDropped) {
   EXPECT_EQ(prepared.preparation.input_faces, 90u);
   EXPECT_TRUE(input_failures(prepared).empty());
   const nlohmann::json report = topology_json(prepared);
-  EXPECT_EQ(report["preparation"]["method"], "repair");
+  EXPECT_EQ(report["preparation"]["method"], "parts");  // the default: repair, then parts
   EXPECT_EQ(report["preparation"]["duplicate_faces_dropped"], 10);
 }
 

@@ -667,6 +667,35 @@ TEST(Service, RemeshUvAndMorphArtifacts) {
                  400, "invalid_options");
 }
 
+// An asset of several parts maps every closed genus-0 part through the worker process
+// (the parts' reports cross the worker protocol) and lists the part left out.
+TEST(Service, EveryPartOfAKitMapsAndThePartLeftOutIsListed) {
+  TestServer server(small_config());
+  auto client = server.client();
+  const PolygonMesh kit =
+      testing::assembled({{testing::icosphere(2), {}},
+                          {testing::horseshoe(), {10, 0, 0}},
+                          {testing::without_face(testing::icosphere(1), 0), {0, 10, 0}}});
+  auto submitted = client.Post("/v1/jobs?outputs=remesh,uv,morph&resolution=16", glb_of(kit),
+                               "model/gltf-binary");
+  ASSERT_EQ(submitted->status, 202) << submitted->body;
+  const json done = wait_for(client, body_json(submitted)["id"]);
+  ASSERT_EQ(done["status"], "succeeded") << done.dump(2);
+  const json& metrics = done["metrics"];
+  EXPECT_EQ(metrics["preparation"]["method"], "parts");
+  EXPECT_EQ(metrics["parts_mapped"], 2);
+  EXPECT_EQ(metrics["parts_left_out"], 1);
+  EXPECT_EQ(metrics["parts"][2]["check"], "boundary");
+  EXPECT_EQ(metrics["remesh"]["parts"].size(), 2u);
+  auto sphere = client.Get(done["artifacts"]["sphere.glb"]["href"].get<std::string>().c_str());
+  ASSERT_EQ(sphere->status, 200);
+  EXPECT_EQ(testing::Glb(sphere->body).json["nodes"].size(), 2u);
+
+  // prepare=repair keeps the one-part rule.
+  expect_problem(client.Post("/v1/jobs?prepare=repair", glb_of(kit), "model/gltf-binary"), 422,
+                 "not_mappable");
+}
+
 TEST(Service, SynchronousMap) {
   TestServer server(small_config());
   auto client = server.client();
@@ -846,7 +875,9 @@ TEST(Service, InvalidMeshesGet422WithTheirCheck) {
   const std::pair<PolygonMesh, std::string> cases[] = {
       {testing::torus(12, 8), "genus"},
       {testing::without_face(testing::icosphere(2), 3), "boundary"},
-      {testing::two_tetrahedra(), "components"},
+      // Two parts neither of which maps alone (each has genus 1).
+      {testing::assembled({{testing::torus(12, 8), {}}, {testing::torus(12, 8), {5, 0, 0}}}),
+       "components"},
       {testing::pinched_tetrahedra(), "non_manifold_vertex"},
   };
   for (const auto& [mesh, check] : cases) {
@@ -859,8 +890,8 @@ TEST(Service, InvalidMeshesGet422WithTheirCheck) {
 }
 
 // A double-sided export (every face stored twice, once each way) maps under the default
-// prepare=repair, through a worker process, and says what was dropped; prepare=exact
-// refuses it as before.
+// prepare=parts (repair is its first step), through a worker process, and says what was dropped;
+// prepare=exact refuses it as before.
 TEST(Service, DoubleSidedExportsAreRepairedAndSaySo) {
   TestServer server(small_config());
   auto client = server.client();
@@ -873,7 +904,7 @@ TEST(Service, DoubleSidedExportsAreRepairedAndSaySo) {
   const json done = wait_for(client, body_json(submitted)["id"]);
   ASSERT_EQ(done["status"], "succeeded") << done.dump(2);
   EXPECT_TRUE(done["metrics"]["bijective_as_written"]);
-  EXPECT_EQ(done["metrics"]["preparation"]["method"], "repair");
+  EXPECT_EQ(done["metrics"]["preparation"]["method"], "parts");
   EXPECT_EQ(done["metrics"]["preparation"]["duplicate_faces_dropped"], sphere.face_count());
   auto glb = client.Get(done["artifacts"]["sphere.glb"]["href"].get<std::string>().c_str());
   ASSERT_EQ(glb->status, 200);
@@ -1295,11 +1326,22 @@ TEST_F(ServiceCorpus, BadMeshesGet422WithTheirReason) {
   for (const auto& [mesh, check] : cases)
     for (const char* form : {".glb", ".draco.glb"}) {
       const std::string file = std::string("bad/") + mesh + form;
-      auto result = post_glb(client, read_bytes(testing::corpus_path(file)));
+      // Five tetrahedra are five parts that each map (prepare=parts, the default); one
+      // part at a time (repair) refuses them, naming parts as the fix that was checked.
+      const bool parts = std::string(check) == "components";
+      auto result = post_glb(client, read_bytes(testing::corpus_path(file)),
+                             parts ? "/v1/jobs?prepare=repair" : "/v1/jobs");
       expect_problem(result, 422, "not_mappable");
-      EXPECT_EQ(json::parse(result->body)["check"], check) << file;
-      if (std::string(check) == "components") {  // the option that maps the largest part
-        EXPECT_EQ(json::parse(result->body)["fix"]["option"], "largest_component") << file;
+      const json problem = json::parse(result->body);
+      EXPECT_EQ(problem["check"], check) << file;
+      if (parts) {
+        EXPECT_EQ(problem["fix"]["option"], "prepare") << file;
+        EXPECT_EQ(problem["fix"]["value"], "parts") << file;
+        auto mapped = post_glb(client, read_bytes(testing::corpus_path(file)));
+        ASSERT_EQ(mapped->status, 202) << mapped->body;
+        const json done = wait_for(client, body_json(mapped)["id"]);
+        EXPECT_EQ(done["status"], "succeeded") << done.dump(2);
+        EXPECT_EQ(done["metrics"]["parts_mapped"], 5) << file;
       }
     }
   auto holes = post_glb(client, read_bytes(testing::corpus_path("bad/bunny_holes.glb")));

@@ -398,7 +398,7 @@ function options() {
   for (const name of ['remesh', 'morph', 'uv']) if ($(`out-${name}`).checked) outputs.push(name);
   const chosen = { quality: $('quality').value, outputs, ...state.extraOptions };
   if ($('largest').checked) chosen.largest_component = true;
-  if ($('prepare').value !== 'repair') chosen.prepare = $('prepare').value;
+  if ($('prepare').value !== 'parts') chosen.prepare = $('prepare').value;
   return chosen;
 }
 
@@ -527,6 +527,13 @@ async function finished(job) {
       [prepared.faces_flipped, 'faces flipped'],
     ].filter(([count]) => count > 0).map(([count, what]) => `${count.toLocaleString()} ${what}`);
     rows.push([`preparation (${prepared.method})`, changes.length ? changes.join(', ') : 'none needed']);
+  }
+  if (metrics.parts) {
+    const left = metrics.parts.filter((part) => !part.mapped);
+    const reasons = left.slice(0, 3).map((part) => `part ${part.part} (${part.faces.toLocaleString()} faces): ${part.check}`);
+    if (left.length > 3) reasons.push(`${left.length - 3} more`);
+    rows.push(['parts mapped', `${metrics.parts_mapped} of ${metrics.parts.length}` +
+      (left.length ? `; left out: ${reasons.join(', ')}` : '')]);
   }
   if (metrics.remesh?.distance?.hausdorff !== undefined)
     rows.push(['remesh Hausdorff (% of diagonal)', number(100 * metrics.remesh.distance.hausdorff, 2)]);

@@ -61,14 +61,39 @@ std::string encode_draco(const GlbMesh& mesh, nlohmann::json& attribute_ids) {
 
 }  // namespace
 
-GlbParts build_glb(const GlbMesh& mesh) {
+namespace {
+
+// The textures of the meshes written so far, so that meshes with the same image share one
+// material (parts of one asset carry the same checker).
+struct MaterialTable {
+  nlohmann::json images = nlohmann::json::array(), textures = nlohmann::json::array(),
+                 materials = nlohmann::json::array();
+  std::vector<const std::string*> pngs;
+
+  size_t material_for(GlbBuilder& b, const GlbMesh& mesh) {
+    for (size_t m = 0; m < pngs.size(); ++m)
+      if (*pngs[m] == mesh.base_color_png && materials[m]["name"] == mesh.material_name) return m;
+    const size_t index = materials.size();
+    pngs.push_back(&mesh.base_color_png);
+    images.push_back({{"bufferView", b.add_view(mesh.base_color_png)}, {"mimeType", "image/png"}});
+    textures.push_back({{"source", index}, {"sampler", 0}});
+    materials.push_back({{"name", mesh.material_name},
+                         {"pbrMetallicRoughness",
+                          {{"baseColorTexture", {{"index", index}}},
+                           {"metallicFactor", 0.0},
+                           {"roughnessFactor", 0.9}}}});
+    return index;
+  }
+};
+
+// One glTF mesh (a single primitive) of `mesh`, its data appended to `b`.
+nlohmann::json add_mesh(GlbBuilder& b, MaterialTable& table, const GlbMesh& mesh) {
   const bool draco = mesh.draco_position_bits > 0;
   if (draco &&
       (!mesh.texcoords.empty() || !mesh.morph_positions.empty() || !mesh.base_color_png.empty()))
     throw std::invalid_argument("build_glb: Draco output carries positions and normals only");
   const size_t n = mesh.positions.size();
   GlbBuilder::require_float32_positions(mesh.positions);
-  GlbBuilder b;
   // With Draco, accessors describe the decoded data and have no bufferView.
   auto vec3 = [&](const std::vector<Vec3>& values, bool bounds) {
     return draco ? b.add_accessor(GlbBuilder::vec3_accessor(values, bounds))
@@ -93,41 +118,72 @@ GlbParts build_glb(const GlbMesh& mesh) {
           : b.add_indices(mesh.triangles);
   nlohmann::json primitive = {{"attributes", attributes}, {"indices", indices}, {"mode", 4}};
   if (!targets.empty()) primitive["targets"] = targets;
-  nlohmann::json extra_members = nlohmann::json::object();
-  if (!mesh.base_color_png.empty()) {
-    primitive["material"] = 0;
-    extra_members["images"] = {
-        {{"bufferView", b.add_view(mesh.base_color_png)}, {"mimeType", "image/png"}}};
-    // Linear magnification, trilinear minification, clamped: the square has no wrap.
-    extra_members["samplers"] = {
-        {{"magFilter", 9729}, {"minFilter", 9987}, {"wrapS", 33071}, {"wrapT", 33071}}};
-    extra_members["textures"] = {{{"source", 0}, {"sampler", 0}}};
-    extra_members["materials"] = {{{"name", mesh.material_name},
-                                   {"pbrMetallicRoughness",
-                                    {{"baseColorTexture", {{"index", 0}}},
-                                     {"metallicFactor", 0.0},
-                                     {"roughnessFactor", 0.9}}}}};
-  }
-  if (!targets.empty() && mesh.morph_seconds > 0)
-    extra_members["animations"] = {morph_animation(b, mesh.morph_seconds, {0})};
+  if (!mesh.base_color_png.empty()) primitive["material"] = table.material_for(b, mesh);
   if (draco) {
     nlohmann::json ids;
     const std::string stream = encode_draco(mesh, ids);
     primitive["extensions"] = {
         {"KHR_draco_mesh_compression", {{"bufferView", b.add_view(stream)}, {"attributes", ids}}}};
   }
+  nlohmann::json out = {{"primitives", {primitive}}, {"extras", mesh.extras}};
+  if (!targets.empty()) out["weights"] = {0.0};
+  return out;
+}
+
+}  // namespace
+
+GlbParts build_glb(const GlbMesh& mesh) {
+  const GlbNode node;
+  return build_glb({&mesh, 1}, {&node, 1});
+}
+
+GlbParts build_glb(std::span<const GlbMesh> meshes, std::span<const GlbNode> nodes) {
+  if (meshes.empty() || meshes.size() != nodes.size())
+    throw std::invalid_argument("build_glb: one node per mesh, at least one");
+  GlbBuilder b;
+  MaterialTable table;
+  nlohmann::json mesh_list = nlohmann::json::array(), node_list = nlohmann::json::array(),
+                 scene_nodes = nlohmann::json::array(), morphing = nlohmann::json::array();
+  bool draco = false;
+  double morph_seconds = 0;
+  for (size_t k = 0; k < meshes.size(); ++k) {
+    const GlbMesh& mesh = meshes[k];
+    mesh_list.push_back(add_mesh(b, table, mesh));
+    nlohmann::json node = {{"mesh", k}};
+    const GlbNode& placement = nodes[k];
+    if (!placement.name.empty()) node["name"] = placement.name;
+    if (placement.scale != 1) node["scale"] = {placement.scale, placement.scale, placement.scale};
+    if (placement.translation != Vec3{})
+      node["translation"] = {placement.translation.x, placement.translation.y,
+                             placement.translation.z};
+    node_list.push_back(node);
+    scene_nodes.push_back(k);
+    draco = draco || mesh.draco_position_bits > 0;
+    if (!mesh.morph_positions.empty() && mesh.morph_seconds > 0) {
+      morphing.push_back(k);
+      morph_seconds = mesh.morph_seconds;
+    }
+  }
   nlohmann::json json = {
       {"asset", {{"version", "2.0"}, {"generator", "spheremap"}}},
       {"scene", 0},
-      {"scenes", {{{"nodes", {0}}}}},
-      {"nodes", {{{"mesh", 0}}}},
-      {"meshes", {{{"primitives", {primitive}}, {"extras", mesh.extras}}}},
-      {"accessors", b.accessors()},
-      {"bufferViews", b.views()},
-      {"buffers", {{{"byteLength", b.bin().size()}}}},
+      {"scenes", {{{"nodes", scene_nodes}}}},
+      {"nodes", node_list},
+      {"meshes", mesh_list},
   };
-  for (const auto& [key, value] : extra_members.items()) json[key] = value;
-  if (!targets.empty()) json["meshes"][0]["weights"] = {0.0};
+  if (!table.materials.empty()) {
+    json["images"] = table.images;
+    // Linear magnification, trilinear minification, clamped: the square has no wrap.
+    json["samplers"] = {
+        {{"magFilter", 9729}, {"minFilter", 9987}, {"wrapS", 33071}, {"wrapT", 33071}}};
+    json["textures"] = table.textures;
+    json["materials"] = table.materials;
+  }
+  if (!morphing.empty())
+    json["animations"] = {morph_animation(b, morph_seconds, morphing.get<std::vector<size_t>>())};
+  json["accessors"] = b.accessors();
+  json["bufferViews"] = b.views();
+  json["buffers"] = {{{"byteLength", b.bin().size()}}};
   if (draco) {
     json["extensionsUsed"] = {"KHR_draco_mesh_compression"};
     json["extensionsRequired"] = {"KHR_draco_mesh_compression"};

@@ -6,6 +6,7 @@
 
 #include <array>
 #include <nlohmann/json.hpp>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -40,6 +41,17 @@ struct GlbParts {
   std::string bin;
 };
 GlbParts build_glb(const GlbMesh& mesh);
+
+// Where a mesh is drawn: a node of its own, scaled about the origin then moved.
+struct GlbNode {
+  std::string name;  // empty: none
+  Vec3 translation;
+  double scale = 1;
+};
+// Several meshes, each in its node (meshes[k] in nodes[k], all in the one scene); meshes
+// with the same texture share one material, and every mesh with a morph animation plays
+// in one animation (of the last such mesh's length).
+GlbParts build_glb(std::span<const GlbMesh> meshes, std::span<const GlbNode> nodes);
 std::string serialize_glb(const GlbParts& parts);
 inline std::string format_glb(const GlbMesh& mesh) {
   return serialize_glb(build_glb(mesh));

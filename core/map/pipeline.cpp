@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 
+#include "core/map/map_parts.h"
 #include "core/mesh/sphere_geometry.h"
 
 namespace spheremap {
@@ -26,7 +27,9 @@ MappedMesh map_mesh(const PolygonMesh& input, const PrepareOptions& prepare,
 
 MappedMesh map_prepared(PreparedMesh prepared, const MapOptions& options,
                         const MapControl& control) {
-  require_mappable(prepared.topology);
+  require_none(remaining_failures(prepared));
+  if (prepared.topology.component_vertices.size() > 1)
+    return map_parts(std::move(prepared), options, control);
   MappedMesh out;
   out.prepared = std::move(prepared);
   out.map = map_to_sphere(out.prepared.welded.mesh, options, control);
@@ -46,12 +49,26 @@ MappedMesh map_prepared(PreparedMesh prepared, const MapOptions& options,
   return out;
 }
 
+namespace {
+
+// Per welded vertex, its sphere point; for an asset of several parts, moved to where its
+// part's sphere is drawn (map_parts.h).
+std::vector<Vec3> drawn_sphere(const MappedMesh& mapped) {
+  std::vector<Vec3> sphere = mapped.map.sphere;
+  for (const MappedPart& part : mapped.parts)
+    for (uint32_t w : part.whole_vertex) sphere[w] = placed(part, sphere[w]);
+  return sphere;
+}
+
+}  // namespace
+
 PolygonMesh sphere_on_input(const PolygonMesh& input, const MappedMesh& mapped) {
   const auto& to_welded = mapped.prepared.welded.input_to_welded;
+  const std::vector<Vec3> sphere = drawn_sphere(mapped);
   PolygonMesh out;
   out.positions.resize(input.vertex_count());
   for (size_t v = 0; v < out.positions.size(); ++v)
-    out.positions[v] = to_welded[v] == kUnreferenced ? Vec3{} : mapped.map.sphere[to_welded[v]];
+    out.positions[v] = to_welded[v] == kUnreferenced ? Vec3{} : sphere[to_welded[v]];
   for (size_t f = 0; f < input.face_count(); ++f)
     if (to_welded[input.face(f)[0]] != kUnreferenced) out.add_face(input.face(f));
   return out;
@@ -59,7 +76,7 @@ PolygonMesh sphere_on_input(const PolygonMesh& input, const MappedMesh& mapped) 
 
 PolygonMesh sphere_welded(const MappedMesh& mapped) {
   PolygonMesh out = mapped.prepared.welded.mesh;
-  out.positions = mapped.map.sphere;
+  out.positions = drawn_sphere(mapped);
   return out;
 }
 

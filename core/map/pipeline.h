@@ -13,6 +13,8 @@
 
 namespace spheremap {
 
+struct MappedPart;
+
 struct MappedMesh {
   PreparedMesh prepared;
   MapResult map;
@@ -21,6 +23,21 @@ struct MappedMesh {
   MapCheck float32_check;
   QualityMetrics quality;
   double prepare_seconds = 0, metrics_seconds = 0;
+  // An asset of several parts (prepare "parts", map_parts.h): each part mapped alone,
+  // largest first. The members above then describe them together: map.sphere holds each
+  // welded vertex's place on its own part's unit sphere, the checks' counts are summed
+  // (the signed areas to 4 pi per part) and bijective only when every part's is, and the
+  // quality is combined area-weighted. Empty for an asset of one part.
+  std::vector<MappedPart> parts;
+};
+
+struct MappedPart {
+  MappedMesh mapped;                   // the part alone (its input_to_welded is empty)
+  std::vector<uint32_t> whole_vertex;  // per vertex of the part: its welded vertex in the whole
+  // Where outputs that show every part draw its sphere: about the part's area-weighted
+  // centroid, with the part's surface area.
+  Vec3 center;
+  double radius = 0, surface_area = 0;
 };
 
 // Throws InputError when the mesh cannot be mapped (the failed check, with counts).
@@ -33,10 +50,11 @@ MappedMesh map_prepared(PreparedMesh prepared, const MapOptions& options,
 
 // The input mesh with every vertex moved to its sphere position (input order and faces;
 // unreferenced vertices that weld to nothing stay at the origin, faces of dropped
-// components are left out).
+// components are left out). With several parts, each part's sphere is where it is drawn
+// (MappedPart::center, radius).
 PolygonMesh sphere_on_input(const PolygonMesh& input, const MappedMesh& mapped);
 
-// The welded mesh (one vertex per surface point) on the sphere.
+// The welded mesh (one vertex per surface point) on the sphere (its parts' as above).
 PolygonMesh sphere_welded(const MappedMesh& mapped);
 
 }  // namespace spheremap

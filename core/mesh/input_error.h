@@ -16,6 +16,12 @@ namespace spheremap {
 struct Fix {
   std::string option, value, effect;
   bool empty() const { return option.empty(); }
+  // The value as a command line or a query string spells it: a JSON string unquoted.
+  std::string plain_value() const {
+    return value.size() >= 2 && value.front() == '"' && value.back() == '"'
+               ? value.substr(1, value.size() - 2)
+               : value;
+  }
 };
 
 class InputError : public std::runtime_error {

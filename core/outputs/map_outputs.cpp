@@ -10,6 +10,7 @@
 #include "core/io/png_writer.h"
 #include "core/io/scene_glb.h"
 #include "core/mesh/topology.h"
+#include "core/outputs/asset_builders.h"
 #include "core/outputs/base_color_bake.h"
 #include "core/outputs/remesh.h"
 #include "core/outputs/sphere_alignment.h"
@@ -40,7 +41,9 @@ std::vector<Vec3> vertex_normals(std::span<const Vec3> positions,
   return normals;
 }
 
-std::string geometry_image(const OctahedralRemesh& remesh, nlohmann::json& description) {
+}  // namespace
+
+GeometryImage geometry_image(const OctahedralRemesh& remesh) {
   Vec3 lo = remesh.positions[0], hi = lo;
   for (const Vec3& p : remesh.positions)
     for (int k = 0; k < 3; ++k) {
@@ -58,14 +61,19 @@ std::string geometry_image(const OctahedralRemesh& remesh, nlohmann::json& descr
         rgb[(static_cast<size_t>(row) * side + i) * 3 + k] =
             static_cast<uint16_t>(std::lround((p[k] - lo[k]) / extent * 65535));
     }
-  description = {{"width", side},
-                 {"height", side},
-                 {"bits", 16},
-                 {"decode", "position = origin + (rgb / 65535) * scale; row 0 is v = +1"},
-                 {"origin", {lo.x, lo.y, lo.z}},
-                 {"scale", extent}};
-  return encode_png(side, side, 16, rgb);
+  GeometryImage image;
+  image.side = side;
+  image.rgb = std::move(rgb);
+  image.description = {{"width", side},
+                       {"height", side},
+                       {"bits", 16},
+                       {"decode", "position = origin + (rgb / 65535) * scale; row 0 is v = +1"},
+                       {"origin", {lo.x, lo.y, lo.z}},
+                       {"scale", extent}};
+  return image;
 }
+
+namespace {
 
 // The morph on the input's own vertices (glTF seams kept), for the input's scene: the
 // input's normals where every primitive has them, else the welded surface's.
@@ -94,7 +102,7 @@ SceneGeometry scene_morph(const PolygonMesh& input, const GltfAppearance& look,
 
 }  // namespace
 
-RemeshAsset remesh_asset(const MappedMesh& mapped, int resolution, int threads,
+BuiltRemesh build_remesh(const MappedMesh& mapped, int resolution, int threads,
                          const PolygonMesh* input, const GltfAppearance* appearance) {
   const auto start = std::chrono::steady_clock::now();
   const PolygonMesh& mesh = mapped.prepared.welded.mesh;
@@ -110,9 +118,9 @@ RemeshAsset remesh_asset(const MappedMesh& mapped, int resolution, int threads,
   const auto distance_start = std::chrono::steady_clock::now();
   const SurfaceDistance distance = surface_distance(mesh.positions, oriented.triangles,
                                                     remesh.positions, remesh.triangles, threads);
-  RemeshAsset asset;
-  nlohmann::json image;
-  asset.geometry_image_png = geometry_image(remesh, image);
+  BuiltRemesh asset;
+  asset.image = geometry_image(remesh);
+  const nlohmann::json& image = asset.image.description;
   std::vector<std::array<float, 2>> texcoords;
   for (const Vec2& s : remesh.square) texcoords.push_back(texcoord_of(s));
   nlohmann::json failure_list = nlohmann::json::array();
@@ -147,7 +155,7 @@ RemeshAsset remesh_asset(const MappedMesh& mapped, int resolution, int threads,
   // Normals of the stitched surface, so the border's copies shade alike.
   const std::vector<Vec3> stitched_normals =
       vertex_normals(stitched.positions, fan_triangulate(stitched).triangles);
-  GlbMesh glb;
+  GlbMesh& glb = asset.glb;
   glb.positions = remesh.positions;
   for (uint32_t vertex : remesh.vertex) glb.normals.push_back(stitched_normals[vertex]);
   glb.triangles = remesh.triangles;
@@ -167,17 +175,27 @@ RemeshAsset remesh_asset(const MappedMesh& mapped, int resolution, int threads,
     }
   }
   asset.metrics["seconds"]["total"] = seconds_since(start);
-  asset.glb = format_glb(glb);
   return asset;
 }
 
-UvAsset uv_asset(const MappedMesh& mapped) {
-  const auto start = std::chrono::steady_clock::now();
+RemeshAsset remesh_asset(const MappedMesh& mapped, int resolution, int threads,
+                         const PolygonMesh* input, const GltfAppearance* appearance) {
+  if (!mapped.parts.empty())
+    return parts_remesh_asset(mapped, resolution, threads, input, appearance);
+  BuiltRemesh built = build_remesh(mapped, resolution, threads, input, appearance);
+  RemeshAsset asset;
+  asset.geometry_image_png = encode_png(built.image.side, built.image.side, 16, built.image.rgb);
+  asset.metrics = std::move(built.metrics);
+  asset.glb = format_glb(built.glb);
+  return asset;
+}
+
+BuiltAsset build_uv(const MappedMesh& mapped) {
   const PolygonMesh& mesh = mapped.prepared.welded.mesh;
   const OrientedTriangles oriented = oriented_triangles(mesh);
   const UvMesh uv = octahedral_texcoords(mesh.positions, mapped.map.sphere, oriented.triangles);
   const UvStretch stretch = uv_stretch(uv.positions, uv.square, uv.triangles);
-  UvAsset asset;
+  BuiltAsset asset;
   asset.metrics = {
       {"vertices", uv.positions.size()},
       {"triangles", uv.triangles.size()},
@@ -190,21 +208,28 @@ UvAsset uv_asset(const MappedMesh& mapped) {
   };
   std::vector<std::array<float, 2>> texcoords;
   for (const Vec2& s : uv.square) texcoords.push_back(texcoord_of(s));
-  GlbMesh glb;
+  GlbMesh& glb = asset.glb;
   glb.positions = uv.positions;
   glb.normals = vertex_normals(uv.positions, uv.triangles);
   glb.triangles = uv.triangles;
   glb.extras = {{"spheremap_uv", without_timings(asset.metrics)}};
   glb.texcoords = std::move(texcoords);
-  glb.base_color_png = checker_png();
-  asset.glb = format_glb(glb);
+  return asset;
+}
+
+UvAsset uv_asset(const MappedMesh& mapped) {
+  if (!mapped.parts.empty()) return parts_uv_asset(mapped);
+  const auto start = std::chrono::steady_clock::now();
+  BuiltAsset built = build_uv(mapped);
+  built.glb.base_color_png = checker_png();
+  UvAsset asset;
+  asset.glb = format_glb(built.glb);
+  asset.metrics = std::move(built.metrics);
   asset.metrics["seconds"] = seconds_since(start);  // with the GLB (the texture included)
   return asset;
 }
 
-MorphAsset morph_asset(const MappedMesh& mapped, double seconds, const PolygonMesh* input,
-                       const GltfAppearance* appearance) {
-  const auto start = std::chrono::steady_clock::now();
+BuiltMorph build_morph(const MappedMesh& mapped, double seconds) {
   const PolygonMesh& mesh = mapped.prepared.welded.mesh;
   const OrientedTriangles oriented = oriented_triangles(mesh);
   // A sphere of the surface's area about its area-weighted centroid, so the morph keeps
@@ -219,11 +244,15 @@ MorphAsset morph_asset(const MappedMesh& mapped, double seconds, const PolygonMe
   }
   if (area > 0) centroid *= 1 / area;
   const double radius = std::sqrt(area / (4 * M_PI));
-  const std::vector<Vec3> normals = vertex_normals(mesh.positions, oriented.triangles);
+  BuiltMorph built;
+  built.centroid = centroid;
+  built.radius = radius;
+  built.normals = vertex_normals(mesh.positions, oriented.triangles);
+  const std::vector<Vec3>& normals = built.normals;
   // The morph's sphere end turned to face the way the surface does (sphere_alignment.h).
-  const SphereAlignment aligned =
-      align_sphere_to_surface(mesh.positions, mapped.map.sphere, centroid);
-  GlbMesh glb;
+  built.aligned = align_sphere_to_surface(mesh.positions, mapped.map.sphere, centroid);
+  const SphereAlignment& aligned = built.aligned;
+  GlbMesh& glb = built.glb;
   glb.positions = mesh.positions;
   glb.normals = normals;
   glb.triangles = oriented.triangles;
@@ -233,8 +262,7 @@ MorphAsset morph_asset(const MappedMesh& mapped, double seconds, const PolygonMe
     glb.morph_normals.push_back(s - normals[v]);
   }
   glb.morph_seconds = seconds;
-  MorphAsset asset;
-  asset.metrics = {{"vertices", mesh.vertex_count()},
+  built.metrics = {{"vertices", mesh.vertex_count()},
                    {"triangles", oriented.triangles.size()},
                    {"sphere_center", {centroid.x, centroid.y, centroid.z}},
                    {"sphere_radius", radius},
@@ -245,17 +273,27 @@ MorphAsset morph_asset(const MappedMesh& mapped, double seconds, const PolygonMe
                    {"direction_agreement", aligned.mean_cosine_after},
                    {"direction_agreement_unrotated", aligned.mean_cosine_before},
                    {"animation_seconds", seconds}};
-  glb.extras = {{"spheremap_morph", without_timings(asset.metrics)}};
+  glb.extras = {{"spheremap_morph", without_timings(built.metrics)}};
+  return built;
+}
+
+MorphAsset morph_asset(const MappedMesh& mapped, double seconds, const PolygonMesh* input,
+                       const GltfAppearance* appearance) {
+  if (!mapped.parts.empty()) return parts_morph_asset(mapped, seconds);
+  const auto start = std::chrono::steady_clock::now();
+  BuiltMorph built = build_morph(mapped, seconds);
+  MorphAsset asset;
+  asset.metrics = std::move(built.metrics);
   if (input && appearance && !appearance->empty()) {
     asset.metrics["kept_appearance"] = true;
-    glb.extras["spheremap_morph"]["kept_appearance"] = true;
-    asset.glb =
-        serialize_glb(build_scene_glb(*appearance,
-                                      scene_morph(*input, *appearance, mapped, normals,
-                                                  aligned.sphere, centroid, radius, seconds),
-                                      glb.extras));
+    built.glb.extras["spheremap_morph"]["kept_appearance"] = true;
+    asset.glb = serialize_glb(
+        build_scene_glb(*appearance,
+                        scene_morph(*input, *appearance, mapped, built.normals,
+                                    built.aligned.sphere, built.centroid, built.radius, seconds),
+                        built.glb.extras));
   } else {
-    asset.glb = format_glb(glb);
+    asset.glb = format_glb(built.glb);
   }
   asset.metrics["seconds"] = seconds_since(start);
   return asset;

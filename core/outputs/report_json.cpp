@@ -1,5 +1,6 @@
 #include "core/outputs/report_json.h"
 
+#include <algorithm>
 #include <cstdio>
 
 #include "core/map/certification.h"
@@ -28,7 +29,32 @@ nlohmann::json fix_json(const Fix& fix) {
 
 std::vector<ValidationFailure> input_failures(const PreparedMesh& prepared,
                                               const GltfReadStats* gltf) {
-  std::vector<ValidationFailure> failures = mapping_failures(prepared.topology);
+  std::vector<ValidationFailure> failures = remaining_failures(prepared);
+  // Under "parts", none of the parts maps alone: say what the largest few fail.
+  if (!prepared.parts.empty() && prepared.parts_left_out() == prepared.parts.size())
+    for (ValidationFailure& f : failures)
+      if (f.check == "components") {
+        f.message += "; none of its parts maps alone:";
+        const size_t shown = std::min<size_t>(prepared.parts.size(), 3);
+        for (size_t k = 0; k < shown; ++k)
+          f.message += (k ? "; part " : " part ") + std::to_string(k) + " (" +
+                       std::to_string(prepared.parts[k].faces) +
+                       " faces): " + prepared.parts[k].failures.front().message;
+        if (shown < prepared.parts.size())
+          f.message += "; and " + std::to_string(prepared.parts.size() - shown) + " more";
+      }
+  // Under exact or repair: prepare=parts where two parts or more map alone (each checked).
+  const size_t parts_that_map = prepared.parts.size() - prepared.parts_left_out();
+  if (prepared.preparation.method != PrepareMethod::kParts && parts_that_map >= 2)
+    for (ValidationFailure& f : failures)
+      if (f.check == "components")
+        f.fix = {"prepare", "\"parts\"",
+                 "maps " +
+                     std::string(parts_that_map == prepared.parts.size()
+                                     ? "every one"
+                                     : std::to_string(parts_that_map)) +
+                     " of its " + std::to_string(prepared.parts.size()) +
+                     " parts on a sphere of its own (each checked: closed, manifold, genus 0)"};
   // Offer largest_component only when its part maps; otherwise say why it would not.
   const auto& largest = prepared.largest_component_failures;
   for (ValidationFailure& f : failures)
@@ -88,12 +114,60 @@ nlohmann::json topology_json(const PreparedMesh& prepared, const GltfReadStats* 
       {"failures", failures},
       {"preparation", preparation_json(prepared.preparation)},
   };
+  if (!prepared.parts.empty()) report["parts"] = parts_json(prepared, nullptr);
   // Only when there are some: reports of files read without leniency stay as they were.
   if (gltf && !gltf->warnings.empty()) report["warnings"] = gltf->warnings;
   return report;
 }
 
+nlohmann::json parts_json(const PreparedMesh& prepared, const MappedMesh* mapped) {
+  nlohmann::json parts = nlohmann::json::array();
+  size_t mapped_index = 0;
+  for (size_t k = 0; k < prepared.parts.size(); ++k) {
+    const PartReport& report = prepared.parts[k];
+    nlohmann::json part = {{"part", k}, {"vertices", report.vertices}, {"faces", report.faces}};
+    if (!report.mappable()) {
+      part["mapped"] = false;
+      part["check"] = report.failures.front().check;
+      std::string reason = report.failures.front().message;
+      for (size_t i = 1; i < report.failures.size(); ++i)
+        reason += "; also " + report.failures[i].message;
+      part["reason"] = reason;
+    } else {
+      part["mapped"] = true;
+      if (mapped && mapped_index < mapped->parts.size()) {
+        const MappedPart& p = mapped->parts[mapped_index];
+        const MapResult& m = p.mapped.map;
+        part["bijective"] = certify(p.mapped, p.mapped.float32_check).certified;
+        part["stop_reason"] = std::string(to_string(m.stop_reason));
+        part["folds"] = m.check.folds;
+        part["degenerate_triangles"] = m.check.degenerate;
+        part["attempts"] = m.attempts;
+        part["stretch"] = {{"l2", p.mapped.quality.stretch_l2},
+                           {"linf", p.mapped.quality.stretch_linf}};
+        part["area_distortion"] = summary_json(p.mapped.quality.area_log_ratio);
+        part["sphere_center"] = {p.center.x, p.center.y, p.center.z};
+        part["sphere_radius"] = p.radius;
+      }
+      ++mapped_index;
+    }
+    parts.push_back(std::move(part));
+  }
+  return parts;
+}
+
 nlohmann::json metrics_json(const MappedMesh& mapped, const MapOptions& options) {
+  nlohmann::json out = map_metrics_json(mapped, options);
+  // An asset of several parts: every part, mapped or left out with its reason.
+  if (!mapped.prepared.parts.empty()) {
+    out["parts"] = parts_json(mapped.prepared, &mapped);
+    out["parts_mapped"] = mapped.prepared.parts.size() - mapped.prepared.parts_left_out();
+    out["parts_left_out"] = mapped.prepared.parts_left_out();
+  }
+  return out;
+}
+
+nlohmann::json map_metrics_json(const MappedMesh& mapped, const MapOptions& options) {
   const MapResult& m = mapped.map;
   const QualityMetrics& q = mapped.quality;
   nlohmann::json levels = nlohmann::json::array();

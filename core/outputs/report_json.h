@@ -21,7 +21,15 @@ nlohmann::json fix_json(const Fix& fix);
 // The topology report with "mappable" and "failures" (each with its "fix" when one exists),
 // and "warnings" when the glTF was read leniently (GltfReadStats::warnings).
 nlohmann::json topology_json(const PreparedMesh& prepared, const GltfReadStats* gltf = nullptr);
+// The map's metrics, and for an asset of several parts "parts" (parts_json), "parts_mapped"
+// and "parts_left_out".
 nlohmann::json metrics_json(const MappedMesh& mapped, const MapOptions& options);
+// metrics_json without the parts.
+nlohmann::json map_metrics_json(const MappedMesh& mapped, const MapOptions& options);
+// Per part of the asset (prepared.parts, largest first): {"part", "vertices", "faces",
+// "mapped"}, with "check" and "reason" for a part left out, and its map's verdict, stretch,
+// area distortion and sphere placement when `mapped` has it.
+nlohmann::json parts_json(const PreparedMesh& prepared, const MappedMesh* mapped);
 
 // The metrics without their "seconds" (at any depth), for the extras of a GLB: the same
 // input and options then give byte-identical files; metrics.json keeps the timings.

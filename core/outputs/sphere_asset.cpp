@@ -1,6 +1,7 @@
 #include "core/outputs/sphere_asset.h"
 
 #include "core/map/certification.h"
+#include "core/outputs/asset_builders.h"
 #include "core/outputs/report_json.h"
 #include "core/outputs/sphere_glb.h"
 
@@ -21,6 +22,8 @@ std::vector<char> dropped_faces(const PolygonMesh& input, const MappedMesh& mapp
 SphereAsset sphere_asset(const PolygonMesh& input, const MappedMesh& mapped,
                          const MapOptions& options, SphereLayout layout, int draco_position_bits,
                          const GltfAppearance* appearance) {
+  if (!mapped.parts.empty())
+    return parts_sphere_asset(input, mapped, options, layout, draco_position_bits);
   SphereLook look;
   if (appearance && !appearance->empty() && layout == SphereLayout::kOriginal &&
       draco_position_bits == 0)

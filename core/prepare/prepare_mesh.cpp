@@ -4,6 +4,7 @@
 
 #include "core/mesh/stop_check.h"
 #include "core/mesh/union_find.h"
+#include "core/prepare/connected_parts.h"
 #include "core/prepare/face_cleanup.h"
 
 namespace spheremap {
@@ -54,7 +55,28 @@ void move_face_ranges(GltfAppearance& look, const std::vector<uint32_t>& source_
 }  // namespace
 
 const char* prepare_method_name(PrepareMethod method) {
-  return method == PrepareMethod::kExact ? "exact" : "repair";
+  switch (method) {
+    case PrepareMethod::kExact:
+      return "exact";
+    case PrepareMethod::kRepair:
+      return "repair";
+    case PrepareMethod::kParts:
+      break;
+  }
+  return "parts";
+}
+
+size_t PreparedMesh::parts_left_out() const {
+  return static_cast<size_t>(
+      std::count_if(parts.begin(), parts.end(), [](const PartReport& p) { return !p.mappable(); }));
+}
+
+std::vector<ValidationFailure> remaining_failures(const PreparedMesh& prepared) {
+  std::vector<ValidationFailure> failures = mapping_failures(prepared.topology);
+  const bool some_part_maps = prepared.parts_left_out() < prepared.parts.size();
+  if (prepared.preparation.method == PrepareMethod::kParts && some_part_maps)
+    std::erase_if(failures, [](const ValidationFailure& f) { return f.check == "components"; });
+  return failures;
 }
 
 namespace {
@@ -119,13 +141,70 @@ PreparedMesh prepare_once(PolygonMesh& input, GltfAppearance* look, const Prepar
   return prepared;
 }
 
+// An asset of several parts: each part checked alone (under any method, so a refusal can
+// say what "parts" would do), and under kParts `welded` cut down to the parts that map when
+// some do (the others' input vertices then weld to nothing).
+void keep_mappable_parts(PreparedMesh& prepared, const PrepareOptions& options) {
+  if (options.largest_component || prepared.topology.component_vertices.size() < 2) return;
+  StopCheck stop(&options.should_stop);
+  WeldResult& welded = prepared.welded;
+  std::vector<MeshPart> parts = connected_parts(welded.mesh, &stop);
+  std::vector<char> keep(parts.size());
+  for (size_t k = 0; k < parts.size(); ++k) {
+    PartReport report;
+    report.vertices = parts[k].mesh.vertex_count();
+    report.faces = parts[k].mesh.face_count();
+    report.failures = mapping_failures(analyze_topology(parts[k].mesh, &stop));
+    keep[k] = report.mappable();
+    prepared.parts.push_back(std::move(report));
+  }
+  if (options.method != PrepareMethod::kParts || prepared.parts_left_out() == 0 ||
+      prepared.parts_left_out() == parts.size())
+    return;
+  // The kept parts one after the other, in the order of the parts (largest first).
+  PolygonMesh kept;
+  std::vector<uint32_t> new_id(welded.mesh.vertex_count(), kUnreferenced);
+  std::vector<uint32_t> corners;
+  for (size_t k = 0; k < parts.size(); ++k) {
+    if (!keep[k]) continue;
+    const MeshPart& part = parts[k];
+    const uint32_t first = static_cast<uint32_t>(kept.positions.size());
+    for (size_t v = 0; v < part.vertex.size(); ++v) {
+      new_id[part.vertex[v]] = first + static_cast<uint32_t>(v);
+      kept.positions.push_back(part.mesh.positions[v]);
+    }
+    for (size_t f = 0; f < part.mesh.face_count(); ++f) {
+      corners.clear();
+      for (uint32_t v : part.mesh.face(f)) corners.push_back(first + v);
+      kept.add_face(corners);
+    }
+  }
+  for (uint32_t& w : welded.input_to_welded)
+    if (w != kUnreferenced) w = new_id[w];
+  welded.mesh = std::move(kept);
+  prepared.topology = analyze_topology(welded.mesh, &stop);
+}
+
+// prepare_once, then the parts step.
+PreparedMesh prepare_parts(PolygonMesh& input, GltfAppearance* look,
+                           const PrepareOptions& options) {
+  PreparedMesh prepared = prepare_once(input, look, options);
+  if (!mapping_failures(prepared.topology).empty()) keep_mappable_parts(prepared, options);
+  return prepared;
+}
+
+// Whether every part of the input maps (none left out, nothing else in the way).
+bool maps_entirely(const PreparedMesh& prepared) {
+  return prepared.parts_left_out() == 0 && remaining_failures(prepared).empty();
+}
+
 // The smallest of a few weld tolerances with which `input` maps, 0 when none does. Each
 // try is one more weld and topology pass over a copy (linear, like preparing itself).
 double closing_weld_tolerance(const PolygonMesh& input, PrepareOptions options) {
   for (const double tolerance : {1e-6, 1e-5, 1e-4}) {
     options.weld_tolerance = tolerance;
     PolygonMesh copy = input;
-    if (mapping_failures(prepare_once(copy, nullptr, options).topology).empty()) return tolerance;
+    if (maps_entirely(prepare_parts(copy, nullptr, options))) return tolerance;
   }
   return 0;
 }
@@ -134,11 +213,13 @@ double closing_weld_tolerance(const PolygonMesh& input, PrepareOptions options) 
 
 PreparedMesh prepare_input(PolygonMesh& input, GltfAppearance* look,
                            const PrepareOptions& options) {
-  PreparedMesh prepared = prepare_once(input, look, options);
+  PreparedMesh prepared = prepare_parts(input, look, options);
+  bool has_boundary = prepared.topology.boundary_edges > 0;
+  for (const PartReport& part : prepared.parts)
+    for (const ValidationFailure& f : part.failures) has_boundary |= f.check == "boundary";
   // Tried on the input as cleaned: cleaning again at the wider tolerance drops what that
   // weld collapses, as it would on the original.
-  if (options.weld_tolerance == 0 && prepared.topology.boundary_edges > 0 &&
-      !mapping_failures(prepared.topology).empty())
+  if (options.weld_tolerance == 0 && has_boundary && !maps_entirely(prepared))
     prepared.closing_weld_tolerance = closing_weld_tolerance(input, options);
   return prepared;
 }

@@ -15,13 +15,15 @@
 namespace spheremap {
 
 // How far preparation may change the input. kExact: as it is (refuse anything not closed
-// genus 0). kRepair: also the cleaning of face_cleanup.h (default; a mesh that needs none
-// is untouched, so its map is the same as under kExact).
-enum class PrepareMethod { kExact, kRepair };
-const char* prepare_method_name(PrepareMethod method);  // "exact", "repair"
+// genus 0). kRepair: also the cleaning of face_cleanup.h (a mesh that needs none is
+// untouched, so its map is the same as under kExact). kParts (default): also, for an asset
+// of several parts (connected components), every part that is closed genus 0 maps on a
+// sphere of its own and the others are left out, each listed with its reason.
+enum class PrepareMethod { kExact, kRepair, kParts };
+const char* prepare_method_name(PrepareMethod method);  // "exact", "repair", "parts"
 
 struct PrepareOptions {
-  PrepareMethod method = PrepareMethod::kRepair;
+  PrepareMethod method = PrepareMethod::kParts;
   double weld_tolerance = 0;  // relative to the bounding-box diagonal; 0 = exact positions
   // Keep only the connected component with the most faces (others are dropped, their
   // input vertices then map to nothing); otherwise several components are an error.
@@ -39,6 +41,13 @@ struct PreparationReport {
   size_t reoriented_parts = 0;
 };
 
+// One part (connected component) of an asset, checked alone.
+struct PartReport {
+  size_t vertices = 0, faces = 0;
+  std::vector<ValidationFailure> failures;  // empty: the part maps alone
+  bool mappable() const { return failures.empty(); }
+};
+
 struct PreparedMesh {
   WeldResult welded;
   TopologyReport topology;
@@ -51,7 +60,17 @@ struct PreparedMesh {
   // 1e-5, 1e-4 of the diagonal) with which it maps, 0 when none does (T-junction cracks
   // and near-equal seam vertices of CAD exports), so the fix is named only where it works.
   double closing_weld_tolerance = 0;
+  // With several components (and largest_component off): every part of the asset, largest
+  // first (by faces), each with what it fails alone. Under kParts, when some part maps,
+  // `welded` holds only the parts that map (the others' input vertices then map to
+  // nothing); otherwise the whole as it is. Empty for one component.
+  std::vector<PartReport> parts;
+  size_t parts_left_out() const;
 };
+
+// What stands between `prepared` and its map: mapping_failures of its topology, except that
+// under kParts several components are fine once every part kept maps alone.
+std::vector<ValidationFailure> remaining_failures(const PreparedMesh& prepared);
 
 // Welds and reports; does not clean and does not reject (preparation.method stays exact).
 PreparedMesh prepare_mesh(const PolygonMesh& input, const PrepareOptions& options);

@@ -52,8 +52,14 @@ if [ -d "$samples" ]; then
     fail "Box With Spaces.gltf"
   "$spheremap" map "$samples/CesiumMan-glTF-Draco/CesiumMan.gltf" -o "$out/man.glb" --quiet ||
     fail "CesiumMan Draco .gltf"
-  err=$("$spheremap" map "$samples/BarramundiFish-glTF/BarramundiFish.gltf" -o "$out/f.glb" 2>&1)
-  [ $? -eq 2 ] && [[ "$err" == *"fix: --largest-component"* ]] || fail "fish hint: $err"
+  # The fish's body and two eyes: every part maps by default; one part at a time refuses
+  # it and names parts as the fix.
+  "$spheremap" map "$samples/BarramundiFish-glTF/BarramundiFish.gltf" -o "$out/f.glb" \
+    --metrics "$out/f.json" --quiet || fail "fish parts"
+  grep -q '"parts_mapped": 3' "$out/f.json" || fail "fish: 3 parts mapped"
+  err=$("$spheremap" map "$samples/BarramundiFish-glTF/BarramundiFish.gltf" -o "$out/f.glb" \
+    --prepare repair 2>&1)
+  [ $? -eq 2 ] && [[ "$err" == *"fix: --prepare parts"* ]] || fail "fish hint: $err"
   "$spheremap" map "$samples/BarramundiFish-glTF/BarramundiFish.gltf" -o "$out/f.glb" \
     --largest-component --quiet || fail "fish body"
   # A copy whose buffer URI climbs out of its folder is refused; nothing is read.

@@ -269,11 +269,11 @@ export interface components {
             /** @default false */
             largest_component: boolean;
             /**
-             * @description repair: drop faces the weld collapses and duplicate (double-sided) faces, and make each part's orientation consistent (no vertex moves; a mesh that needs none of it is untouched; metrics.preparation says what was done). exact: map the input as it is or refuse it.
-             * @default repair
+             * @description parts: repair, then map every part (connected component) that is closed genus 0 on a sphere of its own, each drawn where its part is; parts that cannot map are left out, and metrics.parts lists every part with its verdict or the reason it was left out. repair: drop faces the weld collapses and duplicate (double-sided) faces, and make each part's orientation consistent (no vertex moves; a mesh that needs none of it is untouched; metrics.preparation says what was done); one part only. exact: map the input as it is or refuse it.
+             * @default parts
              * @enum {string}
              */
-            prepare: "exact" | "repair";
+            prepare: "exact" | "repair" | "parts";
             /** @description map only this glTF mesh (index or name) */
             mesh?: number | string;
             /**

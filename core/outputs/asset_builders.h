@@ -1,0 +1,61 @@
+// The pieces of each asset for one mapped part: its GLB mesh and metrics before they
+// become a file. map_outputs.h writes one part as it is; parts_outputs.h puts the pieces
+// of an asset of several parts side by side in one file.
+#pragma once
+
+#include <nlohmann/json.hpp>
+#include <vector>
+
+#include "core/io/glb_writer.h"
+#include "core/io/gltf_appearance.h"
+#include "core/map/pipeline.h"
+#include "core/outputs/map_outputs.h"
+#include "core/outputs/remesh.h"
+#include "core/outputs/sphere_alignment.h"
+#include "core/outputs/sphere_asset.h"
+
+namespace spheremap {
+
+// A geometry image's 16-bit RGB pixels (side x side, row 0 at v = +1) and how to decode it.
+struct GeometryImage {
+  int side = 0;
+  std::vector<uint16_t> rgb;
+  nlohmann::json description;
+};
+GeometryImage geometry_image(const OctahedralRemesh& remesh);
+
+struct BuiltAsset {
+  GlbMesh glb;
+  nlohmann::json metrics;
+};
+
+struct BuiltRemesh : BuiltAsset {
+  GeometryImage image;
+};
+// The remesh of one part (preconditions of remesh_asset).
+BuiltRemesh build_remesh(const MappedMesh& mapped, int resolution, int threads,
+                         const PolygonMesh* input, const GltfAppearance* appearance);
+
+// The UV mesh of one part, without its texture.
+BuiltAsset build_uv(const MappedMesh& mapped);
+
+struct BuiltMorph : BuiltAsset {
+  std::vector<Vec3> normals;  // of the welded surface
+  SphereAlignment aligned;    // the sphere end, turned
+  Vec3 centroid;
+  double radius = 0;
+};
+// The morph of one part as a plain mesh (the welded surface).
+BuiltMorph build_morph(const MappedMesh& mapped, double seconds);
+
+// The same assets for an asset of several parts (mapped.parts), one node per part.
+RemeshAsset parts_remesh_asset(const MappedMesh& mapped, int resolution, int threads,
+                               const PolygonMesh* input, const GltfAppearance* appearance);
+UvAsset parts_uv_asset(const MappedMesh& mapped);
+MorphAsset parts_morph_asset(const MappedMesh& mapped, double seconds);
+// Each part's unit sphere in a node placed at the part (the input's look is not kept).
+SphereAsset parts_sphere_asset(const PolygonMesh& input, const MappedMesh& mapped,
+                               const MapOptions& options, SphereLayout layout,
+                               int draco_position_bits);
+
+}  // namespace spheremap

@@ -1,0 +1,235 @@
+// The assets of an asset of several parts: each part's pieces (asset_builders.h) side by
+// side in one file, a node per part, and their metrics summed with a list per part.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include "core/io/png_writer.h"
+#include "core/outputs/asset_builders.h"
+#include "core/outputs/report_json.h"
+#include "core/outputs/texcoords.h"
+
+namespace spheremap {
+namespace {
+
+double seconds_since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+std::vector<GlbNode> part_nodes(size_t parts) {
+  std::vector<GlbNode> nodes(parts);
+  for (size_t k = 0; k < parts; ++k) nodes[k].name = "part " + std::to_string(k);
+  return nodes;
+}
+
+// Each part's remesh grid: the asked resolution for the largest part, smaller parts in
+// proportion to the square root of their area (so samples per unit area stay alike), even
+// and at least 8. An asset of many small parts then costs about what one part would.
+int part_resolution(int resolution, double area, double largest_area) {
+  const double share = largest_area > 0 ? std::sqrt(area / largest_area) : 1.0;
+  const int scaled = static_cast<int>(std::lround(resolution * share / 2)) * 2;
+  return std::clamp(scaled, std::min(8, resolution), resolution);
+}
+
+// Per part, its input vertices as (input vertex, vertex of the part): what a part's own
+// input_to_welded would hold, in O(input) for all parts together.
+std::vector<std::vector<std::pair<uint32_t, uint32_t>>> input_vertices_of_parts(
+    const MappedMesh& mapped) {
+  const auto& to_welded = mapped.prepared.welded.input_to_welded;
+  std::vector<uint32_t> part_of(mapped.prepared.welded.mesh.vertex_count(), kUnreferenced);
+  std::vector<uint32_t> local(part_of.size(), kUnreferenced);
+  for (size_t k = 0; k < mapped.parts.size(); ++k)
+    for (size_t v = 0; v < mapped.parts[k].whole_vertex.size(); ++v) {
+      part_of[mapped.parts[k].whole_vertex[v]] = static_cast<uint32_t>(k);
+      local[mapped.parts[k].whole_vertex[v]] = static_cast<uint32_t>(v);
+    }
+  std::vector<std::vector<std::pair<uint32_t, uint32_t>>> out(mapped.parts.size());
+  for (size_t v = 0; v < to_welded.size(); ++v)
+    if (to_welded[v] != kUnreferenced)
+      out[part_of[to_welded[v]]].emplace_back(static_cast<uint32_t>(v), local[to_welded[v]]);
+  return out;
+}
+
+}  // namespace
+
+RemeshAsset parts_remesh_asset(const MappedMesh& mapped, int resolution, int threads,
+                               const PolygonMesh* input, const GltfAppearance* appearance) {
+  const auto start = std::chrono::steady_clock::now();
+  double largest_area = 0;
+  for (const MappedPart& part : mapped.parts)
+    largest_area = std::max(largest_area, part.surface_area);
+  // The base colour is baked per part through the part's own input_to_welded, made in one
+  // scratch vector that each part fills and clears (O(input) in all).
+  const bool bake = input && appearance;
+  std::vector<std::vector<std::pair<uint32_t, uint32_t>>> inputs;
+  std::vector<uint32_t> scratch;
+  if (bake) {
+    inputs = input_vertices_of_parts(mapped);
+    scratch.assign(input->vertex_count(), kUnreferenced);
+  }
+  std::vector<GlbMesh> meshes;
+  std::vector<GeometryImage> images;
+  nlohmann::json parts = nlohmann::json::array();
+  size_t samples = 0, vertices = 0, triangles = 0, unlocated = 0;
+  bool closed_genus0 = true;
+  double hausdorff = 0, squared = 0, relative_rms_weight = 0;
+  for (size_t k = 0; k < mapped.parts.size(); ++k) {
+    const MappedPart& part = mapped.parts[k];
+    const int grid = part_resolution(resolution, part.surface_area, largest_area);
+    BuiltRemesh built;
+    if (bake) {
+      MappedMesh with_input = part.mapped;
+      for (auto [v, w] : inputs[k]) scratch[v] = w;
+      with_input.prepared.welded.input_to_welded = std::move(scratch);
+      built = build_remesh(with_input, grid, threads, input, appearance);
+      scratch = std::move(with_input.prepared.welded.input_to_welded);
+      for (auto [v, w] : inputs[k]) scratch[v] = kUnreferenced;
+    } else {
+      built = build_remesh(part.mapped, grid, threads, nullptr, nullptr);
+    }
+    const nlohmann::json& m = built.metrics;
+    samples += m["samples"].get<size_t>();
+    vertices += m["vertices"].get<size_t>();
+    triangles += m["triangles"].get<size_t>();
+    unlocated += m["unlocated_samples"].get<size_t>();
+    closed_genus0 = closed_genus0 && m["closed_genus0"].get<bool>();
+    // Distances relative to each part's own diagonal, combined as the largest and the
+    // RMS weighted by samples.
+    hausdorff = std::max(hausdorff, m["distance"]["hausdorff"].get<double>());
+    const double rms = m["distance"]["rms"].get<double>();
+    squared += rms * rms * m["samples"].get<double>();
+    relative_rms_weight += m["samples"].get<double>();
+    nlohmann::json entry = without_timings(m);
+    entry["part"] = k;
+    parts.push_back(std::move(entry));
+    built.glb.extras = nlohmann::json::object();
+    meshes.push_back(std::move(built.glb));
+    images.push_back(std::move(built.image));
+  }
+  // The geometry images stacked top to bottom, each from its own row, left-aligned.
+  int width = 0, height = 0;
+  for (const GeometryImage& image : images) {
+    width = std::max(width, image.side);
+    height += image.side;
+  }
+  std::vector<uint16_t> rgb(static_cast<size_t>(width) * height * 3, 0);
+  int row = 0;
+  for (size_t k = 0; k < images.size(); ++k) {
+    const GeometryImage& image = images[k];
+    for (int r = 0; r < image.side; ++r)
+      std::copy_n(&image.rgb[static_cast<size_t>(r) * image.side * 3], image.side * 3,
+                  &rgb[(static_cast<size_t>(row + r) * width) * 3]);
+    parts[k]["geometry_image"]["row"] = row;
+    row += image.side;
+  }
+  RemeshAsset asset;
+  asset.geometry_image_png = encode_png(width, height, 16, rgb);
+  asset.metrics = {
+      {"resolution", resolution},
+      {"parts", parts},
+      {"samples", samples},
+      {"vertices", vertices},
+      {"triangles", triangles},
+      {"unlocated_samples", unlocated},
+      {"closed_genus0", closed_genus0},
+      {"distance",
+       {{"relative_to", "bounding-box diagonal of each part"},
+        {"hausdorff", hausdorff},
+        {"rms", relative_rms_weight > 0 ? std::sqrt(squared / relative_rms_weight) : 0.0}}},
+      {"geometry_image",
+       {{"width", width},
+        {"height", height},
+        {"bits", 16},
+        {"layout",
+         "the parts' images stacked from the top, each at parts[k].geometry_image.row "
+         "and decoded with its own origin and scale"}}},
+  };
+  std::vector<GlbNode> nodes = part_nodes(meshes.size());
+  GlbParts glb = build_glb(meshes, nodes);
+  glb.json["meshes"][0]["extras"] = {{"spheremap_remesh", without_timings(asset.metrics)}};
+  asset.glb = serialize_glb(glb);
+  asset.metrics["seconds"] = {{"total", seconds_since(start)}};
+  return asset;
+}
+
+UvAsset parts_uv_asset(const MappedMesh& mapped) {
+  const auto start = std::chrono::steady_clock::now();
+  // One texture for all: part k's square is cell k of a grid of cells x cells, so no two
+  // parts share a texel.
+  const size_t count = mapped.parts.size();
+  const size_t cells = static_cast<size_t>(std::ceil(std::sqrt(static_cast<double>(count))));
+  std::vector<GlbMesh> meshes;
+  nlohmann::json parts = nlohmann::json::array();
+  nlohmann::json total = {{"vertices", 0},
+                          {"triangles", 0},
+                          {"input_vertices", 0},
+                          {"split_triangles", 0},
+                          {"seam_vertices", 0},
+                          {"flipped_triangles", 0},
+                          {"degenerate_triangles", 0}};
+  double area = 0, l2_squared = 0, linf = 0;
+  const std::string checker = checker_png();
+  for (size_t k = 0; k < count; ++k) {
+    BuiltAsset built = build_uv(mapped.parts[k].mapped);
+    const double column = static_cast<double>(k % cells), line = static_cast<double>(k / cells);
+    for (auto& t : built.glb.texcoords) {
+      t[0] = static_cast<float>((column + t[0]) / cells);
+      t[1] = static_cast<float>((line + t[1]) / cells);
+    }
+    for (auto& [key, value] : total.items())
+      value = value.get<size_t>() + built.metrics[key].get<size_t>();
+    const double a = mapped.parts[k].surface_area;
+    const double l2 = built.metrics["stretch"]["l2"].get<double>();
+    area += a;
+    l2_squared += l2 * l2 * a;
+    linf = std::max(linf, built.metrics["stretch"]["linf"].get<double>());
+    built.metrics["part"] = k;
+    built.metrics["cell"] = {k % cells, k / cells};
+    parts.push_back(std::move(built.metrics));
+    built.glb.extras = nlohmann::json::object();
+    built.glb.base_color_png = checker;
+    meshes.push_back(std::move(built.glb));
+  }
+  UvAsset asset;
+  asset.metrics = total;
+  asset.metrics["stretch"] = {{"l2", area > 0 ? std::sqrt(l2_squared / area) : 0.0},
+                              {"linf", linf}};
+  asset.metrics["atlas"] = {
+      {"cells_per_side", cells},
+      {"layout", "part k's square is cell (k mod cells_per_side, k div cells_per_side)"}};
+  asset.metrics["parts"] = parts;
+  GlbParts glb = build_glb(meshes, part_nodes(meshes.size()));
+  glb.json["meshes"][0]["extras"] = {{"spheremap_uv", without_timings(asset.metrics)}};
+  asset.glb = serialize_glb(glb);
+  asset.metrics["seconds"] = seconds_since(start);
+  return asset;
+}
+
+MorphAsset parts_morph_asset(const MappedMesh& mapped, double seconds) {
+  const auto start = std::chrono::steady_clock::now();
+  std::vector<GlbMesh> meshes;
+  nlohmann::json parts = nlohmann::json::array();
+  size_t vertices = 0, triangles = 0;
+  for (size_t k = 0; k < mapped.parts.size(); ++k) {
+    BuiltMorph built = build_morph(mapped.parts[k].mapped, seconds);
+    vertices += built.metrics["vertices"].get<size_t>();
+    triangles += built.metrics["triangles"].get<size_t>();
+    built.metrics["part"] = k;
+    parts.push_back(std::move(built.metrics));
+    built.glb.extras = nlohmann::json::object();
+    meshes.push_back(std::move(built.glb));
+  }
+  MorphAsset asset;
+  asset.metrics = {{"vertices", vertices},
+                   {"triangles", triangles},
+                   {"animation_seconds", seconds},
+                   {"kept_appearance", false},
+                   {"parts", parts}};
+  GlbParts glb = build_glb(meshes, part_nodes(meshes.size()));
+  glb.json["meshes"][0]["extras"] = {{"spheremap_morph", without_timings(asset.metrics)}};
+  asset.glb = serialize_glb(glb);
+  asset.metrics["seconds"] = seconds_since(start);
+  return asset;
+}
+
+}  // namespace spheremap

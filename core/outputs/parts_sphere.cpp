@@ -1,0 +1,144 @@
+// The sphere of an asset of several parts: each part's own unit sphere in a node of its
+// own that moves it to where the part is (MappedPart::center, radius). The positions stay
+// on the unit sphere in the file (float32 and Draco keep their precision whatever the
+// asset's size), and the check as written reads the file back with the nodes unmoved.
+#include "core/io/gltf_reader.h"
+#include "core/map/certification.h"
+#include "core/mesh/sphere_geometry.h"
+#include "core/outputs/asset_builders.h"
+#include "core/outputs/report_json.h"
+#include "core/outputs/sphere_asset.h"
+
+namespace spheremap {
+namespace {
+
+// Part k's spherical mesh in `layout`: its welded vertices, or its input vertices in input
+// order (seams of the input kept) with its input faces.
+PolygonMesh part_sphere(const PolygonMesh& input, const MappedMesh& mapped, size_t k,
+                        SphereLayout layout, const std::vector<uint32_t>& part_of_welded,
+                        const std::vector<uint32_t>& local_of_welded) {
+  const MappedPart& part = mapped.parts[k];
+  if (layout == SphereLayout::kWelded) {
+    PolygonMesh out = part.mapped.prepared.welded.mesh;
+    out.positions = part.mapped.map.sphere;
+    return out;
+  }
+  const auto& to_welded = mapped.prepared.welded.input_to_welded;
+  std::vector<uint32_t> local(input.vertex_count(), kUnreferenced);
+  PolygonMesh out;
+  std::vector<uint32_t> corners;
+  for (size_t f = 0; f < input.face_count(); ++f) {
+    const uint32_t w = to_welded[input.face(f)[0]];
+    if (w == kUnreferenced || part_of_welded[w] != k) continue;
+    corners.clear();
+    for (uint32_t v : input.face(f)) {
+      if (local[v] == kUnreferenced) {
+        local[v] = static_cast<uint32_t>(out.positions.size());
+        out.positions.push_back(part.mapped.map.sphere[local_of_welded[to_welded[v]]]);
+      }
+      corners.push_back(local[v]);
+    }
+    out.add_face(corners);
+  }
+  return out;
+}
+
+// The file's meshes read back (nodes unmoved, so on their unit spheres) and each part's
+// triangles checked on its own sphere.
+MapCheck check_as_written(const GlbParts& unmoved, const MappedMesh& mapped,
+                          const std::vector<size_t>& part_triangles) {
+  const std::string bytes = serialize_glb(unmoved);
+  const PolygonMesh decoded =
+      read_gltf({reinterpret_cast<const uint8_t*>(bytes.data()), bytes.size()});
+  std::vector<Triangle> triangles = fan_triangulate(decoded).triangles;
+  std::vector<Vec3> directions(decoded.positions.size());
+  for (size_t v = 0; v < directions.size(); ++v)
+    directions[v] = normalized_or(decoded.positions[v], Vec3{});
+  MapCheck total;
+  total.min_signed_area = INFINITY;
+  total.bijective = true;
+  size_t first = 0, expected = 0;
+  for (size_t k = 0; k < mapped.parts.size(); ++k) expected += part_triangles[k];
+  if (triangles.size() != expected) {
+    total.bijective = false;
+    return total;
+  }
+  for (size_t k = 0; k < mapped.parts.size(); ++k) {
+    std::span<Triangle> part(triangles.data() + first, part_triangles[k]);
+    if (mapped.parts[k].mapped.map.inward)
+      for (Triangle& t : part) std::swap(t[1], t[2]);
+    const MapCheck check = check_map(directions, part);
+    total.triangles += check.triangles;
+    total.folds += check.folds;
+    total.degenerate += check.degenerate;
+    total.signed_area_sum += check.signed_area_sum;
+    total.min_signed_area = std::min(total.min_signed_area, check.min_signed_area);
+    total.bijective = total.bijective && check.bijective;
+    first += part_triangles[k];
+  }
+  return total;
+}
+
+}  // namespace
+
+SphereAsset parts_sphere_asset(const PolygonMesh& input, const MappedMesh& mapped,
+                               const MapOptions& options, SphereLayout layout,
+                               int draco_position_bits) {
+  std::vector<uint32_t> part_of(mapped.prepared.welded.mesh.vertex_count(), kUnreferenced);
+  std::vector<uint32_t> local(part_of.size(), kUnreferenced);
+  for (size_t k = 0; k < mapped.parts.size(); ++k)
+    for (size_t v = 0; v < mapped.parts[k].whole_vertex.size(); ++v) {
+      part_of[mapped.parts[k].whole_vertex[v]] = static_cast<uint32_t>(k);
+      local[mapped.parts[k].whole_vertex[v]] = static_cast<uint32_t>(v);
+    }
+  std::vector<GlbMesh> meshes(mapped.parts.size());
+  std::vector<size_t> part_triangles;
+  std::vector<GlbNode> unmoved(mapped.parts.size()), placed(mapped.parts.size());
+  for (size_t k = 0; k < mapped.parts.size(); ++k) {
+    const PolygonMesh sphere = part_sphere(input, mapped, k, layout, part_of, local);
+    meshes[k].positions = meshes[k].normals = sphere.positions;
+    meshes[k].triangles = fan_triangulate(sphere).triangles;
+    part_triangles.push_back(meshes[k].triangles.size());
+    unmoved[k].name = placed[k].name = "part " + std::to_string(k);
+    placed[k].translation = mapped.parts[k].center;
+    placed[k].scale = mapped.parts[k].radius > 0 ? mapped.parts[k].radius : 1;
+  }
+  auto write = [&](int bits) {
+    for (GlbMesh& mesh : meshes) mesh.draco_position_bits = bits;
+    GlbParts glb = build_glb(meshes, unmoved);
+    return std::pair{glb, check_as_written(glb, mapped, part_triangles)};
+  };
+  std::pair<GlbParts, MapCheck> file;
+  if (draco_position_bits == kDracoBitsAutomatic) {
+    for (const int bits : kDracoAutomaticBits) {
+      file = write(bits);
+      draco_position_bits = bits;
+      if (clean(file.second) || !clean(mapped.float32_check)) break;
+    }
+  } else {
+    file = write(draco_position_bits);
+  }
+  auto& [glb, written] = file;
+  for (size_t k = 0; k < placed.size(); ++k) {
+    nlohmann::json& node = glb.json["nodes"][k];
+    node["translation"] = {placed[k].translation.x, placed[k].translation.y,
+                           placed[k].translation.z};
+    node["scale"] = {placed[k].scale, placed[k].scale, placed[k].scale};
+  }
+  SphereAsset asset;
+  asset.written = written;
+  asset.metrics = metrics_json(mapped, options);
+  const Certification verdict = certify(mapped, written);
+  asset.metrics["bijective"] = verdict.certified;
+  if (!verdict.certified)
+    asset.metrics["problem"] = {{"type", verdict.problem}, {"detail", verdict.detail}};
+  asset.metrics["bijective_as_written"] = clean(written);
+  asset.metrics["folds_as_written"] = written.folds;
+  asset.metrics["kept_appearance"] = false;
+  if (draco_position_bits != 0) asset.metrics["draco_position_bits"] = draco_position_bits;
+  glb.json["meshes"][0]["extras"] = without_timings(asset.metrics);
+  asset.glb = serialize_glb(glb);
+  return asset;
+}
+
+}  // namespace spheremap
