@@ -28,6 +28,17 @@ class QueueUnavailable : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// A submission whose fate is unknown: the backend ran out of reach after it was sent and
+// stayed so while it was asked afterwards. The job may exist under `job_id` (rare: Redis
+// ran it and then answered nobody for seconds); the id lets the client look before it
+// sends the job again (or it sends it again with the same Idempotency-Key).
+class AdmissionUnsettled : public QueueUnavailable {
+ public:
+  AdmissionUnsettled(const std::string& what, std::string id)
+      : QueueUnavailable(what), job_id(std::move(id)) {}
+  std::string job_id;
+};
+
 class JobQueue {
  public:
   virtual ~JobQueue() = default;
@@ -42,7 +53,8 @@ class JobQueue {
     kStorageFull,  // the backend is out of memory (Redis OOM): retrying does not help (507)
   };
   // Queues a job for `spec`; `job` is set when accepted or replayed. Throws
-  // QueueUnavailable only when the job was not stored (a 503 means "send it again").
+  // QueueUnavailable only when the job was not stored (a 503 means "send it again"), and
+  // AdmissionUnsettled when that cannot be known.
   virtual Admission submit(std::unique_ptr<JobSpec> spec, std::shared_ptr<Job>& job) = 0;
 
   // The job `tenant`'s Idempotency-Key `key` made, while it is kept; nullptr otherwise.

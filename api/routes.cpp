@@ -285,6 +285,19 @@ httplib::Server::Handler guarded(Body body) {
       if (problem.status == 429) response.set_header("Retry-After", "5");
       if (problem.status == 503) response.set_header("Retry-After", "30");
       send_problem(response, problem, request.path);
+    } catch (const AdmissionUnsettled& e) {
+      // Redis went silent after the job was sent and stayed so: it may be stored.
+      log_event({{"event", "queue_unavailable"}, {"error", e.what()}, {"job", e.job_id}});
+      response.set_header("Retry-After", "5");
+      send_problem(response,
+                   Problem(503, "admission_unsettled", "Job admission unsettled",
+                           "the shared job queue stopped answering after the job was sent; it "
+                           "may have been stored as job " +
+                               e.job_id + ": GET " + job_path(e.job_id) +
+                               " before sending it again, or send it again with the same "
+                               "Idempotency-Key",
+                           {{"job", e.job_id}}),
+                   request.path);
     } catch (const QueueUnavailable& e) {
       // Redis out of reach: nothing was accepted or changed (a submission whose answer was
       // lost was checked, or made void, before this); the client may retry soon.

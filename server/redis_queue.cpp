@@ -1,5 +1,6 @@
 #include "server/redis_queue.h"
 
+#include <algorithm>
 #include <chrono>
 #include <thread>
 
@@ -156,11 +157,12 @@ double RedisJobQueue::payload_timeout(size_t bytes) const {
          limits_.payload_timeout_seconds_per_mib * static_cast<double>(bytes) / (1 << 20);
 }
 
-size_t RedisJobQueue::max_value_bytes(RedisConnection& redis) {
+size_t RedisJobQueue::max_value_bytes(RedisConnection& redis, double timeout_seconds) {
   if (const size_t known = max_value_bytes_) return known;
   size_t value = size_t{512} << 20;
   try {
-    const RedisReply reply = redis.command({"CONFIG", "GET", "proto-max-bulk-len"});
+    const RedisReply reply =
+        redis.command_within({"CONFIG", "GET", "proto-max-bulk-len"}, timeout_seconds);
     if (reply.size() == 2 && reply.element(1).integer() > 0)
       value = static_cast<size_t>(reply.element(1).integer());
   } catch (const RedisUnavailable&) {
@@ -199,7 +201,7 @@ JobQueue::Admission RedisJobQueue::submit(std::unique_ptr<JobSpec> spec,
       RedisPool::Lease redis = pool_.take();
       // The rest of the command is small beside the spec; over the cap, Redis would drop
       // the connection, and every retry would too.
-      if (encoded.size() + 4096 > max_value_bytes(*redis)) return Admission::kTooLarge;
+      if (encoded.size() + 4096 > max_value_bytes(*redis, timeout)) return Admission::kTooLarge;
       // Past this moment (half the timeout) the submission refuses itself in Redis: once
       // this side has given up on it, it can no longer be stored behind the 503.
       deadline_ms = redis_time_ms(*redis, timeout) + static_cast<int64_t>(timeout * 500);
@@ -221,8 +223,14 @@ JobQueue::Admission RedisJobQueue::submit(std::unique_ptr<JobSpec> spec,
     } catch (const RedisUnavailable& e) {
       last_ping_ok_ms_ = 0;
       if (!sent) throw QueueUnavailable(e.what());
-      if (!settle(fresh->id, deadline_ms))
-        throw QueueUnavailable(std::string(e.what()) + "; the job was not stored");
+      switch (settle(fresh->id, deadline_ms)) {
+        case Settled::kStored:
+          break;  // accepted: only the answer was lost
+        case Settled::kNotStored:
+          throw QueueUnavailable(std::string(e.what()) + "; the job was not stored");
+        case Settled::kUnknown:
+          throw AdmissionUnsettled(e.what(), fresh->id);
+      }
     } catch (const std::runtime_error& e) {
       if (out_of_memory(e)) return Admission::kStorageFull;
       throw;
@@ -250,26 +258,28 @@ JobQueue::Admission RedisJobQueue::submit(std::unique_ptr<JobSpec> spec,
   }
 }
 
-bool RedisJobQueue::settle(const std::string& id, int64_t deadline_ms) {
-  const auto give_up =
-      Clock::now() + std::chrono::duration_cast<Clock::duration>(
-                         std::chrono::duration<double>(limits_.payload_timeout_seconds));
+RedisJobQueue::Settled RedisJobQueue::settle(const std::string& id, int64_t deadline_ms) {
+  // Asked for as long as the submission itself could take, 5 s at least.
+  const double window = std::max(5.0, limits_.payload_timeout_seconds);
+  const auto give_up = Clock::now() + std::chrono::duration_cast<Clock::duration>(
+                                          std::chrono::duration<double>(window));
   for (;;) {
     try {
       RedisConnection redis(pool_.address(), 1.0);
       // Past the deadline a late submission refuses itself, so what Redis holds now is
       // final: a read settles it (and works while Redis refuses writes).
       if (redis_time_ms(redis, 1.0) > deadline_ms)
-        return redis.command({"EXISTS", job_key(id)}).integer() == 1;
+        return redis.command({"EXISTS", job_key(id)}).integer() == 1 ? Settled::kStored
+                                                                     : Settled::kNotStored;
       return eval(redis, redis_scripts::kSettle, {job_key(id), void_key(id)},
                   {number(kVoidSeconds)})
-                 .text() == "stored";
+                         .text() == "stored"
+                 ? Settled::kStored
+                 : Settled::kNotStored;
     } catch (const std::exception& e) {
       if (Clock::now() >= give_up) {
-        // Redis out of reach throughout: the job was not stored unless Redis ran it before
-        // its deadline and only its answer was lost. Logged, so it can be looked for.
         log_event({{"event", "admission_unsettled"}, {"job", id}, {"error", e.what()}});
-        return false;
+        return Settled::kUnknown;
       }
       std::this_thread::sleep_for(std::chrono::milliseconds(200));
     }

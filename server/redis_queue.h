@@ -147,10 +147,12 @@ class RedisJobQueue : public JobQueue {
   // How long a command carrying `bytes` may take.
   double payload_timeout(size_t bytes) const;
   // The largest value Redis takes (its proto-max-bulk-len; 512 MiB unless it says).
-  size_t max_value_bytes(RedisConnection& redis);
-  // After a submission of `id` lost its answer: true when it was stored; false when it was
-  // not, and now never will be (its void marker is set, or its deadline has passed).
-  bool settle(const std::string& id, int64_t deadline_ms);
+  size_t max_value_bytes(RedisConnection& redis, double timeout_seconds);
+  // After a submission of `id` lost its answer: kStored, or kNotStored and now never will
+  // be (its void marker is set, or its deadline has passed), or kUnknown when Redis does
+  // not answer for the whole window (logged as admission_unsettled).
+  enum class Settled { kStored, kNotStored, kUnknown };
+  Settled settle(const std::string& id, int64_t deadline_ms);
   // Writes a finished job's artifacts under `staged`, unless an earlier try already did.
   void stage_results(RedisConnection& redis, const std::string& id, const std::string& staged,
                      const std::vector<std::string>& files, size_t bytes);

@@ -184,7 +184,8 @@ local function drop(id)
   if tenant then
     redis.call('HDEL', p .. 'owners', id)
     redis.call('ZREM', p .. 'tenant:' .. tenant .. ':finished', id)
-    if redis.call('HINCRBY', p .. 'tenant_bytes', tenant, -size) <= 0 then
+    -- 0 - size, not -size: Lua writes -0 as "-0", which Redis refuses as an integer
+    if redis.call('HINCRBY', p .. 'tenant_bytes', tenant, 0 - size) <= 0 then
       redis.call('HDEL', p .. 'tenant_bytes', tenant)
     end
   end
