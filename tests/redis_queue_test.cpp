@@ -19,9 +19,11 @@
 #include <vector>
 
 #include "api/job_view.h"
+#include "core/io/glb_writer.h"
 #include "core/map/pipeline.h"
 #include "server/redis_queue.h"
 #include "tests/mesh_generators.h"
+#include "tests/test_server.h"
 
 namespace spheremap {
 namespace {
@@ -727,6 +729,58 @@ TEST_F(RedisQueueTest, ATenantsResultsEvictOnlyItsOwn) {
   // DELETE frees the tenant's share too.
   EXPECT_TRUE(queue.remove(quiet->id));
   EXPECT_TRUE(check.command({"HGET", "spheremap:tenant_bytes", "quiet"}).is_nil());
+}
+
+// The same over HTTP, on an API-only node of the Redis queue: the Idempotency-Key replay,
+// and the permanent refusals as their status codes (413, 507), not 503.
+TEST_F(RedisQueueTest, OverHttpKeysReplayAndPermanentFailuresAre413And507) {
+  server::ServerConfig config;
+  config.queue = "redis://127.0.0.1:" + std::to_string(port_);
+  config.workers = 0;
+  config.http_threads = 4;
+  testing::TestServer server(config);
+  auto client = server.client();
+  auto glb_of = [](int subdivisions) {
+    const PolygonMesh mesh = testing::icosphere(subdivisions);
+    GlbMesh glb;
+    glb.positions = mesh.positions;
+    glb.triangles = fan_triangulate(mesh).triangles;
+    return format_glb(glb);
+  };
+  const std::string small = glb_of(2);
+  const httplib::Headers key = {{"Idempotency-Key", "upload-1"}};
+  auto first = client.Post("/v1/jobs", key, small, "model/gltf-binary");
+  auto again = client.Post("/v1/jobs", key, small, "model/gltf-binary");
+  ASSERT_TRUE(first && again);
+  ASSERT_EQ(first->status, 202) << first->body;
+  EXPECT_EQ(again->status, 202);
+  EXPECT_EQ(nlohmann::json::parse(again->body)["id"], nlohmann::json::parse(first->body)["id"]);
+  EXPECT_EQ(again->get_header_value("Idempotent-Replayed"), "true");
+  EXPECT_EQ(integer({"XLEN", "spheremap:jobs"}), 1);
+
+  RedisConnection admin(address());
+  admin.command({"CONFIG", "SET", "maxmemory-policy", "noeviction"});
+  admin.command({"CONFIG", "SET", "maxmemory", "1"});
+  auto full = client.Post("/v1/jobs", small, "model/gltf-binary");
+  admin.command({"CONFIG", "SET", "maxmemory", "0"});
+  ASSERT_TRUE(full);
+  EXPECT_EQ(full->status, 507) << full->body;
+  EXPECT_NE(full->body.find("queue_storage_full"), std::string::npos) << full->body;
+  EXPECT_FALSE(full->has_header("Retry-After"));
+
+  // The server learnt Redis's value limit at its first submission: a fresh server learns
+  // the lowered one.
+  admin.command({"CONFIG", "SET", "proto-max-bulk-len", "1mb"});
+  {
+    testing::TestServer lowered(config);
+    auto large = lowered.client().Post("/v1/jobs", glb_of(6), "model/gltf-binary");
+    admin.command({"CONFIG", "SET", "proto-max-bulk-len", "512mb"});
+    ASSERT_TRUE(large);
+    EXPECT_EQ(large->status, 413) << large->body;
+    EXPECT_NE(large->body.find("queue_entry_too_large"), std::string::npos) << large->body;
+  }
+  admin.command({"CONFIG", "SET", "proto-max-bulk-len", "512mb"});
+  EXPECT_EQ(integer({"XLEN", "spheremap:jobs"}), 1);  // nothing more was stored
 }
 
 TEST(RedisAddress, ParsesAndRefuses) {
