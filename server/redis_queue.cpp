@@ -571,8 +571,7 @@ bool RedisJobQueue::heartbeat(RedisConnection& redis, const std::string& consume
     progress = progress_json(job.progress);
   }
   redis.command({"XCLAIM", kStream, kGroup, consumer, "0", delivery.entry, "JUSTID"});
-  redis.command({"HSET", job_key(delivery.id), "progress", progress});
-  return redis.command({"HGET", job_key(delivery.id), "cancel"}).text() == "1";
+  return eval(redis, redis_scripts::kHeartbeat, {job_key(delivery.id)}, {progress}).text() == "1";
 }
 
 void RedisJobQueue::stage_results(RedisConnection& redis, const std::string& id,

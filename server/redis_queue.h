@@ -103,8 +103,8 @@ class RedisJobQueue : public JobQueue {
               int& attempts);
   // The job as a worker runs it: the snapshot plus its spec (nullptr when the spec is gone).
   std::shared_ptr<Job> load(RedisConnection& redis, const std::string& id, bool with_spec);
-  // Keeps the entry from being reclaimed; publishes progress; returns whether a client
-  // asked to cancel the job.
+  // Keeps the entry from being reclaimed; publishes progress while the job runs; returns
+  // whether a client asked to cancel the job. Also beats while the result is stored.
   bool heartbeat(RedisConnection& redis, const std::string& consumer, const Delivery& delivery,
                  const Job& job);
   // Stores what the job made and its verdict, acknowledges the entry, evicts over the caps.

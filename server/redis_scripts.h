@@ -136,6 +136,15 @@ redis.call('XADD', KEYS[3], '*', 'job', ARGV[1])
 return 1
 )lua";
 
+// KEYS: job hash. ARGV: progress (JSON). A worker's heartbeat: publishes the progress of a
+// job still running (never recreating the hash of one that ended and was evicted while
+// its worker was storing the result) and returns its cancel flag ('1', or '').
+inline constexpr const char* kHeartbeat = R"lua(
+if redis.call('HGET', KEYS[1], 'status') ~= 'running' then return '' end
+redis.call('HSET', KEYS[1], 'progress', ARGV[1])
+return redis.call('HGET', KEYS[1], 'cancel') or ''
+)lua";
+
 // KEYS: job hash, queued, finished, sizes, gone, spec. ARGV: id, reason, now (ms), ttl
 // (s), prefix. Returns 'cancelled' (it was queued), 'stopping' (running: its worker sees
 // the flag with its next heartbeat), 'finished' or 'missing'.

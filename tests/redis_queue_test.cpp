@@ -668,6 +668,33 @@ TEST_F(RedisQueueTest, AFinishRetriedDoesNotSendTheResultsAgain) {
   EXPECT_EQ(queue.counts().result_bytes, result.size());  // counted once
 }
 
+// A worker beats until its result is stored (so that a long finish is not taken over and
+// run again): a beat after the job ended, even after it was evicted, changes nothing and
+// never brings back the job's hash.
+TEST_F(RedisQueueTest, AHeartbeatAfterTheEndChangesNothing) {
+  RedisJobQueue queue(address(), {}, nullptr);
+  RedisConnection redis(address()), beat(address());
+  std::shared_ptr<server::Job> job;
+  ASSERT_EQ(queue.submit(spec(), job), JobQueue::Admission::kAccepted);
+  const auto d = claim(queue, redis, "n1");
+  int attempts = 0;
+  ASSERT_EQ(queue.start(redis, d, "n1", attempts), RedisJobQueue::Start::kRun);
+  auto run = queue.load(redis, d.id, false);
+  run->progress.stage = "optimize";
+  EXPECT_FALSE(queue.heartbeat(beat, "n1", d, *run));
+  EXPECT_EQ(queue.find(job->id).job->progress.stage, "optimize");
+  ASSERT_TRUE(queue.cancel(job, "by a test"));  // running: the flag, read by the next beat
+  EXPECT_TRUE(queue.heartbeat(beat, "n1", d, *run));
+  queue.finish(redis, d, *run, server::JobStatus::kCancelled);
+  run->progress.stage = "late";
+  EXPECT_FALSE(queue.heartbeat(beat, "n1", d, *run));
+  EXPECT_EQ(queue.find(job->id).job->progress.stage, "cancelled");
+  ASSERT_TRUE(queue.remove(job->id));
+  EXPECT_FALSE(queue.heartbeat(beat, "n1", d, *run));
+  EXPECT_EQ(integer({"EXISTS", "spheremap:job:" + job->id}), 0);
+  EXPECT_EQ(queue.counts().running, 0u);  // the beat did not claim the entry back
+}
+
 // Results Redis has no memory for (maxmemory reached, noeviction): the job fails 507
 // result_storage_full at once (the finish script, which starts by acknowledging, still
 // runs), rather than the worker offering the artifacts again and again.
