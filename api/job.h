@@ -40,6 +40,9 @@ struct JobSpec {
   std::vector<std::string> input_warnings;
   nlohmann::json options_echo = nlohmann::json::object();  // as the client sent them (shown)
   std::string tenant;  // whose job: the API key's tenant, or the client's address
+  // The client's Idempotency-Key ("" = none): a retry with the same key, by the same
+  // tenant, gets the job this key made instead of a second one.
+  std::string idempotency_key;
 };
 
 struct Artifact {

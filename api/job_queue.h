@@ -28,13 +28,38 @@ class QueueUnavailable : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// A submission whose fate is unknown: the backend ran out of reach after it was sent and
+// stayed so while it was asked afterwards. The job may exist under `job_id` (rare: Redis
+// ran it and then answered nobody for seconds); the id lets the client look before it
+// sends the job again (or it sends it again with the same Idempotency-Key).
+class AdmissionUnsettled : public QueueUnavailable {
+ public:
+  AdmissionUnsettled(const std::string& what, std::string id)
+      : QueueUnavailable(what), job_id(std::move(id)) {}
+  std::string job_id;
+};
+
 class JobQueue {
  public:
   virtual ~JobQueue() = default;
 
-  enum class Admission { kAccepted, kQueueFull, kTenantQueueFull, kShuttingDown };
-  // Queues a job for `spec`; `job` is set when accepted.
+  enum class Admission {
+    kAccepted,
+    kReplayed,  // the tenant's Idempotency-Key named a job already kept: `job` is that one
+    kQueueFull,
+    kTenantQueueFull,
+    kShuttingDown,
+    kTooLarge,     // the prepared job is larger than the backend can ever store (413)
+    kStorageFull,  // the backend is out of memory (Redis OOM): retrying does not help (507)
+  };
+  // Queues a job for `spec`; `job` is set when accepted or replayed. Throws
+  // QueueUnavailable only when the job was not stored (a 503 means "send it again"), and
+  // AdmissionUnsettled when that cannot be known.
   virtual Admission submit(std::unique_ptr<JobSpec> spec, std::shared_ptr<Job>& job) = 0;
+
+  // The job `tenant`'s Idempotency-Key `key` made, while it is kept; nullptr otherwise.
+  // Asked before a retried submission's body is read: the retry costs a lookup.
+  virtual std::shared_ptr<Job> replay(const std::string& tenant, const std::string& key) = 0;
 
   struct Lookup {
     std::shared_ptr<Job> job;

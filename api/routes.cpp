@@ -7,6 +7,7 @@
 #include <new>
 
 #include "api/client_address.h"
+#include "api/idempotency_key.h"
 #include "api/job_events.h"
 #include "api/job_request.h"
 #include "api/job_view.h"
@@ -57,8 +58,10 @@ Problem out_of_memory_problem() {
                  "later or send a smaller mesh");
 }
 
-// Reads, checks and queues a submission; throws Problems for every refusal.
-std::shared_ptr<Job> submit(Backend& service, const httplib::Request& request) {
+// Reads, checks and queues a submission; throws Problems for every refusal. `replayed`:
+// the request's Idempotency-Key named a job of this tenant already kept, returned as is.
+std::shared_ptr<Job> submit(Backend& service, const httplib::Request& request, bool& replayed) {
+  const std::string key = idempotency_key_of(request);  // 400 before anything else
   if (service.draining()) {
     service.metrics().rejected("shutting_down");
     throw Problem(503, "shutting_down", "Shutting down",
@@ -67,6 +70,15 @@ std::shared_ptr<Job> submit(Backend& service, const httplib::Request& request) {
   if (!service.ready()) {
     service.metrics().rejected("queue_unavailable");
     throw QueueUnavailable("readiness check failed");
+  }
+  const std::string tenant = tenant_of(service, request);
+  // A retry of a submission already queued is answered before its body is read, and a
+  // full queue does not refuse it.
+  if (!key.empty()) {
+    if (std::shared_ptr<Job> earlier = service.queue().replay(tenant, key)) {
+      replayed = true;
+      return earlier;
+    }
   }
   if (service.queue().queued() >= service.settings().queue_capacity) {
     service.metrics().rejected("queue_full");
@@ -87,10 +99,14 @@ std::shared_ptr<Job> submit(Backend& service, const httplib::Request& request) {
     service.metrics().rejected("out_of_memory");
     throw out_of_memory_problem();
   }
-  spec->tenant = tenant_of(service, request);
+  spec->tenant = tenant;
+  spec->idempotency_key = key;
   std::shared_ptr<Job> job;
   switch (service.queue().submit(std::move(spec), job)) {
     case JobQueue::Admission::kAccepted:
+      return job;
+    case JobQueue::Admission::kReplayed:
+      replayed = true;
       return job;
     case JobQueue::Admission::kQueueFull:
       service.metrics().rejected("queue_full");
@@ -104,12 +120,30 @@ std::shared_ptr<Job> submit(Backend& service, const httplib::Request& request) {
       service.metrics().rejected("shutting_down");
       throw Problem(503, "shutting_down", "Shutting down",
                     "the server is shutting down and accepts no new jobs");
+    case JobQueue::Admission::kTooLarge:
+      service.metrics().rejected("queue_entry_too_large");
+      throw Problem(413, "queue_entry_too_large", "Job too large for the queue",
+                    "the prepared job is larger than the shared queue (Redis) stores in one "
+                    "value (proto-max-bulk-len); nothing was stored; send a smaller mesh");
+    case JobQueue::Admission::kStorageFull:
+      service.metrics().rejected("queue_storage_full");
+      throw Problem(507, "queue_storage_full", "Job queue out of memory",
+                    "the shared queue (Redis) is out of memory (maxmemory) and refused the "
+                    "job; nothing was stored; retrying helps only once results have expired "
+                    "or the operator has given Redis more memory");
   }
   return job;
 }
 
+// A replayed submission says so (as Stripe's API does): the job is the one the key made.
+void mark_replayed(httplib::Response& response, bool replayed) {
+  if (replayed) response.set_header("Idempotent-Replayed", "true");
+}
+
 void post_job(Backend& service, const httplib::Request& request, httplib::Response& response) {
-  const std::shared_ptr<Job> job = submit(service, request);
+  bool replayed = false;
+  const std::shared_ptr<Job> job = submit(service, request, replayed);
+  mark_replayed(response, replayed);
   response.set_header("Location", job_path(job->id));
   response.set_header("Spheremap-Job", job->id);
   send_json(response, 202, job_json(*job, service.queue().queue_position(*job)));
@@ -129,7 +163,9 @@ double sync_wait_seconds(const httplib::Request& request, double configured) {
 
 void post_map(Backend& service, std::atomic<int>& waiting, const httplib::Request& request,
               httplib::Response& response) {
-  const std::shared_ptr<Job> job = submit(service, request);
+  bool replayed = false;
+  const std::shared_ptr<Job> job = submit(service, request, replayed);
+  mark_replayed(response, replayed);
   response.set_header("Spheremap-Job", job->id);
   // Waiting holds an HTTP thread: at most half of them may wait, so the rest can serve.
   const int max_waiting = std::max(1, service.settings().http_threads / 2);
@@ -249,8 +285,22 @@ httplib::Server::Handler guarded(Body body) {
       if (problem.status == 429) response.set_header("Retry-After", "5");
       if (problem.status == 503) response.set_header("Retry-After", "30");
       send_problem(response, problem, request.path);
+    } catch (const AdmissionUnsettled& e) {
+      // Redis went silent after the job was sent and stayed so: it may be stored.
+      log_event({{"event", "queue_unavailable"}, {"error", e.what()}, {"job", e.job_id}});
+      response.set_header("Retry-After", "5");
+      send_problem(response,
+                   Problem(503, "admission_unsettled", "Job admission unsettled",
+                           "the shared job queue stopped answering after the job was sent; it "
+                           "may have been stored as job " +
+                               e.job_id + ": GET " + job_path(e.job_id) +
+                               " before sending it again, or send it again with the same "
+                               "Idempotency-Key",
+                           {{"job", e.job_id}}),
+                   request.path);
     } catch (const QueueUnavailable& e) {
-      // Redis out of reach: nothing was accepted or changed; the client may retry soon.
+      // Redis out of reach: nothing was accepted or changed (a submission whose answer was
+      // lost was checked, or made void, before this); the client may retry soon.
       log_event({{"event", "queue_unavailable"}, {"error", e.what()}});
       response.set_header("Retry-After", "5");
       send_problem(response,
@@ -299,7 +349,7 @@ void add_cors_headers(const std::string& allowed, const httplib::Request& reques
   }
   response.set_header("Access-Control-Expose-Headers",
                       "Location, Content-Location, Link, Retry-After, Spheremap-Job, "
-                      "Spheremap-Bijective, Spheremap-Folds");
+                      "Spheremap-Bijective, Spheremap-Folds, Idempotent-Replayed");
 }
 
 // The page's policy: everything from our own origin (three.js is bundled), its one inline
@@ -470,7 +520,8 @@ void install_api(GuardedServer& http, Backend& service) {
     response.set_header("Allow", "GET, POST, DELETE, OPTIONS");
     if (config.cors_origins.empty()) return;
     response.set_header("Access-Control-Allow-Methods", "GET, POST, DELETE, OPTIONS");
-    response.set_header("Access-Control-Allow-Headers", "Content-Type, Prefer, Authorization");
+    response.set_header("Access-Control-Allow-Headers",
+                        "Content-Type, Prefer, Authorization, Idempotency-Key");
     response.set_header("Access-Control-Max-Age", "600");
   });
   http.set_logger([&service](const httplib::Request& request, const httplib::Response& response) {

@@ -34,6 +34,9 @@ jobs (shutdown_grace_seconds) and exits 0.
                             reclaimed by another worker (default 30)
   --max-attempts N          redis: starts of a job whose worker keeps dying before it
                             fails as worker_crashed (default 3)
+  --redis-payload-timeout-seconds S, --redis-payload-timeout-seconds-per-mib S
+                            redis: how long a submission or a job's results may take to
+                            store: S plus S per MiB (defaults 5, 0.25)
   --workers N               jobs mapped at once (default -1 = the machine's cores;
                             0 = none: an API-only node of a redis queue)
   --threads-per-job N       engine threads per job (default 0 = cores / workers)

@@ -22,6 +22,10 @@ struct ServerConfig {
   std::string queue = "memory://";
   double visibility_timeout_seconds = 30;  // redis: a silent worker's job is reclaimed after
   int max_attempts = 3;                    // redis: starts of a job whose worker keeps dying
+  // redis: a command carrying a payload (a submission's prepared input, a job's results)
+  // may take this long plus this much per MiB before Redis counts as unavailable.
+  double redis_payload_timeout_seconds = 5;
+  double redis_payload_timeout_seconds_per_mib = 0.25;
   int workers = -1;                    // jobs mapped at once; -1 = the machine's cores; 0 = none
                                        // (an API-only node; redis queue only)
   int threads_per_job = 0;             // engine threads per job; 0 = cores / workers (at least 1)

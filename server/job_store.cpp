@@ -27,6 +27,10 @@ JobStore::Admission JobStore::submit(std::unique_ptr<JobSpec> spec, std::shared_
   {
     std::lock_guard lock(mutex_);
     if (!accepting_) return Admission::kShuttingDown;
+    if (!spec->idempotency_key.empty()) {
+      // Before the capacity checks: a retry of a job already queued takes no new slot.
+      if ((job = replay_locked(spec->tenant, spec->idempotency_key))) return Admission::kReplayed;
+    }
     if (queue_.size() >= limits_.queue_capacity) return Admission::kQueueFull;
     Tenant& tenant = tenants_[spec->tenant];
     if (tenant.queued >= limits_.tenant_max_queued) return Admission::kTenantQueueFull;
@@ -42,6 +46,11 @@ JobStore::Admission JobStore::submit(std::unique_ptr<JobSpec> spec, std::shared_
     job->options = spec->options_echo;
     job->spec = std::move(spec);
     jobs_[job->id] = job;
+    if (!job->spec->idempotency_key.empty()) {
+      std::pair<std::string, std::string> key{job->tenant, job->spec->idempotency_key};
+      idempotent_[key] = job->id;
+      idempotency_key_of_[job->id] = std::move(key);
+    }
     queue_.push_back(job);
     // Told while no worker can take the job yet (next() needs mutex_), so its "queued"
     // line is logged before its "running" one. Order: mutex_, then the job's mutex.
@@ -112,6 +121,25 @@ void JobStore::finish(const std::shared_ptr<Job>& job, JobStatus status) {
   job->finished_cv.notify_all();
   idle_cv_.notify_all();
   if (observer_) observer_(job, status);
+}
+
+std::shared_ptr<Job> JobStore::replay_locked(const std::string& tenant, const std::string& key) {
+  const auto it = idempotent_.find({tenant, key});
+  if (it == idempotent_.end()) return nullptr;
+  const auto job = jobs_.find(it->second);
+  return job == jobs_.end() ? nullptr : job->second;
+}
+
+std::shared_ptr<Job> JobStore::replay(const std::string& tenant, const std::string& key) {
+  std::lock_guard lock(mutex_);
+  return replay_locked(tenant, key);
+}
+
+void JobStore::forget_idempotency_key(const std::string& id) {
+  const auto it = idempotency_key_of_.find(id);
+  if (it == idempotency_key_of_.end()) return;
+  idempotent_.erase(it->second);
+  idempotency_key_of_.erase(it);
 }
 
 JobStore::Lookup JobStore::find(const std::string& id) {
@@ -185,6 +213,7 @@ bool JobStore::remove(const std::string& id) {
     tenants_[job->tenant].result_bytes -= job->artifact_bytes();
   }
   jobs_.erase(it);
+  forget_idempotency_key(id);
   finished_.erase(std::remove(finished_.begin(), finished_.end(), job), finished_.end());
   return true;
 }
@@ -243,6 +272,7 @@ void JobStore::evict_job_locked(std::deque<std::shared_ptr<Job>>::iterator at,
   result_bytes_ -= bytes;
   tenants_[job->tenant].result_bytes -= bytes;
   jobs_.erase(job->id);
+  forget_idempotency_key(job->id);
   remember_evicted(job->id);
   ++evicted_total_;
   evicted.push_back(job);  // freed outside the lock

@@ -5,6 +5,7 @@
 
 #include <deque>
 #include <functional>
+#include <map>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -47,6 +48,7 @@ class JobStore : public JobQueue {
   // A worker is done with a running job: it is in a terminal state now.
   void finish(const std::shared_ptr<Job>& job, JobStatus status);
 
+  std::shared_ptr<Job> replay(const std::string& tenant, const std::string& key) override;
   Lookup find(const std::string& id) override;
   std::shared_ptr<Job> wait(const std::shared_ptr<Job>& job, double seconds) override;
   size_t queue_position(const Job& job) override;
@@ -75,6 +77,8 @@ class JobStore : public JobQueue {
   void evict_job_locked(std::deque<std::shared_ptr<Job>>::iterator at,
                         std::vector<std::shared_ptr<Job>>& evicted);
   void remember_evicted(const std::string& id);
+  void forget_idempotency_key(const std::string& id);
+  std::shared_ptr<Job> replay_locked(const std::string& tenant, const std::string& key);
   // The queue position of the next job to run, or queue_.end() when none may run now.
   std::deque<std::shared_ptr<Job>>::iterator pick_locked();
 
@@ -88,6 +92,9 @@ class JobStore : public JobQueue {
   std::deque<std::string> evicted_order_;
   std::unordered_set<std::string> evicted_;
   std::unordered_map<std::string, Tenant> tenants_;
+  // Idempotency keys of kept jobs: (tenant, key) -> id, and back, to forget them with it.
+  std::map<std::pair<std::string, std::string>, std::string> idempotent_;
+  std::unordered_map<std::string, std::pair<std::string, std::string>> idempotency_key_of_;
   size_t running_ = 0, result_bytes_ = 0, evicted_total_ = 0;
   bool accepting_ = true, closed_ = false;
 };

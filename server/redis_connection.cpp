@@ -128,8 +128,13 @@ RedisReply RedisConnection::command(const std::vector<std::string_view>& argumen
 
 RedisReply RedisConnection::blocking_command(const std::vector<std::string_view>& arguments,
                                              double block_seconds) {
+  return command_within(arguments, block_seconds + timeout_seconds_);
+}
+
+RedisReply RedisConnection::command_within(const std::vector<std::string_view>& arguments,
+                                           double timeout_seconds) {
   if (!context_) connect();
-  redisSetTimeout(context_.get(), to_timeval(block_seconds + timeout_seconds_));
+  redisSetTimeout(context_.get(), to_timeval(timeout_seconds));
   auto restore = [&] {
     if (context_) redisSetTimeout(context_.get(), to_timeval(timeout_seconds_));
   };

@@ -62,6 +62,9 @@ class RedisConnection {
   RedisReply command(const std::vector<std::string_view>& arguments);
   // The same, for a command that may block for up to `block_seconds` on the server.
   RedisReply blocking_command(const std::vector<std::string_view>& arguments, double block_seconds);
+  // The same, bounded by `timeout_seconds` instead of the connection's own timeout: a
+  // command that carries megabytes needs longer than one that carries an id.
+  RedisReply command_within(const std::vector<std::string_view>& arguments, double timeout_seconds);
 
  private:
   void connect();

@@ -1,8 +1,10 @@
 #include "server/redis_queue.h"
 
+#include <algorithm>
 #include <chrono>
 #include <thread>
 
+#include "api/log.h"
 #include "server/redis_scripts.h"
 #include "server/worker_protocol.h"
 
@@ -35,6 +37,22 @@ std::string tenant_queued_key(const std::string& tenant) {
 std::string tenant_running_key(const std::string& tenant) {
   return kPrefix + "tenant:" + tenant + ":running";
 }
+std::string void_key(const std::string& id) {
+  return kPrefix + "void:" + id;
+}
+// The tenant's length first: tenant "a:b" with key "c" is not tenant "a" with key "b:c".
+std::string idempotency_key(const std::string& tenant, const std::string& key) {
+  return kPrefix + "idem:" + std::to_string(tenant.size()) + ":" + tenant + ":" + key;
+}
+
+// Redis refused a write for want of memory (maxmemory with noeviction): retrying now does
+// not help, and it is not "Redis unavailable".
+bool out_of_memory(const std::exception& e) {
+  return std::string(e.what()).find("OOM command not allowed") != std::string::npos;
+}
+
+// A void marker outlives any submission that could still arrive late.
+constexpr double kVoidSeconds = 86400;
 
 int64_t wall_ms() {
   return std::chrono::duration_cast<std::chrono::milliseconds>(
@@ -51,13 +69,20 @@ std::string number(double value) {
   return std::to_string(static_cast<long long>(value));
 }
 
+// `timeout_seconds` 0: the connection's own.
 RedisReply eval(RedisConnection& redis, const char* script, const std::vector<std::string>& keys,
-                const std::vector<std::string>& args) {
+                const std::vector<std::string>& args, double timeout_seconds = 0) {
   const std::string count = std::to_string(keys.size());
   std::vector<std::string_view> argv = {"EVAL", script, count};
   for (const std::string& k : keys) argv.push_back(k);
   for (const std::string& a : args) argv.push_back(a);
-  return redis.command(argv);
+  return timeout_seconds > 0 ? redis.command_within(argv, timeout_seconds) : redis.command(argv);
+}
+
+// Redis's clock in ms: deadlines Redis checks are set in its own clock, not this machine's.
+int64_t redis_time_ms(RedisConnection& redis, double timeout_seconds) {
+  const RedisReply time = redis.command_within({"TIME"}, timeout_seconds);
+  return time.element(0).integer() * 1000 + time.element(1).integer() / 1000;
 }
 
 // The job hash as a Job (a view: artifacts listed without their bytes).
@@ -127,6 +152,28 @@ auto RedisJobQueue::with_redis(Body body) {
   }
 }
 
+double RedisJobQueue::payload_timeout(size_t bytes) const {
+  return limits_.payload_timeout_seconds +
+         limits_.payload_timeout_seconds_per_mib * static_cast<double>(bytes) / (1 << 20);
+}
+
+size_t RedisJobQueue::max_value_bytes(RedisConnection& redis, double timeout_seconds) {
+  if (const size_t known = max_value_bytes_) return known;
+  size_t value = size_t{512} << 20;
+  try {
+    const RedisReply reply =
+        redis.command_within({"CONFIG", "GET", "proto-max-bulk-len"}, timeout_seconds);
+    if (reply.size() == 2 && reply.element(1).integer() > 0)
+      value = static_cast<size_t>(reply.element(1).integer());
+  } catch (const RedisUnavailable&) {
+    throw;
+  } catch (const std::runtime_error&) {
+    // CONFIG renamed or refused (a managed Redis): assume its default.
+  }
+  max_value_bytes_ = value;
+  return value;
+}
+
 JobQueue::Admission RedisJobQueue::submit(std::unique_ptr<JobSpec> spec,
                                           std::shared_ptr<Job>& job) {
   if (!accepting_) return Admission::kShuttingDown;
@@ -140,35 +187,111 @@ JobQueue::Admission RedisJobQueue::submit(std::unique_ptr<JobSpec> spec,
   fresh->options = spec->options_echo;
   const int64_t now = wall_ms();
   fresh->created_wall = std::chrono::system_clock::time_point(std::chrono::milliseconds(now));
-  return with_redis([&](RedisConnection& redis) {
-    for (;;) {
-      fresh->id = new_job_id();
-      const Telling telling(*this, fresh->id);  // until the observer has been told
-      const RedisReply result = eval(
-          redis, redis_scripts::kSubmit,
-          {kQueued, tenant_queued_key(fresh->tenant), job_key(fresh->id), spec_key(fresh->id),
-           kStream, kPrefix + "seq"},
-          {fresh->id, std::to_string(limits_.queue_capacity),
-           std::to_string(limits_.tenant_max_queued), std::to_string(now), encoded,
-           // the hash's fields
-           "id", fresh->id, "tenant", fresh->tenant, "status", "queued", "created_ms",
-           std::to_string(now), "input_vertices", std::to_string(fresh->input_vertices),
-           "input_faces", std::to_string(fresh->input_faces), "input_bytes",
-           std::to_string(fresh->input_bytes), "input_format", fresh->input_format, "options",
-           fresh->options.dump(), "progress", progress_json(fresh->progress), "attempts", "0"});
-      switch (result.integer()) {
-        case 1:
-          return Admission::kQueueFull;
-        case 2:
-          return Admission::kTenantQueueFull;
-        case 3:
-          continue;  // 128 random bits met an existing id: draw again
+  const double timeout = payload_timeout(encoded.size());
+  const std::string key = spec->idempotency_key.empty()
+                              ? std::string()
+                              : idempotency_key(fresh->tenant, spec->idempotency_key);
+  for (;;) {
+    fresh->id = new_job_id();
+    const Telling telling(*this, fresh->id);  // until the observer has been told
+    bool sent = false;
+    int64_t deadline_ms = 0;
+    std::optional<RedisReply> result;
+    try {
+      RedisPool::Lease redis = pool_.take();
+      // The rest of the command is small beside the spec; over the cap, Redis would drop
+      // the connection, and every retry would too.
+      if (encoded.size() + 4096 > max_value_bytes(*redis, timeout)) return Admission::kTooLarge;
+      // Past this moment (half the timeout) the submission refuses itself in Redis: once
+      // this side has given up on it, it can no longer be stored behind the 503.
+      deadline_ms = redis_time_ms(*redis, timeout) + static_cast<int64_t>(timeout * 500);
+      sent = true;
+      result =
+          eval(*redis, redis_scripts::kSubmit,
+               {kQueued, tenant_queued_key(fresh->tenant), job_key(fresh->id), spec_key(fresh->id),
+                kStream, kPrefix + "seq", void_key(fresh->id), key},
+               {fresh->id, std::to_string(limits_.queue_capacity),
+                std::to_string(limits_.tenant_max_queued), std::to_string(now), encoded,
+                std::to_string(deadline_ms), number(limits_.result_ttl_seconds + 86400), kPrefix,
+                // the hash's fields
+                "id", fresh->id, "tenant", fresh->tenant, "status", "queued", "created_ms",
+                std::to_string(now), "input_vertices", std::to_string(fresh->input_vertices),
+                "input_faces", std::to_string(fresh->input_faces), "input_bytes",
+                std::to_string(fresh->input_bytes), "input_format", fresh->input_format, "options",
+                fresh->options.dump(), "progress", progress_json(fresh->progress), "attempts", "0"},
+               timeout);
+    } catch (const RedisUnavailable& e) {
+      last_ping_ok_ms_ = 0;
+      if (!sent) throw QueueUnavailable(e.what());
+      switch (settle(fresh->id, deadline_ms)) {
+        case Settled::kStored:
+          break;  // accepted: only the answer was lost
+        case Settled::kNotStored:
+          throw QueueUnavailable(std::string(e.what()) + "; the job was not stored");
+        case Settled::kUnknown:
+          throw AdmissionUnsettled(e.what(), fresh->id);
       }
-      job = fresh;
-      if (observer_) observer_(job, JobStatus::kQueued);
-      return Admission::kAccepted;
+    } catch (const std::runtime_error& e) {
+      if (out_of_memory(e)) return Admission::kStorageFull;
+      throw;
     }
+    switch (result ? result->element(0).integer() : 0) {
+      case 1:
+        return Admission::kQueueFull;
+      case 2:
+        return Admission::kTenantQueueFull;
+      case 3:
+        continue;  // 128 random bits met an existing id: draw again
+      case 4: {
+        Lookup earlier = find(result->element(1).text());
+        if (!earlier.job) continue;  // evicted since: the key makes a new job
+        job = earlier.job;
+        return Admission::kReplayed;
+      }
+      case 5:  // its deadline passed before Redis ran it (a stall): not stored
+        throw QueueUnavailable("redis took longer than " + std::to_string(timeout / 2) +
+                               " s to admit the job; the job was not stored");
+    }
+    job = fresh;
+    if (observer_) observer_(job, JobStatus::kQueued);
+    return Admission::kAccepted;
+  }
+}
+
+RedisJobQueue::Settled RedisJobQueue::settle(const std::string& id, int64_t deadline_ms) {
+  // Asked for as long as the submission itself could take, 5 s at least.
+  const double window = std::max(5.0, limits_.payload_timeout_seconds);
+  const auto give_up = Clock::now() + std::chrono::duration_cast<Clock::duration>(
+                                          std::chrono::duration<double>(window));
+  for (;;) {
+    try {
+      RedisConnection redis(pool_.address(), 1.0);
+      // Past the deadline a late submission refuses itself, so what Redis holds now is
+      // final: a read settles it (and works while Redis refuses writes).
+      if (redis_time_ms(redis, 1.0) > deadline_ms)
+        return redis.command({"EXISTS", job_key(id)}).integer() == 1 ? Settled::kStored
+                                                                     : Settled::kNotStored;
+      return eval(redis, redis_scripts::kSettle, {job_key(id), void_key(id)},
+                  {number(kVoidSeconds)})
+                         .text() == "stored"
+                 ? Settled::kStored
+                 : Settled::kNotStored;
+    } catch (const std::exception& e) {
+      if (Clock::now() >= give_up) {
+        log_event({{"event", "admission_unsettled"}, {"job", id}, {"error", e.what()}});
+        return Settled::kUnknown;
+      }
+      std::this_thread::sleep_for(std::chrono::milliseconds(200));
+    }
+  }
+}
+
+std::shared_ptr<Job> RedisJobQueue::replay(const std::string& tenant, const std::string& key) {
+  const std::string id = with_redis([&](RedisConnection& redis) {
+    return redis.command({"GET", idempotency_key(tenant, key)}).text();
   });
+  if (id.empty()) return nullptr;
+  return find(id).job;
 }
 
 std::shared_ptr<Job> RedisJobQueue::snapshot(RedisConnection& redis, const std::string& id,
@@ -265,7 +388,7 @@ bool RedisJobQueue::cancel(const std::shared_ptr<Job>& job, const std::string& r
 bool RedisJobQueue::remove(const std::string& id) {
   return with_redis([&](RedisConnection& redis) {
     return eval(redis, redis_scripts::kEvict, {kFinished, kSizes, kResultBytes},
-                {kPrefix, "0", "0", "0", "0", id})
+                {kPrefix, "0", "0", "0", "0", id, "0"})
                .integer() == 1;
   });
 }
@@ -295,7 +418,8 @@ size_t RedisJobQueue::queued() {
 void RedisJobQueue::evict(RedisConnection& redis) {
   eval(redis, redis_scripts::kEvict, {kFinished, kSizes, kResultBytes},
        {kPrefix, std::to_string(wall_ms()), number(limits_.result_ttl_seconds * 1000),
-        std::to_string(limits_.result_memory_bytes), std::to_string(limits_.max_jobs_kept), ""});
+        std::to_string(limits_.result_memory_bytes), std::to_string(limits_.max_jobs_kept), "",
+        std::to_string(limits_.tenant_result_memory_bytes)});
 }
 
 void RedisJobQueue::evict() {
@@ -331,6 +455,7 @@ std::string RedisJobQueue::publish_limits() {
   const nlohmann::json ours = {{"queue_capacity", limits_.queue_capacity},
                                {"tenant_max_queued", limits_.tenant_max_queued},
                                {"tenant_max_running", limits_.tenant_max_running},
+                               {"tenant_result_memory_bytes", limits_.tenant_result_memory_bytes},
                                {"result_ttl_seconds", limits_.result_ttl_seconds},
                                {"result_memory_bytes", limits_.result_memory_bytes},
                                {"max_jobs_kept", limits_.max_jobs_kept},
@@ -446,37 +571,78 @@ bool RedisJobQueue::heartbeat(RedisConnection& redis, const std::string& consume
     progress = progress_json(job.progress);
   }
   redis.command({"XCLAIM", kStream, kGroup, consumer, "0", delivery.entry, "JUSTID"});
-  redis.command({"HSET", job_key(delivery.id), "progress", progress});
-  return redis.command({"HGET", job_key(delivery.id), "cancel"}).text() == "1";
+  return eval(redis, redis_scripts::kHeartbeat, {job_key(delivery.id)}, {progress}).text() == "1";
+}
+
+void RedisJobQueue::stage_results(RedisConnection& redis, const std::string& id,
+                                  const std::string& staged, const std::vector<std::string>& files,
+                                  size_t bytes) {
+  // A retry after a lost answer: HSET is atomic, so every field there means all were sent.
+  // (Sending them again on every retry re-sent one result hundreds of times while its
+  // write could not finish within a fixed 2 s timeout.)
+  const size_t count = (files.size() - 2) / 2;
+  const bool staged_before =
+      static_cast<size_t>(redis.command({"HLEN", staged}).integer()) == count;
+  // A job that is no longer running (cancelled, removed, or finished by a worker that
+  // reclaimed it) takes nothing from this delivery: nothing to send.
+  if (!staged_before && redis.command({"HGET", job_key(id), "status"}).text() == "running") {
+    std::vector<std::string_view> argv(files.begin(), files.end());
+    redis.command_within(argv, payload_timeout(bytes));
+  }
+  // A worker that dies before its finish leaves no staged files forever.
+  redis.command({"EXPIRE", staged, number(limits_.result_ttl_seconds)});
 }
 
 void RedisJobQueue::finish(RedisConnection& redis, const Delivery& delivery, Job& job,
                            JobStatus status) {
-  std::vector<std::string> fields;
-  nlohmann::json listed = nlohmann::json::array();
   // Written under this delivery's own key: the finish script makes them the job's files
   // only if this worker's result is the one that counts.
   const std::string staged = files_key(delivery.id) + ":" + delivery.entry;
+  auto fail_for_storage = [&](JobError error) {
+    std::lock_guard lock(job.mutex);
+    status = JobStatus::kFailed;
+    job.error = std::move(error);
+    job.artifacts.clear();
+  };
   std::vector<std::string> files = {"HSET", staged};
   size_t bytes = 0;
+  {
+    std::lock_guard lock(job.mutex);
+    for (const Artifact& a : job.artifacts) bytes += a.bytes.size();
+  }
+  // Results larger than the whole cluster's result memory could never be downloaded.
+  if (bytes > limits_.result_memory_bytes)
+    fail_for_storage({507, "result_too_large", "Results too large to keep",
+                      "the job's artifacts take " + std::to_string(bytes) +
+                          " bytes; result_memory_bytes is " +
+                          std::to_string(limits_.result_memory_bytes)});
+  {
+    std::lock_guard lock(job.mutex);
+    for (const Artifact& a : job.artifacts) files.push_back(a.name), files.push_back(a.bytes);
+  }
+  if (files.size() > 2) {
+    try {
+      stage_results(redis, delivery.id, staged, files, bytes);
+    } catch (const RedisUnavailable&) {
+      throw;
+    } catch (const std::runtime_error& e) {
+      if (!out_of_memory(e)) throw;
+      // Redis has no room for them now: the job fails rather than offer them again.
+      fail_for_storage({507, "result_storage_full", "No room to keep the results",
+                        "the shared queue (Redis) is out of memory (maxmemory) and could not "
+                        "store the job's " +
+                            std::to_string(bytes) + " bytes of artifacts"});
+    }
+  }
+  std::vector<std::string> fields;
+  nlohmann::json listed = nlohmann::json::array();
+  bytes = 0;
   {
     std::lock_guard lock(job.mutex);
     for (const Artifact& a : job.artifacts) {
       listed.push_back({{"name", a.name}, {"type", a.content_type}, {"size", a.bytes.size()}});
       bytes += a.bytes.size();
     }
-    // Results larger than the whole cluster's result memory could never be downloaded.
-    if (bytes > limits_.result_memory_bytes) {
-      status = JobStatus::kFailed;
-      job.error = JobError{507, "result_too_large", "Results too large to keep",
-                           "the job's artifacts take " + std::to_string(bytes) +
-                               " bytes; result_memory_bytes is " +
-                               std::to_string(limits_.result_memory_bytes)};
-      job.artifacts.clear();
-      listed = nlohmann::json::array();
-      bytes = 0;
-    }
-    for (const Artifact& a : job.artifacts) files.push_back(a.name), files.push_back(a.bytes);
     job.progress.stage = std::string(to_string(status));
     fields = {"progress", progress_json(job.progress), "artifacts", listed.dump()};
     if (!job.metrics.is_null()) fields.insert(fields.end(), {"metrics", job.metrics.dump()});
@@ -484,25 +650,34 @@ void RedisJobQueue::finish(RedisConnection& redis, const Delivery& delivery, Job
     if (!job.cancel_reason.empty())
       fields.insert(fields.end(), {"cancel_reason", job.cancel_reason});
   }
-  if (files.size() > 2) {
-    std::vector<std::string_view> argv(files.begin(), files.end());
-    redis.command(argv);
-    // A worker that dies before its finish leaves no staged files forever.
-    redis.command({"EXPIRE", staged, number(limits_.result_ttl_seconds)});
-  }
   std::vector<std::string> args = {delivery.id,
                                    delivery.entry,
                                    std::string(to_string(status)),
                                    std::to_string(wall_ms()),
                                    number(limits_.result_ttl_seconds),
                                    std::to_string(bytes),
-                                   kPrefix + "count:" + std::string(to_string(status))};
+                                   kPrefix + "count:" + std::string(to_string(status)),
+                                   kPrefix};
   args.insert(args.end(), fields.begin(), fields.end());
-  eval(redis, redis_scripts::kFinish,
-       {job_key(delivery.id), files_key(delivery.id), kFinished, kSizes, kResultBytes, kStream,
-        gone_key(delivery.id), spec_key(delivery.id), staged, tenant_running_key(job.tenant)},
-       args);
-  evict(redis);
+  try {
+    eval(redis, redis_scripts::kFinish,
+         {job_key(delivery.id), files_key(delivery.id), kFinished, kSizes, kResultBytes, kStream,
+          gone_key(delivery.id), spec_key(delivery.id), staged, tenant_running_key(job.tenant)},
+         args);
+  } catch (const RedisUnavailable&) {
+    throw;
+  } catch (const std::runtime_error& e) {
+    // Out of memory even for the verdict: retried (by the caller) until Redis has room;
+    // the script is safe to run twice, and the results are not sent again.
+    if (out_of_memory(e)) throw RedisUnavailable(e.what());
+    throw;
+  }
+  // The job is finished; an eviction that fails now runs again with the next finish or
+  // /metrics, and must not make the caller retry a finish that is done.
+  try {
+    evict(redis);
+  } catch (const std::exception&) {
+  }
 }
 
 void RedisJobQueue::release(RedisConnection& redis, const Delivery& delivery, bool count_attempt) {

@@ -18,12 +18,18 @@
 //   finished, sizes, result_bytes  finished ids by end time and their artifact bytes:
 //                        the TTL and the result memory cap, cluster-wide.
 //   count:STATUS, count:evicted  totals for /metrics.
+//   owners, tenant_bytes, tenant:T:finished  each finished id's tenant, each tenant's
+//                        result bytes and finished ids by end time: tenant_result_memory_bytes.
+//   idem:N:TENANT:KEY    the job a tenant's Idempotency-Key made (N: the tenant's length).
+//   void:ID              a submission the API gave up on (503): it refuses itself if late.
 // Every change that must be atomic (admission, start, finish, cancel, eviction) is one
 // Lua script, so replicas never race each other.
 //
 // Redis unreachable: the routes' calls throw QueueUnavailable (503 + Retry-After) and
-// readiness fails; nothing is accepted that Redis did not store. For jobs to survive a
-// restart of Redis itself, Redis must persist (appendonly yes).
+// readiness fails; nothing is accepted that Redis did not store, and nothing answered 503
+// is stored: a submission carries a deadline in Redis's clock (half its timeout) past
+// which it refuses itself, and one whose answer was lost is settled (stored, or voided).
+// For jobs to survive a restart of Redis itself, Redis must persist (appendonly yes).
 #pragma once
 
 #include <atomic>
@@ -47,6 +53,12 @@ struct RedisQueueLimits {
   double visibility_timeout_seconds = 30;
   int max_attempts = 3;
   size_t tenant_max_running = 0;  // jobs of one tenant running at once, cluster-wide
+  size_t tenant_result_memory_bytes = 256u << 20;  // finished results kept per tenant
+  // Commands that carry a payload (a submission's prepared input, a job's results) may
+  // take this long, plus the per-MiB share for their size, before Redis counts as
+  // unavailable (other commands: 2 s).
+  double payload_timeout_seconds = 5;
+  double payload_timeout_seconds_per_mib = 0.25;
 };
 
 class RedisJobQueue : public JobQueue {
@@ -58,7 +70,10 @@ class RedisJobQueue : public JobQueue {
   RedisJobQueue(RedisAddress address, RedisQueueLimits limits, Observer observer);
 
   // JobQueue, for the routes (throw QueueUnavailable while Redis cannot be reached).
+  // A submission whose answer is lost (a timeout) is settled before it throws: found
+  // stored, it is accepted; otherwise it is made void, so that a 503 means "not stored".
   Admission submit(std::unique_ptr<JobSpec> spec, std::shared_ptr<Job>& job) override;
+  std::shared_ptr<Job> replay(const std::string& tenant, const std::string& key) override;
   Lookup find(const std::string& id) override;
   std::shared_ptr<Job> wait(const std::shared_ptr<Job>& job, double seconds) override;
   size_t queue_position(const Job& job) override;
@@ -88,11 +103,14 @@ class RedisJobQueue : public JobQueue {
               int& attempts);
   // The job as a worker runs it: the snapshot plus its spec (nullptr when the spec is gone).
   std::shared_ptr<Job> load(RedisConnection& redis, const std::string& id, bool with_spec);
-  // Keeps the entry from being reclaimed; publishes progress; returns whether a client
-  // asked to cancel the job.
+  // Keeps the entry from being reclaimed; publishes progress while the job runs; returns
+  // whether a client asked to cancel the job. Also beats while the result is stored.
   bool heartbeat(RedisConnection& redis, const std::string& consumer, const Delivery& delivery,
                  const Job& job);
   // Stores what the job made and its verdict, acknowledges the entry, evicts over the caps.
+  // Safe to call again after a RedisUnavailable (the workers retry it): results already
+  // staged are not sent again. Results Redis has no memory for fail the job as
+  // result_storage_full (507).
   void finish(RedisConnection& redis, const Delivery& delivery, Job& job, JobStatus status);
   // Puts a running job back in the queue (this node stops, or its worker process died and
   // attempts remain); `count_attempt` false undoes the attempt (a drain is not its fault).
@@ -126,6 +144,18 @@ class RedisJobQueue : public JobQueue {
 
   template <typename Body>
   auto with_redis(Body body);
+  // How long a command carrying `bytes` may take.
+  double payload_timeout(size_t bytes) const;
+  // The largest value Redis takes (its proto-max-bulk-len; 512 MiB unless it says).
+  size_t max_value_bytes(RedisConnection& redis, double timeout_seconds);
+  // After a submission of `id` lost its answer: kStored, or kNotStored and now never will
+  // be (its void marker is set, or its deadline has passed), or kUnknown when Redis does
+  // not answer for the whole window (logged as admission_unsettled).
+  enum class Settled { kStored, kNotStored, kUnknown };
+  Settled settle(const std::string& id, int64_t deadline_ms);
+  // Writes a finished job's artifacts under `staged`, unless an earlier try already did.
+  void stage_results(RedisConnection& redis, const std::string& id, const std::string& staged,
+                     const std::vector<std::string>& files, size_t bytes);
   std::shared_ptr<Job> snapshot(RedisConnection& redis, const std::string& id, bool& gone);
   void ensure_group(RedisConnection& redis);
   void evict(RedisConnection& redis);
@@ -135,6 +165,7 @@ class RedisJobQueue : public JobQueue {
   mutable RedisPool pool_;
   std::atomic<bool> accepting_{true};
   mutable std::atomic<int64_t> last_ping_ok_ms_{0}, last_ping_ms_{0};
+  std::atomic<size_t> max_value_bytes_{0};  // 0 = not asked yet
   std::mutex telling_mutex_;
   std::condition_variable told_cv_;
   std::set<std::string> telling_;  // jobs submitted here whose "queued" is not told yet

@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <functional>
 #include <optional>
 
 #include "api/log.h"
@@ -19,6 +20,18 @@ std::string node_name() {
   gethostname(host, sizeof host - 1);
   return std::string(host) + ":" + std::to_string(getpid());
 }
+
+// Runs `action` when the scope ends, however it ends.
+class ScopeExit {
+ public:
+  explicit ScopeExit(std::function<void()> action) : action_(std::move(action)) {}
+  ~ScopeExit() { action_(); }
+  ScopeExit(const ScopeExit&) = delete;
+  ScopeExit& operator=(const ScopeExit&) = delete;
+
+ private:
+  std::function<void()> action_;
+};
 
 void log_job(const char* what, const std::string& id, const std::string& detail = "") {
   nlohmann::json line = {{"event", what}, {"job", id}};
@@ -157,28 +170,35 @@ void RedisWorkers::run_one(RedisConnection& redis, RedisConnection& beat,
       }
     }
   });
+  // The companion beats until the result is stored (or the job released), on every way
+  // out: a finish that takes long (a large result, Redis away for a while) keeps its
+  // claim, so that no other node takes the job over, runs it again and sends its result
+  // a second time.
+  const ScopeExit stop_companion([&] {
+    {
+      std::lock_guard lock(companion_mutex);
+      done = true;
+    }
+    companion_cv.notify_one();
+    companion.join();
+  });
   const auto charge = charge_job(budget_, *job);
   const JobStatus status =
       run_guarded(*job, [&] { return process ? process->run(*job, run_) : run_job(*job, run_); });
-  {
-    std::lock_guard lock(companion_mutex);
-    done = true;
-  }
-  companion_cv.notify_one();
-  companion.join();
+  const bool cancelled_by_client = client_cancel;  // the companion still beats from here on
   {
     std::lock_guard lock(mutex_);
     jobs_.erase(std::find(jobs_.begin(), jobs_.end(), job.get()));
   }
   idle_cv_.notify_all();
 
-  if (releasing_ && !client_cancel) {
+  if (releasing_ && !cancelled_by_client) {
     if (persist([&] { queue_.release(redis, delivery, false); }))
       log_job("job_released", job->id, "this node stopped before the job ended");
     return;
   }
   const bool crashed = status == JobStatus::kFailed && job->error &&
-                       job->error->problem == "worker_crashed" && !client_cancel;
+                       job->error->problem == "worker_crashed" && !cancelled_by_client;
   if (crashed && attempts < queue_.limits().max_attempts) {
     if (persist([&] { queue_.release(redis, delivery, true); }))
       log_job("job_retried", job->id, job->error->detail);

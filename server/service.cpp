@@ -24,9 +24,19 @@ StoreLimits store_limits(const ServerConfig& c) {
 }
 
 RedisQueueLimits redis_limits(const ServerConfig& c) {
-  return {c.queue_capacity,      c.tenant_max_queued, c.result_ttl_seconds,
-          c.result_memory_bytes, c.max_jobs_kept,     c.visibility_timeout_seconds,
-          c.max_attempts,        c.tenant_max_running};
+  RedisQueueLimits l;
+  l.queue_capacity = c.queue_capacity;
+  l.tenant_max_queued = c.tenant_max_queued;
+  l.result_ttl_seconds = c.result_ttl_seconds;
+  l.result_memory_bytes = c.result_memory_bytes;
+  l.max_jobs_kept = c.max_jobs_kept;
+  l.visibility_timeout_seconds = c.visibility_timeout_seconds;
+  l.max_attempts = c.max_attempts;
+  l.tenant_max_running = c.tenant_max_running;
+  l.tenant_result_memory_bytes = c.tenant_result_memory_bytes;
+  l.payload_timeout_seconds = c.redis_payload_timeout_seconds;
+  l.payload_timeout_seconds_per_mib = c.redis_payload_timeout_seconds_per_mib;
+  return l;
 }
 
 ApiSettings api_settings(const ServerConfig& c) {

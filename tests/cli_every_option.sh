@@ -28,6 +28,7 @@ declare -A value=(
   [threads-per-job]=1 [workers]=1 [worker-isolation]=thread [worker-memory-bytes]=4000000000
   [worker-cpu-seconds]=100 [api-keys]=$tmp/keys [tenant-max-queued]=4 [tenant-max-running]=1
   [queue]=memory:// [trusted-proxies]=127.0.0.1 [visibility-timeout-seconds]=10 [max-attempts]=2
+  [redis-payload-timeout-seconds]=5 [redis-payload-timeout-seconds-per-mib]=0.25
   [tenant-result-memory-bytes]=1000000 [cors-origins]=https://a.example [health-port]=0 [geometry-image]=$tmp/gi.png)
 flags=" draco largest-component no-centroid no-optimize quiet "
 echo '{"workers": 1}' > "$tmp/config.json"

@@ -6,6 +6,7 @@
 
 #include <chrono>
 #include <mutex>
+#include <string>
 #include <thread>
 #include <vector>
 
@@ -42,6 +43,39 @@ TEST(JobStore, QueuedIsToldBeforeRunning) {
   EXPECT_EQ(order[0], JobStatus::kQueued);
   EXPECT_EQ(order[1], JobStatus::kRunning);
   EXPECT_EQ(order[2], JobStatus::kSucceeded);
+}
+
+// Idempotency-Key in memory mode: a tenant's retry is the same job, even when the queue is
+// full (it takes no slot); another tenant's same key is its own job; once the job is
+// forgotten (DELETE here), the key makes a new one.
+TEST(JobStore, AnIdempotencyKeyIsOneJobPerTenantWhileItIsKept) {
+  server::StoreLimits limits;
+  limits.queue_capacity = 2;
+  server::JobStore store(limits, nullptr);
+  auto spec = [](const std::string& tenant, const std::string& key) {
+    auto s = std::make_unique<server::JobSpec>();
+    s->input = testing::icosphere(1);
+    s->tenant = tenant;
+    s->idempotency_key = key;
+    return s;
+  };
+  using Admission = server::JobQueue::Admission;
+  std::shared_ptr<server::Job> a, again, b, c;
+  ASSERT_EQ(store.submit(spec("alpha", "k"), a), Admission::kAccepted);
+  ASSERT_EQ(store.submit(spec("beta", "k"), b), Admission::kAccepted);
+  EXPECT_NE(a, b);
+  EXPECT_EQ(store.submit(spec("gamma", "k"), c), Admission::kQueueFull);
+  EXPECT_EQ(store.submit(spec("alpha", "k"), again), Admission::kReplayed);  // full, yet
+  EXPECT_EQ(again, a);
+  EXPECT_EQ(store.replay("alpha", "k"), a);
+  EXPECT_EQ(store.replay("alpha", "other"), nullptr);
+  EXPECT_EQ(store.queued(), 2u);
+  store.cancel(a, "test");
+  ASSERT_TRUE(store.remove(a->id));
+  EXPECT_EQ(store.replay("alpha", "k"), nullptr);
+  std::shared_ptr<server::Job> fresh;
+  ASSERT_EQ(store.submit(spec("alpha", "k"), fresh), Admission::kAccepted);
+  EXPECT_NE(fresh->id, a->id);
 }
 
 }  // namespace

@@ -12,15 +12,18 @@
 #include <chrono>
 #include <cstdlib>
 #include <filesystem>
+#include <iostream>
 #include <mutex>
 #include <string>
 #include <thread>
 #include <vector>
 
 #include "api/job_view.h"
+#include "core/io/glb_writer.h"
 #include "core/map/pipeline.h"
 #include "server/redis_queue.h"
 #include "tests/mesh_generators.h"
+#include "tests/test_server.h"
 
 namespace spheremap {
 namespace {
@@ -53,8 +56,9 @@ class RedisQueueTest : public ::testing::Test {
     std::filesystem::create_directories(dir_);
     const std::string command = "redis-server --port " + std::to_string(port_) +
                                 " --bind 127.0.0.1 --save '' --appendonly no --daemonize yes" +
-                                " --dir " + dir_.string() + " --pidfile " +
-                                (dir_ / "redis.pid").string() + " --logfile " +
+                                // DEBUG SLEEP plays a stalled Redis
+                                " --enable-debug-command local" + " --dir " + dir_.string() +
+                                " --pidfile " + (dir_ / "redis.pid").string() + " --logfile " +
                                 (dir_ / "redis.log").string();
     if (std::system(command.c_str()) != 0) return;
     for (int i = 0; i < 100; ++i) {
@@ -86,12 +90,24 @@ class RedisQueueTest : public ::testing::Test {
     a.port = port_;
     return a;
   }
-  static std::unique_ptr<server::JobSpec> spec(const std::string& tenant = "t") {
+  static std::unique_ptr<server::JobSpec> spec(const std::string& tenant = "t",
+                                               const std::string& idempotency_key = "",
+                                               int subdivisions = 1) {
     auto s = std::make_unique<server::JobSpec>();
-    s->input = testing::icosphere(1);
+    s->input = testing::icosphere(subdivisions);
     s->prepared = prepare_mesh(s->input, {});
     s->tenant = tenant;
+    s->idempotency_key = idempotency_key;
     return s;
+  }
+  static long long integer(const std::vector<std::string_view>& command) {
+    return RedisConnection(address()).command(command).integer();
+  }
+  // Bytes Redis has read from its clients so far.
+  static long long bytes_received() {
+    const std::string info = RedisConnection(address()).command({"INFO", "stats"}).text();
+    const size_t at = info.find("total_net_input_bytes:");
+    return std::stoll(info.substr(at + 22));
   }
   // A worker's claim, retried until the entry is there (XREADGROUP blocks briefly).
   static RedisJobQueue::Delivery claim(RedisJobQueue& queue, RedisConnection& redis,
@@ -103,9 +119,9 @@ class RedisQueueTest : public ::testing::Test {
   // Submits a job, claims, starts and finishes it as succeeded with one artifact of
   // `bytes` bytes, as a worker would; returns the job.
   static std::shared_ptr<server::Job> run_to_end(RedisJobQueue& queue, RedisConnection& redis,
-                                                 size_t bytes) {
+                                                 size_t bytes, const std::string& tenant = "t") {
     std::shared_ptr<server::Job> job;
-    EXPECT_EQ(queue.submit(spec(), job), JobQueue::Admission::kAccepted);
+    EXPECT_EQ(queue.submit(spec(tenant), job), JobQueue::Admission::kAccepted);
     const auto d = claim(queue, redis, "n1");
     int attempts = 0;
     EXPECT_EQ(queue.start(redis, d, "n1", attempts), RedisJobQueue::Start::kRun);
@@ -404,6 +420,394 @@ TEST_F(RedisQueueTest, AWorkerHereTellsRunningAfterQueued) {
   EXPECT_EQ(queue.submit(spec(), job), JobQueue::Admission::kAccepted);
   worker.join();
   EXPECT_EQ(order, (std::vector<std::string>{"queued", "running"}));
+}
+
+// Security III, 4: a Redis that stalls for 3 s while a job is being admitted. Whatever the
+// answer, it is the truth: accepted means stored and queued; QueueUnavailable (503) means
+// nothing was stored, even once Redis runs what it had waiting. Three stalls: DEBUG SLEEP
+// under the default 5 s payload timeout (the submission waits it out), and DEBUG SLEEP and
+// CLIENT PAUSE WRITE (reads pass, scripts wait) under a 1 s timeout, which the stall
+// outlasts.
+TEST_F(RedisQueueTest, AStallDuringAdmissionGives202OrNothingStored) {
+  struct Case {
+    const char* name;
+    std::vector<std::string_view> stall;
+    double timeout;
+    bool accepted;  // expected
+  };
+  const std::vector<Case> cases = {
+      {"DEBUG SLEEP 3, 5 s timeout", {"DEBUG", "SLEEP", "3"}, 5, true},
+      {"DEBUG SLEEP 3, 1 s timeout", {"DEBUG", "SLEEP", "3"}, 1, false},
+      {"CLIENT PAUSE 3000 WRITE, 1 s timeout", {"CLIENT", "PAUSE", "3000", "WRITE"}, 1, false},
+  };
+  for (const Case& c : cases) {
+    RedisConnection(address()).command({"FLUSHALL"});
+    RedisQueueLimits limits;
+    limits.payload_timeout_seconds = c.timeout;
+    RedisJobQueue queue(address(), limits, nullptr);
+    RedisConnection(address()).command({"PING"});
+    const auto stall_start = std::chrono::steady_clock::now();
+    std::string stall_error;
+    std::thread stall([&] {
+      try {
+        RedisConnection(address()).command_within(c.stall, 10);
+      } catch (const std::exception& e) {
+        stall_error = e.what();
+      }
+    });
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));  // the stall has begun
+    const auto submit_start = std::chrono::steady_clock::now();
+    std::shared_ptr<server::Job> job;
+    bool accepted = false;
+    try {
+      accepted = queue.submit(spec(), job) == JobQueue::Admission::kAccepted;
+    } catch (const server::QueueUnavailable& e) {
+      std::cout << "  " << c.name << ": 503: " << e.what() << "\n";
+    }
+    const double answered_s =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - submit_start).count();
+    stall.join();
+    ASSERT_EQ(stall_error, "") << c.name;
+    // Past the stall, whatever Redis had waiting has run.
+    std::this_thread::sleep_until(stall_start + std::chrono::milliseconds(3500));
+    RedisConnection redis(address());
+    const size_t jobs = redis.command({"KEYS", "spheremap:job:*"}).size();
+    const long long entries = redis.command({"XLEN", "spheremap:jobs"}).integer();
+    std::cout << "  " << c.name << ": " << (accepted ? "accepted" : "503") << " after "
+              << answered_s << " s; jobs stored " << jobs << ", entries " << entries << "\n";
+    EXPECT_EQ(accepted, c.accepted) << c.name;
+    EXPECT_EQ(jobs, accepted ? 1u : 0u) << c.name;
+    EXPECT_EQ(entries, accepted ? 1 : 0) << c.name;
+    EXPECT_EQ(queue.queued(), accepted ? 1u : 0u) << c.name;
+    if (accepted) {
+      EXPECT_TRUE(queue.find(job->id).job) << c.name;
+    }
+  }
+}
+
+// A TCP relay between the queue and Redis that can hold Redis's answers on the
+// connections open now (after letting `pass` more through), as a network or a Redis that
+// stops answering would: the commands arrive and run, their answers do not come back in
+// time. Connections opened later are relayed at once.
+class AnswerHoldingRelay {
+ public:
+  explicit AnswerHoldingRelay(int redis_port) : redis_port_(redis_port) {
+    listener_ = socket(AF_INET, SOCK_STREAM, 0);
+    sockaddr_in address{};
+    address.sin_family = AF_INET;
+    address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    bind(listener_, reinterpret_cast<sockaddr*>(&address), sizeof address);
+    socklen_t size = sizeof address;
+    getsockname(listener_, reinterpret_cast<sockaddr*>(&address), &size);
+    port_ = ntohs(address.sin_port);
+    listen(listener_, 16);
+    acceptor_ = std::thread([this] { accept_loop(); });
+  }
+  ~AnswerHoldingRelay() {
+    shutdown(listener_, SHUT_RDWR);
+    close(listener_);
+    acceptor_.join();
+    for (std::thread& t : pumps_) t.join();
+  }
+  int port() const { return port_; }
+  // Answers on the connections open now, after `pass` more of them, wait `seconds`.
+  void hold(int pass, double seconds) {
+    pass_ = pass;
+    release_ = std::chrono::steady_clock::now() +
+               std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                   std::chrono::duration<double>(seconds));
+    held_below_ = opened_.load();
+  }
+
+ private:
+  void accept_loop() {
+    for (;;) {
+      const int client = accept(listener_, nullptr, nullptr);
+      if (client < 0) return;
+      const int redis = testing_connect(redis_port_);
+      const int number = opened_++;
+      pumps_.emplace_back([this, client, redis] { pump(client, redis, false); });
+      pumps_.emplace_back([this, client, redis, number] { pump(redis, client, true, number); });
+    }
+  }
+  static int testing_connect(int port) {
+    const int fd = socket(AF_INET, SOCK_STREAM, 0);
+    sockaddr_in address{};
+    address.sin_family = AF_INET;
+    address.sin_port = htons(static_cast<uint16_t>(port));
+    address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    connect(fd, reinterpret_cast<sockaddr*>(&address), sizeof address);
+    return fd;
+  }
+  void pump(int from, int to, bool answers, int number = 0) {
+    char buffer[65536];
+    for (;;) {
+      const ssize_t got = recv(from, buffer, sizeof buffer, 0);
+      if (got <= 0) break;
+      if (answers && number < held_below_ && pass_-- <= 0)
+        std::this_thread::sleep_until(release_.load());
+      if (send(to, buffer, static_cast<size_t>(got), MSG_NOSIGNAL) != got) break;
+    }
+    shutdown(to, SHUT_RDWR);
+    shutdown(from, SHUT_RDWR);
+  }
+
+  const int redis_port_;
+  int listener_ = -1, port_ = 0;
+  std::atomic<int> opened_{0}, held_below_{0}, pass_{0};
+  std::atomic<std::chrono::steady_clock::time_point> release_{};
+  std::thread acceptor_;
+  std::vector<std::thread> pumps_;  // touched by the acceptor only, joined at the end
+};
+
+// A submission that Redis stored but whose answer was lost (held 3 s, past the 1 s
+// timeout) is found stored and answered as accepted (202), not 503.
+TEST_F(RedisQueueTest, ASubmissionStoredButUnansweredIsAccepted) {
+  AnswerHoldingRelay relay(port_);
+  RedisAddress through = address();
+  through.port = relay.port();
+  RedisQueueLimits limits;
+  limits.payload_timeout_seconds = 1;
+  RedisJobQueue queue(through, limits, nullptr);
+  std::shared_ptr<server::Job> first, second;
+  // The first submission opens the pooled connection and learns Redis's value limit.
+  ASSERT_EQ(queue.submit(spec(), first), JobQueue::Admission::kAccepted);
+  relay.hold(1, 3);  // TIME's answer passes; the submission's is held
+  const auto start = std::chrono::steady_clock::now();
+  EXPECT_EQ(queue.submit(spec(), second), JobQueue::Admission::kAccepted);
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  std::cout << "  accepted after " << seconds << " s (answer held 3 s, timeout 1 s)\n";
+  EXPECT_GE(seconds, 1.0);  // it did time out
+  ASSERT_TRUE(second);
+  EXPECT_TRUE(RedisJobQueue(address(), {}, nullptr).find(second->id).job);
+  EXPECT_EQ(integer({"XLEN", "spheremap:jobs"}), 2);
+  std::this_thread::sleep_until(start + std::chrono::milliseconds(3200));  // let it go
+}
+
+TEST_F(RedisQueueTest, ARetriedSubmissionWithTheSameKeyIsOneJob) {
+  RedisQueueLimits limits;
+  limits.tenant_max_queued = 1;  // a replay takes no queue slot
+  RedisJobQueue a(address(), limits, nullptr), b(address(), limits, nullptr);
+  std::shared_ptr<server::Job> first, again, other;
+  ASSERT_EQ(a.submit(spec("t1", "order-17"), first), JobQueue::Admission::kAccepted);
+  ASSERT_EQ(b.submit(spec("t1", "order-17"), again), JobQueue::Admission::kReplayed);
+  EXPECT_EQ(again->id, first->id);
+  ASSERT_TRUE(b.replay("t1", "order-17"));
+  EXPECT_EQ(b.replay("t1", "order-17")->id, first->id);
+  EXPECT_FALSE(b.replay("t1", "order-18"));
+  EXPECT_EQ(a.queued(), 1u);
+  EXPECT_EQ(integer({"XLEN", "spheremap:jobs"}), 1);
+  // Another tenant's same key is another job; "t" + "1:order-17" is not "t1" + "order-17".
+  ASSERT_EQ(a.submit(spec("t2", "order-17"), other), JobQueue::Admission::kAccepted);
+  EXPECT_NE(other->id, first->id);
+  EXPECT_FALSE(a.replay("t", "1:order-17"));
+  // Once the job is forgotten (DELETE, eviction), the key makes a new one.
+  RedisConnection redis(address());
+  const auto d = claim(a, redis, "n1");
+  int attempts = 0;
+  ASSERT_EQ(a.start(redis, d, "n1", attempts), RedisJobQueue::Start::kRun);
+  auto run = a.load(redis, d.id, false);
+  a.finish(redis, d, *run, server::JobStatus::kSucceeded);
+  ASSERT_TRUE(a.remove(first->id));
+  std::shared_ptr<server::Job> fresh;
+  ASSERT_EQ(a.submit(spec("t1", "order-17"), fresh), JobQueue::Admission::kAccepted);
+  EXPECT_NE(fresh->id, first->id);
+}
+
+// Permanent failures are not "retry later": a prepared job over Redis's largest value
+// (proto-max-bulk-len, lowered here to its 1 MB minimum) is kTooLarge (413), and a Redis
+// out of memory (maxmemory reached, noeviction) is kStorageFull (507); nothing is stored.
+TEST_F(RedisQueueTest, PermanentAdmissionFailuresAre413And507) {
+  RedisConnection admin(address());
+  admin.command({"CONFIG", "SET", "proto-max-bulk-len", "1mb"});
+  {
+    RedisJobQueue queue(address(), {}, nullptr);
+    std::shared_ptr<server::Job> job;
+    EXPECT_EQ(queue.submit(spec("t", "", 6), job), JobQueue::Admission::kTooLarge);
+    EXPECT_EQ(queue.submit(spec(), job), JobQueue::Admission::kAccepted);  // small ones go on
+  }
+  admin.command({"CONFIG", "SET", "proto-max-bulk-len", "512mb"});
+  admin.command({"CONFIG", "SET", "maxmemory-policy", "noeviction"});
+  admin.command({"CONFIG", "SET", "maxmemory", "1"});
+  std::shared_ptr<server::Job> job;
+  RedisJobQueue queue(address(), {}, nullptr);
+  const auto admission = queue.submit(spec(), job);
+  admin.command({"CONFIG", "SET", "maxmemory", "0"});
+  EXPECT_EQ(admission, JobQueue::Admission::kStorageFull);
+  EXPECT_EQ(queue.queued(), 1u);  // the small job from before only
+}
+
+// Results are written once: a finish retried after its staged write went through (its
+// answer lost) does not send the artifacts again, nor does a finish retried after it
+// completed.
+TEST_F(RedisQueueTest, AFinishRetriedDoesNotSendTheResultsAgain) {
+  RedisJobQueue queue(address(), {}, nullptr);
+  RedisConnection redis(address());
+  std::shared_ptr<server::Job> job;
+  ASSERT_EQ(queue.submit(spec(), job), JobQueue::Admission::kAccepted);
+  const auto d = claim(queue, redis, "n1");
+  int attempts = 0;
+  ASSERT_EQ(queue.start(redis, d, "n1", attempts), RedisJobQueue::Start::kRun);
+  const std::string result(2u << 20, 'r');
+  // The first try staged the artifact, then lost Redis before its finish script.
+  redis.command({"HSET", "spheremap:files:" + d.id + ":" + d.entry, "sphere.glb", result});
+  auto run = queue.load(redis, d.id, false);
+  run->artifacts = {artifact("sphere.glb", result)};
+  const long long before = bytes_received();
+  queue.finish(redis, d, *run, server::JobStatus::kSucceeded);  // the retry
+  queue.finish(redis, d, *run, server::JobStatus::kSucceeded);  // and one more
+  const long long sent = bytes_received() - before;
+  std::cout << "  two retried finishes sent " << sent << " bytes (the result: " << result.size()
+            << ")\n";
+  EXPECT_LT(sent, 100000);
+  const auto found = queue.find(job->id).job;
+  ASSERT_TRUE(found);
+  EXPECT_EQ(found->status, server::JobStatus::kSucceeded);
+  EXPECT_EQ(queue.artifact(*found, "sphere.glb")->bytes, result);
+  EXPECT_EQ(queue.counts().result_bytes, result.size());  // counted once
+}
+
+// A worker beats until its result is stored (so that a long finish is not taken over and
+// run again): a beat after the job ended, even after it was evicted, changes nothing and
+// never brings back the job's hash.
+TEST_F(RedisQueueTest, AHeartbeatAfterTheEndChangesNothing) {
+  RedisJobQueue queue(address(), {}, nullptr);
+  RedisConnection redis(address()), beat(address());
+  std::shared_ptr<server::Job> job;
+  ASSERT_EQ(queue.submit(spec(), job), JobQueue::Admission::kAccepted);
+  const auto d = claim(queue, redis, "n1");
+  int attempts = 0;
+  ASSERT_EQ(queue.start(redis, d, "n1", attempts), RedisJobQueue::Start::kRun);
+  auto run = queue.load(redis, d.id, false);
+  run->progress.stage = "optimize";
+  EXPECT_FALSE(queue.heartbeat(beat, "n1", d, *run));
+  EXPECT_EQ(queue.find(job->id).job->progress.stage, "optimize");
+  ASSERT_TRUE(queue.cancel(job, "by a test"));  // running: the flag, read by the next beat
+  EXPECT_TRUE(queue.heartbeat(beat, "n1", d, *run));
+  queue.finish(redis, d, *run, server::JobStatus::kCancelled);
+  run->progress.stage = "late";
+  EXPECT_FALSE(queue.heartbeat(beat, "n1", d, *run));
+  EXPECT_EQ(queue.find(job->id).job->progress.stage, "cancelled");
+  ASSERT_TRUE(queue.remove(job->id));
+  EXPECT_FALSE(queue.heartbeat(beat, "n1", d, *run));
+  EXPECT_EQ(integer({"EXISTS", "spheremap:job:" + job->id}), 0);
+  EXPECT_EQ(queue.counts().running, 0u);  // the beat did not claim the entry back
+}
+
+// Results Redis has no memory for (maxmemory reached, noeviction): the job fails 507
+// result_storage_full at once (the finish script, which starts by acknowledging, still
+// runs), rather than the worker offering the artifacts again and again.
+TEST_F(RedisQueueTest, ResultsRedisHasNoRoomForFailAs507) {
+  RedisJobQueue queue(address(), {}, nullptr);
+  RedisConnection redis(address()), admin(address());
+  std::shared_ptr<server::Job> job;
+  ASSERT_EQ(queue.submit(spec(), job), JobQueue::Admission::kAccepted);
+  const auto d = claim(queue, redis, "n1");
+  int attempts = 0;
+  ASSERT_EQ(queue.start(redis, d, "n1", attempts), RedisJobQueue::Start::kRun);
+  auto run = queue.load(redis, d.id, false);
+  run->artifacts = {artifact("sphere.glb", std::string(100000, 'r'))};
+  admin.command({"CONFIG", "SET", "maxmemory-policy", "noeviction"});
+  admin.command({"CONFIG", "SET", "maxmemory", "1"});
+  try {
+    queue.finish(redis, d, *run, server::JobStatus::kSucceeded);
+  } catch (const server::RedisUnavailable&) {
+    // a Redis that refuses even the verdict: the worker retries (without the artifacts)
+    admin.command({"CONFIG", "SET", "maxmemory", "0"});
+    queue.finish(redis, d, *run, server::JobStatus::kSucceeded);
+  }
+  admin.command({"CONFIG", "SET", "maxmemory", "0"});
+  const auto found = queue.find(job->id).job;
+  ASSERT_TRUE(found);
+  EXPECT_EQ(found->status, server::JobStatus::kFailed);
+  ASSERT_TRUE(found->error);
+  EXPECT_EQ(found->error->status, 507);
+  EXPECT_EQ(found->error->problem, "result_storage_full");
+  EXPECT_EQ(queue.counts().running, 0u);  // acknowledged
+}
+
+// Security III, 6: tenant_result_memory_bytes holds in Redis mode as in memory mode: a
+// tenant over its share loses its own oldest results, never another tenant's.
+TEST_F(RedisQueueTest, ATenantsResultsEvictOnlyItsOwn) {
+  RedisQueueLimits limits;
+  limits.tenant_result_memory_bytes = 1500;
+  RedisJobQueue queue(address(), limits, nullptr);
+  RedisConnection redis(address());
+  const auto quiet = run_to_end(queue, redis, 600, "quiet");
+  std::vector<std::shared_ptr<server::Job>> busy;
+  for (int i = 0; i < 4; ++i) {
+    busy.push_back(run_to_end(queue, redis, 600, "busy"));
+    std::this_thread::sleep_for(std::chrono::milliseconds(3));  // distinct end times
+  }
+  EXPECT_TRUE(queue.find(quiet->id).job);  // untouched
+  for (int i = 0; i < 2; ++i) {
+    const auto old = queue.find(busy[i]->id);
+    EXPECT_FALSE(old.job) << i;
+    EXPECT_TRUE(old.evicted) << i;  // 410
+  }
+  EXPECT_TRUE(queue.find(busy[2]->id).job);
+  EXPECT_TRUE(queue.find(busy[3]->id).job);
+  EXPECT_EQ(queue.counts().result_bytes, 1800u);
+  EXPECT_EQ(queue.counts().evicted, 2u);
+  RedisConnection check(address());
+  EXPECT_EQ(check.command({"HGET", "spheremap:tenant_bytes", "busy"}).integer(), 1200);
+  EXPECT_EQ(check.command({"HGET", "spheremap:tenant_bytes", "quiet"}).integer(), 600);
+  // DELETE frees the tenant's share too.
+  EXPECT_TRUE(queue.remove(quiet->id));
+  EXPECT_TRUE(check.command({"HGET", "spheremap:tenant_bytes", "quiet"}).is_nil());
+}
+
+// The same over HTTP, on an API-only node of the Redis queue: the Idempotency-Key replay,
+// and the permanent refusals as their status codes (413, 507), not 503.
+TEST_F(RedisQueueTest, OverHttpKeysReplayAndPermanentFailuresAre413And507) {
+  server::ServerConfig config;
+  config.queue = "redis://127.0.0.1:" + std::to_string(port_);
+  config.workers = 0;
+  config.http_threads = 4;
+  testing::TestServer server(config);
+  auto client = server.client();
+  auto glb_of = [](int subdivisions) {
+    const PolygonMesh mesh = testing::icosphere(subdivisions);
+    GlbMesh glb;
+    glb.positions = mesh.positions;
+    glb.triangles = fan_triangulate(mesh).triangles;
+    return format_glb(glb);
+  };
+  const std::string small = glb_of(2);
+  const httplib::Headers key = {{"Idempotency-Key", "upload-1"}};
+  auto first = client.Post("/v1/jobs", key, small, "model/gltf-binary");
+  auto again = client.Post("/v1/jobs", key, small, "model/gltf-binary");
+  ASSERT_TRUE(first && again);
+  ASSERT_EQ(first->status, 202) << first->body;
+  EXPECT_EQ(again->status, 202);
+  EXPECT_EQ(nlohmann::json::parse(again->body)["id"], nlohmann::json::parse(first->body)["id"]);
+  EXPECT_EQ(again->get_header_value("Idempotent-Replayed"), "true");
+  EXPECT_EQ(integer({"XLEN", "spheremap:jobs"}), 1);
+
+  RedisConnection admin(address());
+  admin.command({"CONFIG", "SET", "maxmemory-policy", "noeviction"});
+  admin.command({"CONFIG", "SET", "maxmemory", "1"});
+  auto full = client.Post("/v1/jobs", small, "model/gltf-binary");
+  admin.command({"CONFIG", "SET", "maxmemory", "0"});
+  ASSERT_TRUE(full);
+  EXPECT_EQ(full->status, 507) << full->body;
+  EXPECT_NE(full->body.find("queue_storage_full"), std::string::npos) << full->body;
+  EXPECT_FALSE(full->has_header("Retry-After"));
+
+  // The server learnt Redis's value limit at its first submission: a fresh server learns
+  // the lowered one.
+  admin.command({"CONFIG", "SET", "proto-max-bulk-len", "1mb"});
+  {
+    testing::TestServer lowered(config);
+    auto large = lowered.client().Post("/v1/jobs", glb_of(6), "model/gltf-binary");
+    admin.command({"CONFIG", "SET", "proto-max-bulk-len", "512mb"});
+    ASSERT_TRUE(large);
+    EXPECT_EQ(large->status, 413) << large->body;
+    EXPECT_NE(large->body.find("queue_entry_too_large"), std::string::npos) << large->body;
+  }
+  admin.command({"CONFIG", "SET", "proto-max-bulk-len", "512mb"});
+  EXPECT_EQ(integer({"XLEN", "spheremap:jobs"}), 1);  // nothing more was stored
 }
 
 TEST(RedisAddress, ParsesAndRefuses) {

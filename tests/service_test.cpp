@@ -516,6 +516,54 @@ TEST(Service, ATenantsResultsEvictOnlyItsOwn) {
   EXPECT_EQ(client.Get((beta_job + "/artifacts/sphere.glb").c_str(), beta)->status, 200);
 }
 
+// Idempotency-Key (Security III, 4): a tenant's retried submission with the same key is
+// the same job (202, Idempotent-Replayed), on /v1/jobs and /v1/map; another tenant's
+// same key is its own job; a malformed key is 400 before the body is read.
+TEST(Service, AnIdempotencyKeyMakesRetriesOneJob) {
+  server::ServerConfig config = two_tenants_config();
+  config.workers = 1;
+  TestServer server(config);
+  auto client = server.client();
+  const std::string glb = glb_of(testing::icosphere(2));
+  auto with_key = [](const httplib::Headers& who, const std::string& key) {
+    httplib::Headers headers = who;
+    headers.emplace("Idempotency-Key", key);
+    return headers;
+  };
+  auto first = client.Post("/v1/jobs", with_key(kAlpha, "\"order-17\""), glb, "model/gltf-binary");
+  ASSERT_TRUE(first);
+  ASSERT_EQ(first->status, 202) << first->body;
+  EXPECT_FALSE(first->has_header("Idempotent-Replayed"));
+  const std::string id = body_json(first)["id"];
+  // The draft's sf-string form and the bare text are the same key.
+  auto again = client.Post("/v1/jobs", with_key(kAlpha, "order-17"), glb, "model/gltf-binary");
+  ASSERT_TRUE(again);
+  EXPECT_EQ(again->status, 202);
+  EXPECT_EQ(body_json(again)["id"], id);
+  EXPECT_EQ(again->get_header_value("Idempotent-Replayed"), "true");
+  EXPECT_EQ(again->get_header_value("Location"), "/v1/jobs/" + id);
+  auto synchronous = client.Post("/v1/map", with_key(kAlpha, "order-17"), glb, "model/gltf-binary");
+  ASSERT_TRUE(synchronous);
+  EXPECT_EQ(synchronous->get_header_value("Spheremap-Job"), id);
+  EXPECT_EQ(synchronous->status, 200);  // the job's sphere, once it has run
+  auto other = client.Post("/v1/jobs", with_key(kBeta, "order-17"), glb, "model/gltf-binary");
+  ASSERT_TRUE(other);
+  EXPECT_EQ(other->status, 202);
+  EXPECT_NE(body_json(other)["id"], id);
+  // Malformed keys.
+  for (const std::string& bad : {std::string(256, 'k'), std::string("\"\""),
+                                 std::string("caf\xc3\xa9"), std::string("\"a\"b\"")})
+    expect_problem(client.Post("/v1/jobs", with_key(kAlpha, bad), glb, "model/gltf-binary"), 400,
+                   "invalid_idempotency_key");
+  httplib::Headers twice = with_key(with_key(kAlpha, "a"), "b");
+  expect_problem(client.Post("/v1/jobs", twice, glb, "model/gltf-binary"), 400,
+                 "invalid_idempotency_key");
+  EXPECT_EQ(
+      client.Post("/v1/jobs", with_key(kAlpha, std::string(255, 'k')), glb, "model/gltf-binary")
+          ->status,
+      202);
+}
+
 // A known path with the wrong method is 405 with Allow; odd Prefer values are ignored.
 TEST(Service, WrongMethodsGet405AndOddPreferIsIgnored) {
   TestServer server(small_config());

@@ -31,6 +31,9 @@ export interface paths {
          *     them. KHR_mesh_quantization, EXT_meshopt_compression and KHR_draco_mesh_compression
          *     are read; any other geometry extension in `extensionsRequired` is refused by name.
          *     A refusal that an option would get past carries it as `fix`.
+         *     With an `Idempotency-Key`, a retry by the same tenant with the same key gets the job
+         *     that key made (202, `Idempotent-Replayed: true`, the body is not read again) for as
+         *     long as that job is kept; send one whenever a retry must not map twice.
          */
         post: operations["submitJob"];
         delete?: never;
@@ -370,7 +373,15 @@ export interface components {
          *     Retry-After: 1, over max_connections_per_address), too_large (413, a declared
          *     Content-Length over max_body_bytes, before the body is read);
          *     queue_unavailable (503 with Retry-After: the Redis queue cannot be reached; nothing
-         *     was accepted or changed); shutting_down (503); internal (500).
+         *     was accepted or changed: a submission whose answer Redis did not give in time was
+         *     checked, and is 202 when Redis stored it); admission_unsettled (503 with
+         *     Retry-After and `job`: Redis stopped answering after the job was sent and stayed
+         *     silent while asked; it may exist as `job`: GET it, or retry with the same
+         *     Idempotency-Key); invalid_idempotency_key (400); queue_entry_too_large (413: the
+         *     prepared job is larger than Redis stores in one value, proto-max-bulk-len);
+         *     queue_storage_full (507: Redis is out of memory, maxmemory; nothing was stored);
+         *     result_storage_full (507, in a failed job: Redis had no memory for its results);
+         *     shutting_down (503); internal (500).
          */
         Problem: {
             type: string;
@@ -412,6 +423,8 @@ export interface components {
         };
     };
     parameters: {
+        /** @description Names this submission (IETF draft-ietf-httpapi-idempotency-key-header), scoped to the tenant: a retry with the same key gets the same job instead of a second one, while that job is kept (result_ttl_seconds; a key whose job was evicted or deleted makes a new job). 1 to 255 printable ASCII characters, quoted as a Structured Field string or bare; otherwise 400 invalid_idempotency_key. The body of a retry is not compared with the first one. */
+        idempotencyKey: string;
         quality: "fast" | "standard" | "high";
         method: "coarse-to-fine" | "paper";
         draco: boolean;
@@ -433,7 +446,10 @@ export interface operations {
                 layout?: components["parameters"]["layout"];
                 mesh?: components["parameters"]["mesh"];
             };
-            header?: never;
+            header?: {
+                /** @description Names this submission (IETF draft-ietf-httpapi-idempotency-key-header), scoped to the tenant: a retry with the same key gets the same job instead of a second one, while that job is kept (result_ttl_seconds; a key whose job was evicted or deleted makes a new job). 1 to 255 printable ASCII characters, quoted as a Structured Field string or bare; otherwise 400 invalid_idempotency_key. The body of a retry is not compared with the first one. */
+                "Idempotency-Key"?: components["parameters"]["idempotencyKey"];
+            };
             path?: never;
             cookie?: never;
         };
@@ -459,11 +475,13 @@ export interface operations {
             };
         };
         responses: {
-            /** @description Accepted and queued */
+            /** @description Accepted and queued (or, replayed, the job the Idempotency-Key made) */
             202: {
                 headers: {
                     /** @description /v1/jobs/{id} */
                     Location?: string;
+                    /** @description the Idempotency-Key named a job already kept: this is that job */
+                    "Idempotent-Replayed"?: "true";
                     [name: string]: unknown;
                 };
                 content: {
@@ -476,12 +494,15 @@ export interface operations {
             422: components["responses"]["Problem"];
             429: components["responses"]["Retry"];
             503: components["responses"]["Retry"];
+            507: components["responses"]["Problem"];
         };
     };
     mapMesh: {
         parameters: {
             query?: never;
             header?: {
+                /** @description Names this submission (IETF draft-ietf-httpapi-idempotency-key-header), scoped to the tenant: a retry with the same key gets the same job instead of a second one, while that job is kept (result_ttl_seconds; a key whose job was evicted or deleted makes a new job). 1 to 255 printable ASCII characters, quoted as a Structured Field string or bare; otherwise 400 invalid_idempotency_key. The body of a retry is not compared with the first one. */
+                "Idempotency-Key"?: components["parameters"]["idempotencyKey"];
                 Prefer?: string;
             };
             path?: never;
@@ -535,6 +556,7 @@ export interface operations {
             422: components["responses"]["Problem"];
             429: components["responses"]["Retry"];
             503: components["responses"]["Retry"];
+            507: components["responses"]["Problem"];
         };
     };
     getJob: {
