@@ -142,6 +142,10 @@ JobOptions parse_job_options(const nlohmann::json& options) {
                               : method == "repair" ? PrepareMethod::kRepair
                                                    : PrepareMethod::kParts;
        }},
+      {"max_hole_fill",
+       [&](const Json& v, const std::string& k) {
+         out.prepare.max_hole_fill = number(v, k, 0, 1);
+       }},
       {"largest_component",
        [&](const Json& v, const std::string& k) { out.prepare.largest_component = boolean(v, k); }},
       {"draco", [&](const Json& v, const std::string& k) { draco = boolean(v, k); }},

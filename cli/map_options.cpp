@@ -25,6 +25,7 @@ const std::set<std::string> kMapValueOptions = {"method",
                                                 "threads",
                                                 "weld-tolerance",
                                                 "prepare",
+                                                "max-hole-fill",
                                                 "sweep",
                                                 "start-vertices",
                                                 "smooth-vertices",
@@ -93,6 +94,10 @@ const char* const kMapOptionsHelp = R"(Mapping options:
                             faces, make each part's orientation consistent; no vertex moves,
                             and a mesh that needs none of it is untouched; one part only.
                             exact: map the input as it is or refuse it
+  --max-hole-fill F         repair and parts close each hole whose least-area fill is at most
+                            F of the surface area (default 0.05; 0: none) with triangles over
+                            its own corners (no vertex added or moved); the sphere in the
+                            original layout leaves the fills out, the remesh keeps them
 )";
 
 void read_map_options(const Arguments& args, PrepareOptions& prepare, MapOptions& options) {
@@ -154,6 +159,7 @@ void read_map_options(const Arguments& args, PrepareOptions& prepare, MapOptions
       args.integer("attempts", static_cast<long long>(options.attempts), 1, 100));
   prepare.weld_tolerance = args.number("weld-tolerance", 0, 0, 1);
   prepare.largest_component = args.flag("largest-component");
+  prepare.max_hole_fill = args.number("max-hole-fill", prepare.max_hole_fill, 0, 1);
   prepare.method = parse_prepare_method(args.text("prepare", "parts"));
 }
 

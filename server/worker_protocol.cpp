@@ -172,8 +172,10 @@ std::string encode_request(const JobSpec& spec, double time_limit_seconds, int t
   w.put<int32_t>(static_cast<int32_t>(preparation.method));
   for (size_t count :
        {preparation.input_faces, preparation.collapsed_faces, preparation.shortened_faces,
-        preparation.duplicate_faces, preparation.flipped_faces, preparation.reoriented_parts})
+        preparation.duplicate_faces, preparation.flipped_faces, preparation.reoriented_parts,
+        preparation.holes_filled, preparation.faces_added, preparation.holes_left})
     w.put<uint64_t>(count);
+  w.put<double>(preparation.largest_fill);
   w.put<uint64_t>(spec.prepared.parts.size());
   for (const PartReport& part : spec.prepared.parts) {
     w.put<uint64_t>(part.vertices);
@@ -223,8 +225,10 @@ WorkerRequest decode_request(const std::string& bytes) {
   preparation.method = static_cast<PrepareMethod>(method);
   for (size_t* count :
        {&preparation.input_faces, &preparation.collapsed_faces, &preparation.shortened_faces,
-        &preparation.duplicate_faces, &preparation.flipped_faces, &preparation.reoriented_parts})
+        &preparation.duplicate_faces, &preparation.flipped_faces, &preparation.reoriented_parts,
+        &preparation.holes_filled, &preparation.faces_added, &preparation.holes_left})
     *count = r.get<uint64_t>();
+  preparation.largest_fill = r.get<double>();
   // Each part has a face, and each failure is one of a dozen checks.
   const uint64_t parts = r.get<uint64_t>();
   if (parts > spec.input.face_count()) throw std::runtime_error("more parts than faces");

@@ -6,11 +6,16 @@ spheremap=$1 mesh=$2 check=$3
 [ -f "$mesh" ] || { echo "corpus mesh $mesh not found: skipped"; exit 77; }
 out=$(mktemp -d)
 trap 'rm -rf "$out"' EXIT
-# Several parts that each map are mapped by default (--prepare parts); one part at a time
-# (--prepare repair) refuses them and names parts as the fix.
-one_part=()
-[ "$check" != components ] || one_part=(--prepare repair)
-err=$("$spheremap" map "$mesh" -o "$out/sphere.obj" --quiet "${one_part[@]}" 2>&1 >/dev/null)
+# A mesh the default (--prepare parts) maps is refused under the method given:
+# "repair" (one part at a time: several parts refused, parts named as the fix) or
+# "repair-no-fill" (holes left open: --max-hole-fill 0).
+method=${4:-}
+refused_with=()
+case "$method" in
+  repair) refused_with=(--prepare repair) ;;
+  repair-no-fill) refused_with=(--prepare repair --max-hole-fill 0) ;;
+esac
+err=$("$spheremap" map "$mesh" -o "$out/sphere.obj" --quiet "${refused_with[@]}" 2>&1 >/dev/null)
 code=$?
 echo "$err"
 [ "$code" -eq 2 ] || { echo "expected exit code 2, got $code"; exit 1; }
@@ -19,9 +24,10 @@ lines=$(printf '%s\n' "$err" | wc -l)
 [ "$lines" -eq 1 ] || { [ "$lines" -eq 2 ] && [[ "$(printf '%s\n' "$err" | tail -1)" == "  fix: --"* ]]; } ||
   { echo "expected one line on stderr, or two with a fix"; exit 1; }
 [ "$check" != components ] || [[ "$err" == *"fix: --prepare parts"* ]] || { echo "expected the fix"; exit 1; }
-if [ "$check" = components ]; then
+if [ -n "$method" ]; then
   "$spheremap" map "$mesh" -o "$out/sphere.obj" --metrics "$out/metrics.json" --quiet ||
-    { echo "expected every part mapped by default"; exit 1; }
-  python3 -c 'import json,sys; m=json.load(open(sys.argv[1])); assert m["parts_left_out"] == 0 and m["parts_mapped"] >= 2, m["parts"]' \
-    "$out/metrics.json" || exit 1
+    { echo "expected the default to map it"; exit 1; }
+  python3 -c 'import json,sys; m=json.load(open(sys.argv[1])); p=m["preparation"]
+assert m["bijective"] and m.get("parts_left_out", 0) == 0, m
+assert sys.argv[2] != "boundary" or p["holes_filled"] > 0, p' "$out/metrics.json" "$check" || exit 1
 fi

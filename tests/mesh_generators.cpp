@@ -9,6 +9,7 @@
 
 #include "core/io/glb_writer.h"
 #include "core/io/png_writer.h"
+#include "core/mesh/weld.h"
 
 namespace spheremap::testing {
 
@@ -224,6 +225,19 @@ PolygonMesh reversed(PolygonMesh mesh) {
     std::reverse(mesh.indices.begin() + mesh.offsets[f],
                  mesh.indices.begin() + mesh.offsets[f + 1]);
   return mesh;
+}
+
+PolygonMesh dome(int levels) {
+  const PolygonMesh sphere = icosphere(levels);
+  PolygonMesh half;
+  half.positions = sphere.positions;
+  for (size_t f = 0; f < sphere.face_count(); ++f) {
+    const auto face = sphere.face(f);
+    if (std::all_of(face.begin(), face.end(),
+                    [&](uint32_t v) { return sphere.positions[v].z > 0; }))
+      half.add_face(face);
+  }
+  return weld(half, 0).mesh;
 }
 
 PolygonMesh assembled(const std::vector<std::pair<PolygonMesh, Vec3>>& parts) {

@@ -67,6 +67,9 @@ PolygonMesh pinched_tetrahedra();
 PolygonMesh reversed(PolygonMesh mesh);
 // The mesh without face f (a hole).
 PolygonMesh without_face(const PolygonMesh& mesh, size_t f);
+// The faces of icosphere(levels) above z = 0, welded: an open dome whose one hole is too
+// large to close (its fill would be about half its area).
+PolygonMesh dome(int levels);
 // One mesh of several parts: each (mesh, offset) moved by its offset, in the order given.
 PolygonMesh assembled(const std::vector<std::pair<PolygonMesh, Vec3>>& parts);
 

@@ -340,9 +340,8 @@ TEST(Service, BrokenObjStlAndPlyGet400MalformedMesh) {
   auto mislabelled = client.Post("/v1/jobs", format_obj(sphere), "model/gltf-binary");
   expect_problem(mislabelled, 400, "malformed_gltf");
   EXPECT_NE(mislabelled->body.find("look like obj"), std::string::npos) << mislabelled->body;
-  // Closed meshes only: an open STL is 422 like any other format.
-  auto open =
-      client.Post("/v1/jobs", testing::binary_stl(testing::without_face(sphere, 0)), "model/stl");
+  // Closed meshes only: an open STL (a hole too large to close) is 422 like any other format.
+  auto open = client.Post("/v1/jobs", testing::binary_stl(testing::dome(2)), "model/stl");
   expect_problem(open, 422, "not_mappable");
   // text/plain that is none of the text formats stays 415.
   expect_problem(client.Post("/v1/jobs", "hello", "text/plain"), 415, "unsupported_media_type");
@@ -720,10 +719,9 @@ TEST(Service, RemeshUvAndMorphArtifacts) {
 TEST(Service, EveryPartOfAKitMapsAndThePartLeftOutIsListed) {
   TestServer server(small_config());
   auto client = server.client();
-  const PolygonMesh kit =
-      testing::assembled({{testing::icosphere(2), {}},
-                          {testing::horseshoe(), {10, 0, 0}},
-                          {testing::without_face(testing::icosphere(1), 0), {0, 10, 0}}});
+  const PolygonMesh kit = testing::assembled({{testing::icosphere(2), {}},
+                                              {testing::horseshoe(), {10, 0, 0}},
+                                              {testing::dome(2), {0, 10, 0}}});
   auto submitted = client.Post("/v1/jobs?outputs=remesh,uv,morph&resolution=16", glb_of(kit),
                                "model/gltf-binary");
   ASSERT_EQ(submitted->status, 202) << submitted->body;
@@ -922,7 +920,7 @@ TEST(Service, InvalidMeshesGet422WithTheirCheck) {
   auto client = server.client();
   const std::pair<PolygonMesh, std::string> cases[] = {
       {testing::torus(12, 8), "genus"},
-      {testing::without_face(testing::icosphere(2), 3), "boundary"},
+      {testing::dome(2), "boundary"},  // a hole too large to close
       // Two parts neither of which maps alone (each has genus 1).
       {testing::assembled({{testing::torus(12, 8), {}}, {testing::torus(12, 8), {5, 0, 0}}}),
        "components"},
@@ -1376,9 +1374,13 @@ TEST_F(ServiceCorpus, BadMeshesGet422WithTheirReason) {
       const std::string file = std::string("bad/") + mesh + form;
       // Five tetrahedra are five parts that each map (prepare=parts, the default); one
       // part at a time (repair) refuses them, naming parts as the fix that was checked.
+      // Its holes are small: they are closed unless max_hole_fill is 0.
       const bool parts = std::string(check) == "components";
+      const bool holes = std::string(check) == "boundary";
       auto result = post_glb(client, read_bytes(testing::corpus_path(file)),
-                             parts ? "/v1/jobs?prepare=repair" : "/v1/jobs");
+                             parts   ? "/v1/jobs?prepare=repair"
+                             : holes ? "/v1/jobs?max_hole_fill=0"
+                                     : "/v1/jobs");
       expect_problem(result, 422, "not_mappable");
       const json problem = json::parse(result->body);
       EXPECT_EQ(problem["check"], check) << file;
@@ -1392,10 +1394,16 @@ TEST_F(ServiceCorpus, BadMeshesGet422WithTheirReason) {
         EXPECT_EQ(done["metrics"]["parts_mapped"], 5) << file;
       }
     }
-  auto holes = post_glb(client, read_bytes(testing::corpus_path("bad/bunny_holes.glb")));
+  auto holes = post_glb(client, read_bytes(testing::corpus_path("bad/bunny_holes.glb")),
+                        "/v1/jobs?max_hole_fill=0");
   EXPECT_NE(json::parse(holes->body)["detail"].get<std::string>().find(
                 "5 boundary loops (223 boundary edges)"),
             std::string::npos);
+  auto closed = post_glb(client, read_bytes(testing::corpus_path("bad/bunny_holes.glb")));
+  ASSERT_EQ(closed->status, 202) << closed->body;
+  const json done = wait_for(client, body_json(closed)["id"]);
+  EXPECT_EQ(done["status"], "succeeded") << done.dump(2);
+  EXPECT_EQ(done["metrics"]["preparation"]["holes_filled"], 5);
 }
 
 }  // namespace

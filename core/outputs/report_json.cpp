@@ -15,10 +15,17 @@ nlohmann::json summary_json(const DistortionSummary& s) {
 }  // namespace
 
 nlohmann::json preparation_json(const PreparationReport& p) {
-  return {{"method", prepare_method_name(p.method)},      {"input_faces", p.input_faces},
-          {"collapsed_faces_dropped", p.collapsed_faces}, {"faces_shortened", p.shortened_faces},
-          {"duplicate_faces_dropped", p.duplicate_faces}, {"faces_flipped", p.flipped_faces},
-          {"parts_reoriented", p.reoriented_parts}};
+  return {{"method", prepare_method_name(p.method)},
+          {"input_faces", p.input_faces},
+          {"collapsed_faces_dropped", p.collapsed_faces},
+          {"faces_shortened", p.shortened_faces},
+          {"duplicate_faces_dropped", p.duplicate_faces},
+          {"faces_flipped", p.flipped_faces},
+          {"parts_reoriented", p.reoriented_parts},
+          {"holes_filled", p.holes_filled},
+          {"faces_added", p.faces_added},
+          {"holes_left", p.holes_left},
+          {"largest_fill", p.largest_fill}};
 }
 
 nlohmann::json fix_json(const Fix& fix) {

@@ -29,16 +29,18 @@ SphereAsset sphere_asset(const PolygonMesh& input, const MappedMesh& mapped,
       draco_position_bits == 0)
     look = {appearance, &input, dropped_faces(input, mapped)};
   const PolygonMesh sphere = sphere_mesh(input, mapped, layout);
+  const bool without_fills =
+      layout == SphereLayout::kOriginal && mapped.prepared.preparation.faces_added > 0;
   WrittenGlb file;
   if (draco_position_bits == kDracoBitsAutomatic) {
     for (const int bits : kDracoAutomaticBits) {
-      file = sphere_glb(sphere, mapped.map.inward, bits, look);
+      file = sphere_glb(sphere, mapped.map.inward, bits, look, without_fills);
       draco_position_bits = bits;
       // More bits cannot help a map that is not certified in float32 already.
       if (clean(file.check) || !clean(mapped.float32_check)) break;
     }
   } else {
-    file = sphere_glb(sphere, mapped.map.inward, draco_position_bits, look);
+    file = sphere_glb(sphere, mapped.map.inward, draco_position_bits, look, without_fills);
   }
   SphereAsset asset;
   asset.written = file.check;

@@ -7,7 +7,7 @@
 namespace spheremap {
 
 WrittenGlb sphere_glb(const PolygonMesh& sphere, bool inward, int draco_position_bits,
-                      const SphereLook& look) {
+                      const SphereLook& look, bool without_fills) {
   WrittenGlb out;
   const std::vector<Triangle> triangles = fan_triangulate(sphere).triangles;
   if (look.appearance) {
@@ -35,6 +35,7 @@ WrittenGlb sphere_glb(const PolygonMesh& sphere, bool inward, int draco_position
   for (size_t v = 0; v < directions.size(); ++v)
     directions[v] = normalized_or(decoded.positions[v], Vec3{});
   out.check = check_map(directions, oriented);
+  if (without_fills) out.check.bijective = out.check.folds == 0;
   // Every face written (the scene's vertices may come in another number: a primitive
   // whose faces were all dropped is not written).
   if (oriented.size() != triangles.size()) out.check.bijective = false;

@@ -23,7 +23,11 @@ struct SphereLook {
   const PolygonMesh* input = nullptr;          // the mesh read with `appearance`
   std::vector<char> skip_face;                 // input faces not in `sphere` (empty: none)
 };
+// `without_fills`: `sphere` lacks faces the map has (holes filled before mapping, which the
+// input's layout does not show), so its signed areas fall short of 4 pi by theirs: the
+// check as written then asks for no fold and no degenerate triangle only (the map itself
+// was checked whole, in double and float32).
 WrittenGlb sphere_glb(const PolygonMesh& sphere, bool inward, int draco_position_bits,
-                      const SphereLook& look = {});
+                      const SphereLook& look = {}, bool without_fills = false);
 
 }  // namespace spheremap

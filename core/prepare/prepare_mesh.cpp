@@ -6,6 +6,7 @@
 #include "core/mesh/union_find.h"
 #include "core/prepare/connected_parts.h"
 #include "core/prepare/face_cleanup.h"
+#include "core/prepare/hole_filling.h"
 
 namespace spheremap {
 namespace {
@@ -111,6 +112,19 @@ PreparedMesh prepare_mesh(const PolygonMesh& input, const PrepareOptions& option
 
 namespace {
 
+// Holes closed by fills appended to the welded mesh (its input vertices are unchanged).
+void fill_small_holes(PreparedMesh& prepared, const PrepareOptions& options) {
+  if (prepared.topology.boundary_edges == 0 || options.max_hole_fill <= 0) return;
+  StopCheck stop(&options.should_stop);
+  const HoleFilling filled = fill_holes(prepared.welded.mesh, options.max_hole_fill, &stop);
+  PreparationReport& report = prepared.preparation;
+  report.holes_filled = filled.holes_filled;
+  report.faces_added = filled.faces_added;
+  report.holes_left = filled.holes_left;
+  report.largest_fill = filled.largest_fill;
+  if (filled.faces_added > 0) prepared.topology = analyze_topology(prepared.welded.mesh, &stop);
+}
+
 PreparedMesh prepare_once(PolygonMesh& input, GltfAppearance* look, const PrepareOptions& options) {
   PreparedMesh as_given = prepare_mesh(input, options);
   // A mesh that maps as it is has nothing to clean (a duplicate face, a collapsed one or a
@@ -138,6 +152,7 @@ PreparedMesh prepare_once(PolygonMesh& input, GltfAppearance* look, const Prepar
   report.duplicate_faces = cleanup.duplicate_faces;
   report.flipped_faces = cleanup.flipped_faces;
   report.reoriented_parts = cleanup.reoriented_parts;
+  fill_small_holes(prepared, options);
   return prepared;
 }
 

@@ -28,6 +28,9 @@ struct PrepareOptions {
   // Keep only the connected component with the most faces (others are dropped, their
   // input vertices then map to nothing); otherwise several components are an error.
   bool largest_component = false;
+  // repair and parts: holes whose least-area fill is at most this share of the surface
+  // area are closed (hole_filling.h); 0: none.
+  double max_hole_fill = 0.05;
   // Asked while cleaning, welding and checking: true stops with InputError("stopped")
   // (see StopCheck).
   std::function<bool()> should_stop;
@@ -39,6 +42,8 @@ struct PreparationReport {
   size_t input_faces = 0;
   size_t collapsed_faces = 0, shortened_faces = 0, duplicate_faces = 0, flipped_faces = 0;
   size_t reoriented_parts = 0;
+  size_t holes_filled = 0, faces_added = 0, holes_left = 0;
+  double largest_fill = 0;  // the largest fill's area over the surface area
 };
 
 // One part (connected component) of an asset, checked alone.

@@ -1,0 +1,36 @@
+// Closing small holes exactly (Reach I): each boundary loop of a mesh whose fill is small
+// beside the surface is closed with the triangulation of its corners of least total area
+// (Liepa 2003's first step, without refinement or fairing: no vertex is added or moved).
+// A part with a few holes then maps instead of being left out; the added faces are
+// appended after the mesh's own, so outputs that show only the original (the sphere in
+// the input's layout) leave them out, and those where closing is the point (the remesh)
+// keep them.
+#pragma once
+
+#include <cstddef>
+
+#include "core/mesh/mesh.h"
+#include "core/mesh/stop_check.h"
+
+namespace spheremap {
+
+// The most corners a hole may have: the triangulation costs corners^3 / 6 steps.
+inline constexpr size_t kMaxHoleCorners = 300;
+
+struct HoleFilling {
+  size_t holes_filled = 0, faces_added = 0;
+  size_t holes_left = 0;    // too large, too many corners, pinched, or no valid triangulation
+  double largest_fill = 0;  // the largest fill's area over the surface area of its part
+  double filled_area = 0;   // the sum of those shares
+};
+
+// Preconditions: `mesh` welded (one vertex per point) and consistently oriented around each
+// hole. Fills every hole whose fill area is at most `max_fill` of the surface area of its
+// part (connected component), with at most kMaxHoleCorners corners, whose boundary visits
+// each corner once, and which can be triangulated without an edge the mesh (or an earlier
+// fill) already has (that would make it non-manifold). Holes whose fill would have a
+// triangle of next to no area (cracks, which a weld closes) are left. Fills run the way
+// the hole's faces do. `stop` may be null.
+HoleFilling fill_holes(PolygonMesh& mesh, double max_fill, const StopCheck* stop = nullptr);
+
+}  // namespace spheremap

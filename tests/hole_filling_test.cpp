@@ -1,0 +1,152 @@
+// Closing small holes (core/prepare/hole_filling.h): fills over the hole's own corners that
+// close the surface without a non-manifold edge, run the way the hole's faces do, stop at
+// the size bound, and let the mesh map certified with the fills left out of its sphere.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <vector>
+
+#include "core/map/certification.h"
+#include "core/map/pipeline.h"
+#include "core/mesh/topology.h"
+#include "core/mesh/weld.h"
+#include "core/outputs/report_json.h"
+#include "core/outputs/sphere_asset.h"
+#include "core/prepare/hole_filling.h"
+#include "core/prepare/prepare_mesh.h"
+#include "tests/mesh_generators.h"
+
+namespace spheremap {
+namespace {
+
+// `mesh` without every face that uses vertex `v` (a hole as large as its ring).
+PolygonMesh without_ring(const PolygonMesh& mesh, uint32_t v) {
+  PolygonMesh out;
+  out.positions = mesh.positions;
+  for (size_t f = 0; f < mesh.face_count(); ++f) {
+    const auto face = mesh.face(f);
+    if (std::find(face.begin(), face.end(), v) == face.end()) out.add_face(face);
+  }
+  return weld(out, 0).mesh;  // the ring's centre, now unused, dropped
+}
+
+void expect_closed_genus0(const PolygonMesh& mesh) {
+  const TopologyReport topology = analyze_topology(mesh);
+  EXPECT_TRUE(mapping_failures(topology).empty()) << mapping_failures(topology).front().message;
+}
+
+TEST(HoleFilling, ClosesHolesOfOneFaceAndOfAWholeRing) {
+  PolygonMesh one = testing::without_face(testing::icosphere(2), 7);
+  const HoleFilling a = fill_holes(one, 0.05);
+  EXPECT_EQ(a.holes_filled, 1u);
+  EXPECT_EQ(a.faces_added, 1u);
+  expect_closed_genus0(one);
+
+  // Quads around a vertex of valence 4 and triangles around one of valence 6.
+  for (PolygonMesh mesh :
+       {without_ring(testing::quad_sphere(6), 30), without_ring(testing::icosphere(3), 200)}) {
+    const size_t corners = analyze_topology(mesh).boundary_edges;
+    const HoleFilling filled = fill_holes(mesh, 0.05);
+    EXPECT_EQ(filled.holes_filled, 1u);
+    EXPECT_EQ(filled.faces_added, corners - 2);  // a polygon of n corners: n - 2 triangles
+    EXPECT_GT(filled.largest_fill, 0);
+    expect_closed_genus0(mesh);
+  }
+}
+
+TEST(HoleFilling, LeavesHolesLargerThanTheBound) {
+  // Half a sphere: its fill (the disc) is about half its area.
+  const PolygonMesh sphere = testing::icosphere(3);
+  PolygonMesh half;
+  half.positions = sphere.positions;
+  for (size_t f = 0; f < sphere.face_count(); ++f) {
+    const auto face = sphere.face(f);
+    if (sphere.positions[face[0]].z > 0 && sphere.positions[face[1]].z > 0 &&
+        sphere.positions[face[2]].z > 0)
+      half.add_face(face);
+  }
+  half = weld(half, 0).mesh;
+  const size_t faces = half.face_count();
+  PolygonMesh copy = half;
+  const HoleFilling bounded = fill_holes(copy, 0.05);
+  EXPECT_EQ(bounded.holes_filled, 0u);
+  EXPECT_EQ(bounded.holes_left, 1u);
+  EXPECT_EQ(copy.face_count(), faces);
+  const HoleFilling none = fill_holes(copy, 0);
+  EXPECT_EQ(none.holes_filled + none.holes_left, 0u);
+  // Allowed up to its whole area, it is closed (a dome on a flat base).
+  const HoleFilling large = fill_holes(copy, 1.0);
+  EXPECT_EQ(large.holes_filled, 1u);
+  EXPECT_GT(large.largest_fill, 0.3);
+  expect_closed_genus0(copy);
+}
+
+TEST(HoleFilling, NeverReusesAnEdgeTheMeshHas) {
+  // A tetrahedron without one face: the hole's three corners are joined by the mesh's own
+  // edges, and its fill is that face, whose edges are the hole's: allowed.
+  PolygonMesh tetra = testing::without_face(testing::two_tetrahedra(), 0);
+  tetra = weld(tetra, 0).mesh;
+  fill_holes(tetra, 1.0);
+  EXPECT_TRUE(analyze_topology(tetra).manifold());
+  // A square pyramid with its base open, the base bent so that the least-area fill takes
+  // the diagonal 0-2; with a closed flap over 0-2 (both faces), that edge exists and the
+  // fill must take 1-3.
+  auto pyramid = [](bool flap) {
+    PolygonMesh m;
+    m.positions = {{0, 0, 0}, {1, 0, 1}, {1, 1, 0}, {0, 1, 0}, {0.5, 0.5, 2}, {0.5, 0.5, -1}};
+    for (std::vector<uint32_t> f :
+         {std::vector<uint32_t>{0, 1, 4}, {1, 2, 4}, {2, 3, 4}, {3, 0, 4}})
+      m.add_face(f);
+    if (flap) {
+      m.add_face(std::vector<uint32_t>{0, 2, 5});
+      m.add_face(std::vector<uint32_t>{2, 0, 5});
+    }
+    return m;
+  };
+  auto has_edge = [](const PolygonMesh& m, size_t from_face, uint32_t a, uint32_t b) {
+    for (size_t f = from_face; f < m.face_count(); ++f) {
+      const auto face = m.face(f);
+      const bool with_a = std::find(face.begin(), face.end(), a) != face.end();
+      const bool with_b = std::find(face.begin(), face.end(), b) != face.end();
+      if (with_a && with_b) return true;
+    }
+    return false;
+  };
+  PolygonMesh plain = pyramid(false);
+  ASSERT_EQ(fill_holes(plain, 1.0).faces_added, 2u);
+  EXPECT_TRUE(has_edge(plain, 4, 0, 2));
+  PolygonMesh flapped = pyramid(true);
+  ASSERT_EQ(fill_holes(flapped, 1.0).faces_added, 2u);
+  EXPECT_TRUE(has_edge(flapped, 6, 1, 3));
+  EXPECT_FALSE(has_edge(flapped, 6, 0, 2));
+  EXPECT_EQ(analyze_topology(flapped).non_manifold_edges, 0u);
+}
+
+TEST(HoleFilling, AMeshWithHolesMapsCertifiedAndSaysWhatWasClosed) {
+  PolygonMesh input = without_ring(testing::horseshoe(), 40);
+  input = testing::without_face(input, 100);
+  const PreparedMesh prepared = prepare_input(input, nullptr, {});
+  EXPECT_EQ(prepared.preparation.holes_filled, 2u);
+  ASSERT_TRUE(input_failures(prepared).empty());
+  const MappedMesh mapped = map_prepared(prepared, {});
+  EXPECT_TRUE(certify(mapped, mapped.float32_check).certified);
+  // The sphere in the input's layout has the holes (the fills are not input faces); its
+  // file is checked for folds and degenerate triangles.
+  const SphereAsset sphere = sphere_asset(input, mapped, {}, SphereLayout::kOriginal, 0);
+  EXPECT_TRUE(sphere.metrics["bijective"]);
+  EXPECT_EQ(sphere.written.triangles + prepared.preparation.faces_added,
+            mapped.map.check.triangles);
+  EXPECT_EQ(sphere.metrics["preparation"]["holes_filled"], 2);
+
+  // exact refuses the holes; a bound of 0 leaves them.
+  PolygonMesh again = input;
+  PrepareOptions exact;
+  exact.method = PrepareMethod::kExact;
+  EXPECT_EQ(input_failures(prepare_input(again, nullptr, exact)).front().check, "boundary");
+  PrepareOptions none;
+  none.max_hole_fill = 0;
+  EXPECT_EQ(input_failures(prepare_input(again, nullptr, none)).front().check, "boundary");
+}
+
+}  // namespace
+}  // namespace spheremap
