@@ -272,6 +272,11 @@ export interface components {
             /** @default false */
             largest_component: boolean;
             /**
+             * @description repair and parts close each hole whose least-area fill (triangles over its own corners; no vertex added or moved) is at most this share of the surface area; 0 closes none. metrics.preparation: holes_filled, faces_added, holes_left, largest_fill. The sphere in the original layout leaves the fills out; the remesh, UV and morph keep them
+             * @default 0.05
+             */
+            max_hole_fill: number;
+            /**
              * @description parts: repair, then map every part (connected component) that is closed genus 0 on a sphere of its own, each drawn where its part is; parts that cannot map are left out, and metrics.parts lists every part with its verdict or the reason it was left out. repair: drop faces the weld collapses and duplicate (double-sided) faces, and make each part's orientation consistent (no vertex moves; a mesh that needs none of it is untouched; metrics.preparation says what was done); one part only. exact: map the input as it is or refuse it.
              * @default parts
              * @enum {string}
