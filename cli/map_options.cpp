@@ -176,6 +176,9 @@ MapControl progress_printer(bool quiet, double& last_print) {
 
 MappedInput map_input(const Arguments& args, const PrepareOptions& prepare,
                       const MapOptions& options, const MapControl& control) {
+  // --time-limit counts from here: reading and preparing a large file take seconds too.
+  MapControl timed = control;
+  if (!timed.clock_start) timed.clock_start = std::chrono::steady_clock::now();
   GltfReadStats stats;
   MappedInput out;
   out.input = read_mesh_file(args.positional()[0], gltf_options(args), &stats, &out.look);
@@ -189,7 +192,7 @@ MappedInput map_input(const Arguments& args, const PrepareOptions& prepare,
   const double prepare_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   require_none(input_failures(prepared, &stats));
-  out.mapped = map_prepared(std::move(prepared), options, control);
+  out.mapped = map_prepared(std::move(prepared), options, timed);
   out.mapped.prepare_seconds = prepare_seconds;
   return out;
 }

@@ -51,7 +51,8 @@ class CoarseToFine {
       : mesh_(mesh), session_(session), options_(session.options()), result_(result) {
     session_.report({.stage = "hierarchy"});
     const double start = session_.elapsed();
-    h_ = build_hierarchy(mesh.positions, triangles, level_growth);
+    h_ = build_hierarchy(mesh.positions, triangles, level_growth,
+                         [&] { return session_.should_stop(); });
     result_.hierarchy_seconds = session_.elapsed() - start;
     result_.hierarchy_rounds = h_.rounds;
     fine_triangles_.assign(triangles.begin(), triangles.end());
@@ -130,7 +131,12 @@ class CoarseToFine {
       insert_level(l, report);
       if (report.failed_insertions > 0 && !repair_level(l, levels, report)) {
         result_.stop_reason = StopReason::kFoldsRemain;
-        return;
+        if (!session_.should_stop()) return;
+        // Stopped while repairing: the map is finished unrepaired, as at the loop's top.
+        result_.stop_reason = session_.stop_reason();
+        if (result_.stop_reason == StopReason::kCancelled) return;
+        for (++l; l < levels; ++l) insert_level(l, result_.levels.emplace_back());
+        break;
       }
       optimize_level(l, levels);
     }
@@ -378,7 +384,7 @@ class CoarseToFine {
                    LevelReport& report) {
     report.fallback = true;
     std::copy(fold_free.begin(), fold_free.end(), q.begin());
-    fold_safe_steps(smoother, q, options_.safe_steps);
+    fold_safe_steps(smoother, q, options_.safe_steps, [&] { return session_.should_stop(); });
     count_work(options_.safe_steps, q.size());
     fold_free.assign(q.begin(), q.end());
     for (size_t k = 0; k < options_.max_level_iterations && !session_.should_stop(); ++k) {
@@ -485,8 +491,21 @@ void polish_map(const PolygonMesh& mesh, std::span<const Triangle> triangles,
   }
 }
 
-void map_coarse_to_fine(const PolygonMesh& mesh, std::span<const Triangle> triangles,
-                        const MapSession& session, MapResult& result) {
+namespace {
+
+// A map stopped before any hierarchy was built: the mesh's own positions (centred and
+// scaled) projected radially stand in, so the caller still gets a complete map, with the
+// stop reason as its verdict (a projection is rarely bijective). Cancelled: no map.
+void stand_in_map(const PolygonMesh& mesh, const MapSession& session, MapResult& result) {
+  result.stop_reason = session.stop_reason();
+  result.sphere.clear();
+  if (result.stop_reason == StopReason::kCancelled) return;
+  result.sphere.reserve(mesh.vertex_count());
+  for (const Vec3& p : mesh.positions) result.sphere.push_back(normalized_or(p, Vec3{0, 0, 1}));
+}
+
+void map_levels(const PolygonMesh& mesh, std::span<const Triangle> triangles,
+                const MapSession& session, MapResult& result) {
   const MapOptions& options = session.options();
   if (options.optimize) {
     CoarseToFine optimized(mesh, triangles, session, result, options.level_growth);
@@ -507,6 +526,12 @@ void map_coarse_to_fine(const PolygonMesh& mesh, std::span<const Triangle> trian
       if (session.should_stop()) break;
     }
     result.optimized = false;  // what follows is the Lai-Cheng map of each level
+    // Out of time: a second hierarchy would only add its own time.
+    if (session.should_stop()) {
+      if (result.sphere.empty() || session.cancelled()) return stand_in_map(mesh, session, result);
+      result.stop_reason = session.stop_reason();
+      return;
+    }
   }
   const bool mapped = map_directly(mesh, triangles, session, result);
   if (session.cancelled()) {
@@ -531,6 +556,17 @@ void map_coarse_to_fine(const PolygonMesh& mesh, std::span<const Triangle> trian
         verify_map(result.sphere, triangles, mesh, result.inward).bijective)
       return;
     if (last) return;
+  }
+}
+
+}  // namespace
+
+void map_coarse_to_fine(const PolygonMesh& mesh, std::span<const Triangle> triangles,
+                        const MapSession& session, MapResult& result) {
+  try {
+    map_levels(mesh, triangles, session, result);
+  } catch (const HierarchyStopped&) {
+    stand_in_map(mesh, session, result);
   }
 }
 
