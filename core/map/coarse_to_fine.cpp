@@ -7,13 +7,16 @@
 // fallback, retried with other smoothing settings while the map folds. polish_map then
 // opens whatever a reader could not tell from a fold.
 #include <algorithm>
+#include <map>
 #include <numeric>
+#include <stdexcept>
 
 #include "core/map/hierarchy.h"
 #include "core/map/insertion.h"
 #include "core/map/limit_operator.h"
 #include "core/map/map_check.h"
 #include "core/map/map_session.h"
+#include "core/map/partial_level.h"
 #include "core/map/projected_map.h"
 #include "core/map/repair.h"
 #include "core/map/stretch_optimizer.h"
@@ -129,6 +132,7 @@ class CoarseToFine {
       }
       LevelReport& report = result_.levels.emplace_back();
       insert_level(l, report);
+      if (report.failed_insertions > 0) insert_level_with_retries(l, report);
       if (report.failed_insertions > 0 && !repair_level(l, levels, report)) {
         result_.stop_reason = StopReason::kFoldsRemain;
         if (!session_.should_stop()) return;
@@ -331,6 +335,37 @@ class CoarseToFine {
           ++report.failed_insertions;
           break;
       }
+    }
+  }
+
+  // The level's insertions again (the same until the first failure), but a vertex that
+  // finds no kernel gets the mesh of the vertices inserted before it stretch-optimized
+  // around its ring, then is tried again. A thin plate's finest level reopens its whole
+  // side band at once (the hierarchy collapsed the thickness first): each twin's kernel is
+  // a sliver its neighbour's insertion left, narrower than the fold test's margin, and
+  // only moving the neighbours opens it. Only levels with failed insertions run this.
+  void insert_level_with_retries(int l, LevelReport& report) {
+    report.kernel_insertions = report.failed_insertions = 0;
+    PartialLevel partial(h_.level_triangles[l - 1]);
+    bool fold_free = true;  // the prefix mesh, so the optimizer may run on it
+    StretchOptions stretch = options_.stretch;
+    stretch.threads = smoothing_.threads;
+    stretch.relieve_hot_spots = false;
+    stretch.newton_max_vertices = 0;
+    for (uint32_t u = h_.level_sizes[l - 1]; u < h_.level_sizes[l]; ++u) {
+      const uint32_t v = h_.collapse_target[u];
+      const std::span<const uint32_t> ring = h_.ring(u);
+      InsertionOutcome outcome = insert_vertex(q_, u, v, ring);
+      if (outcome == InsertionOutcome::kFailed && fold_free && !session_.should_stop()) {
+        std::vector<uint32_t> start(ring.begin(), ring.end());
+        optimize_stretch(
+            positions_of(u), partial.triangles(), std::span<Vec3>(q_.data(), u), stretch,
+            [&] { return session_.should_stop(); }, start);
+        outcome = insert_vertex(q_, u, v, ring);
+      }
+      if (outcome == InsertionOutcome::kKernelSearch) ++report.kernel_insertions;
+      if (outcome == InsertionOutcome::kFailed) ++report.failed_insertions, fold_free = false;
+      partial.split(u, v, ring);
     }
   }
 
