@@ -86,7 +86,12 @@ MapResult map_in_order(const MappingInput& input, const MapOptions& options,
   const double verify_start = session.elapsed();
   result.check = verify_map(result.sphere, oriented.triangles, mesh, oriented.inward);
   result.verify_seconds = session.elapsed() - verify_start;
+  // A stage the clock cut short (the finest level's optimization, the polish) leaves a
+  // complete map, even a bijective one, that is not the map the options asked for: the
+  // heart plate at a 5 s limit was reported bijective in double and folded in float32.
   result.stopped_in = session.stopped_in();
+  if (!result.stopped_in.empty() && result.stop_reason != StopReason::kCancelled)
+    result.stop_reason = session.stop_reason();
   // A map stopped by the time limit keeps that reason even when it happens to be
   // bijective: it is not the map the options asked for.
   if (result.check.bijective && result.stop_reason != StopReason::kTimeLimit)
