@@ -78,7 +78,8 @@ const char* const kMapOptionsHelp = R"(Mapping options:
                             from a tetrahedron (default 1000; 0 = always the tetrahedron)
   --smooth-vertices N       coarse-to-fine: levels below N vertices are only inserted, not
                             smoothed (default 50); the finest level is always smoothed
-  --time-limit S            stop after S seconds and report what was reached (default: none)
+  --time-limit S            stop after S seconds, counted from the start of reading, and
+                            report what was reached and the stage stopped in (default: none)
   --threads N               worker threads (default 0 = all cores); results are bit-identical
                             for any value
   --weld-tolerance T        weld vertices closer than T x bounding-box diagonal (default 0:
