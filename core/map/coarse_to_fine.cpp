@@ -7,9 +7,7 @@
 // fallback, retried with other smoothing settings while the map folds. polish_map then
 // opens whatever a reader could not tell from a fold.
 #include <algorithm>
-#include <map>
 #include <numeric>
-#include <stdexcept>
 
 #include "core/map/hierarchy.h"
 #include "core/map/insertion.h"
@@ -528,9 +526,10 @@ void polish_map(const PolygonMesh& mesh, std::span<const Triangle> triangles,
 
 namespace {
 
-// A map stopped before any hierarchy was built: the mesh's own positions (centred and
-// scaled) projected radially stand in, so the caller still gets a complete map, with the
-// stop reason as its verdict (a projection is rarely bijective). Cancelled: no map.
+// A map stopped with no complete map yet (in the hierarchy, or after a failed optimized
+// attempt): the mesh's own positions (centred and scaled) projected radially stand in,
+// so the caller still gets a complete map, with the stop reason as its verdict (a
+// projection is rarely bijective). Cancelled: no map.
 void stand_in_map(const PolygonMesh& mesh, const MapSession& session, MapResult& result) {
   result.stop_reason = session.stop_reason();
   result.sphere.clear();
