@@ -9,6 +9,7 @@
 #include <numeric>
 
 #include "core/map/incidence_lists.h"
+#include "core/map/partial_level.h"
 #include "core/map/spherical_map.h"
 #include "tests/mesh_generators.h"
 
@@ -96,6 +97,34 @@ TEST(Hierarchy, HighValenceFansStayValid) {
     star.push_back({radius * std::cos(angle), radius * std::sin(angle)});
   }
   expect_valid_hierarchy(testing::prism(star, 0.5, true));
+}
+
+// Inserting a level's vertices one by one into the coarser level's triangles gives the
+// level's own triangles (each rotated to its smallest vertex), the finest level included.
+void expect_partial_levels_rebuild_the_hierarchy(const PolygonMesh& input) {
+  const std::vector<Triangle> triangles = oriented_triangles(input).triangles;
+  const CollapseHierarchy h = build_hierarchy(input.positions, triangles, 2.0);
+  auto rotated = [](std::vector<Triangle> list) {
+    for (Triangle& t : list) std::rotate(t.begin(), std::min_element(t.begin(), t.end()), t.end());
+    std::sort(list.begin(), list.end());
+    return list;
+  };
+  std::vector<Triangle> finest = triangles;
+  for (Triangle& t : finest)
+    for (uint32_t& v : t) v = h.old_to_new[v];
+  for (size_t l = 1; l < h.level_sizes.size(); ++l) {
+    PartialLevel partial(h.level_triangles[l - 1]);
+    for (uint32_t u = h.level_sizes[l - 1]; u < h.level_sizes[l]; ++u)
+      partial.split(u, h.collapse_target[u], h.ring(u));
+    const std::vector<Triangle> built(partial.triangles().begin(), partial.triangles().end());
+    EXPECT_EQ(rotated(built), rotated(l < h.level_triangles.size() ? h.level_triangles[l] : finest))
+        << "level " << l;
+  }
+}
+
+TEST(PartialLevel, InsertionsRebuildEveryLevel) {
+  expect_partial_levels_rebuild_the_hierarchy(testing::icosphere(3));
+  expect_partial_levels_rebuild_the_hierarchy(testing::capped_tube(8, 40, 20));
 }
 
 }  // namespace

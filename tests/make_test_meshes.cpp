@@ -9,6 +9,7 @@
 #include "core/io/glb_writer.h"
 #include "core/io/mesh_file.h"
 #include "tests/mesh_generators.h"
+#include "tests/thin_plates.h"
 
 int main(int argc, char** argv) {
   using namespace spheremap;
@@ -22,11 +23,16 @@ int main(int argc, char** argv) {
       write_mesh_file(dir + "/" + m.name + ".obj", m.mesh);
     return 0;
   }
+  if (flag == "--plates" && argc == 3) {
+    for (const testing::NamedMesh& m : testing::thin_plates())
+      write_mesh_file(std::string(argv[1]) + "/" + m.name + ".obj", m.mesh);
+    return 0;
+  }
   if (asks_usage || argc < 2 || argc > 4 ||
       (argc >= 3 && flag != "--stress" && flag != "--stress-glb")) {
     std::fprintf(asks_usage ? stdout : stderr,
-                 "usage: make_test_meshes OUTDIR [--stress [--million] | --stress-glb | --random "
-                 "COUNT SEED]\n");
+                 "usage: make_test_meshes OUTDIR [--stress [--million] | --stress-glb | --plates | "
+                 "--random COUNT SEED]\n");
     return asks_usage ? 0 : 1;
   }
   const std::string dir = argv[1];

@@ -13,9 +13,12 @@ std::string counts(const MapCheck& check) {
 Certification certify(const MappedMesh& mapped, const MapCheck& written) {
   const MapResult& map = mapped.map;
   if (map.stop_reason == StopReason::kTimeLimit)
-    return {false, "time_limit",
-            "the map stopped at the time limit with " + counts(map.check) +
-                " (the map returned is complete but not optimized to the end)"};
+    return {
+        false, "time_limit",
+        "the map stopped at the time limit" +
+            (map.stopped_in.empty() ? std::string() : " during its " + map.stopped_in + " stage") +
+            " with " + counts(map.check) +
+            " (the map returned is complete but not optimized to the end)"};
   if (!clean(map.check)) {
     std::string detail = "no bijective map reached (" + std::string(to_string(map.stop_reason)) +
                          "): " + counts(map.check);

@@ -14,6 +14,7 @@
 #include "core/map/limit_operator.h"
 #include "core/map/map_check.h"
 #include "core/map/map_session.h"
+#include "core/map/partial_level.h"
 #include "core/map/projected_map.h"
 #include "core/map/repair.h"
 #include "core/map/stretch_optimizer.h"
@@ -51,7 +52,8 @@ class CoarseToFine {
       : mesh_(mesh), session_(session), options_(session.options()), result_(result) {
     session_.report({.stage = "hierarchy"});
     const double start = session_.elapsed();
-    h_ = build_hierarchy(mesh.positions, triangles, level_growth);
+    h_ = build_hierarchy(mesh.positions, triangles, level_growth,
+                         [&] { return session_.should_stop(); });
     result_.hierarchy_seconds = session_.elapsed() - start;
     result_.hierarchy_rounds = h_.rounds;
     fine_triangles_.assign(triangles.begin(), triangles.end());
@@ -128,9 +130,15 @@ class CoarseToFine {
       }
       LevelReport& report = result_.levels.emplace_back();
       insert_level(l, report);
+      if (report.failed_insertions > 0) insert_level_with_retries(l, report);
       if (report.failed_insertions > 0 && !repair_level(l, levels, report)) {
         result_.stop_reason = StopReason::kFoldsRemain;
-        return;
+        if (!session_.should_stop()) return;
+        // Stopped while repairing: the map is finished unrepaired, as at the loop's top.
+        result_.stop_reason = session_.stop_reason();
+        if (result_.stop_reason == StopReason::kCancelled) return;
+        for (++l; l < levels; ++l) insert_level(l, result_.levels.emplace_back());
+        break;
       }
       optimize_level(l, levels);
     }
@@ -328,6 +336,37 @@ class CoarseToFine {
     }
   }
 
+  // The level's insertions again (the same until the first failure), but a vertex that
+  // finds no kernel gets the mesh of the vertices inserted before it stretch-optimized
+  // around its ring, then is tried again. A thin plate's finest level reopens its whole
+  // side band at once (the hierarchy collapsed the thickness first): each twin's kernel is
+  // a sliver its neighbour's insertion left, narrower than the fold test's margin, and
+  // only moving the neighbours opens it. Only levels with failed insertions run this.
+  void insert_level_with_retries(int l, LevelReport& report) {
+    report.kernel_insertions = report.failed_insertions = 0;
+    PartialLevel partial(h_.level_triangles[l - 1]);
+    bool fold_free = true;  // the prefix mesh, so the optimizer may run on it
+    StretchOptions stretch = options_.stretch;
+    stretch.threads = smoothing_.threads;
+    stretch.relieve_hot_spots = false;
+    stretch.newton_max_vertices = 0;
+    for (uint32_t u = h_.level_sizes[l - 1]; u < h_.level_sizes[l]; ++u) {
+      const uint32_t v = h_.collapse_target[u];
+      const std::span<const uint32_t> ring = h_.ring(u);
+      InsertionOutcome outcome = insert_vertex(q_, u, v, ring);
+      if (outcome == InsertionOutcome::kFailed && fold_free && !session_.should_stop()) {
+        std::vector<uint32_t> start(ring.begin(), ring.end());
+        optimize_stretch(
+            positions_of(u), partial.triangles(), std::span<Vec3>(q_.data(), u), stretch,
+            [&] { return session_.should_stop(); }, start);
+        outcome = insert_vertex(q_, u, v, ring);
+      }
+      if (outcome == InsertionOutcome::kKernelSearch) ++report.kernel_insertions;
+      if (outcome == InsertionOutcome::kFailed) ++report.failed_insertions, fold_free = false;
+      partial.split(u, v, ring);
+    }
+  }
+
   void map_level(int l, int levels) {
     LevelReport& report = result_.levels.emplace_back();
     insert_level(l, report);
@@ -378,7 +417,7 @@ class CoarseToFine {
                    LevelReport& report) {
     report.fallback = true;
     std::copy(fold_free.begin(), fold_free.end(), q.begin());
-    fold_safe_steps(smoother, q, options_.safe_steps);
+    fold_safe_steps(smoother, q, options_.safe_steps, [&] { return session_.should_stop(); });
     count_work(options_.safe_steps, q.size());
     fold_free.assign(q.begin(), q.end());
     for (size_t k = 0; k < options_.max_level_iterations && !session_.should_stop(); ++k) {
@@ -485,8 +524,22 @@ void polish_map(const PolygonMesh& mesh, std::span<const Triangle> triangles,
   }
 }
 
-void map_coarse_to_fine(const PolygonMesh& mesh, std::span<const Triangle> triangles,
-                        const MapSession& session, MapResult& result) {
+namespace {
+
+// A map stopped with no complete map yet (in the hierarchy, or after a failed optimized
+// attempt): the mesh's own positions (centred and scaled) projected radially stand in,
+// so the caller still gets a complete map, with the stop reason as its verdict (a
+// projection is rarely bijective). Cancelled: no map.
+void stand_in_map(const PolygonMesh& mesh, const MapSession& session, MapResult& result) {
+  result.stop_reason = session.stop_reason();
+  result.sphere.clear();
+  if (result.stop_reason == StopReason::kCancelled) return;
+  result.sphere.reserve(mesh.vertex_count());
+  for (const Vec3& p : mesh.positions) result.sphere.push_back(normalized_or(p, Vec3{0, 0, 1}));
+}
+
+void map_levels(const PolygonMesh& mesh, std::span<const Triangle> triangles,
+                const MapSession& session, MapResult& result) {
   const MapOptions& options = session.options();
   if (options.optimize) {
     CoarseToFine optimized(mesh, triangles, session, result, options.level_growth);
@@ -507,6 +560,12 @@ void map_coarse_to_fine(const PolygonMesh& mesh, std::span<const Triangle> trian
       if (session.should_stop()) break;
     }
     result.optimized = false;  // what follows is the Lai-Cheng map of each level
+    // Out of time: a second hierarchy would only add its own time.
+    if (session.should_stop()) {
+      if (result.sphere.empty() || session.cancelled()) return stand_in_map(mesh, session, result);
+      result.stop_reason = session.stop_reason();
+      return;
+    }
   }
   const bool mapped = map_directly(mesh, triangles, session, result);
   if (session.cancelled()) {
@@ -531,6 +590,17 @@ void map_coarse_to_fine(const PolygonMesh& mesh, std::span<const Triangle> trian
         verify_map(result.sphere, triangles, mesh, result.inward).bijective)
       return;
     if (last) return;
+  }
+}
+
+}  // namespace
+
+void map_coarse_to_fine(const PolygonMesh& mesh, std::span<const Triangle> triangles,
+                        const MapSession& session, MapResult& result) {
+  try {
+    map_levels(mesh, triangles, session, result);
+  } catch (const HierarchyStopped&) {
+    stand_in_map(mesh, session, result);
   }
 }
 

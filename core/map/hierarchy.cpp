@@ -9,6 +9,21 @@
 namespace spheremap {
 namespace {
 
+// Asks `should_stop` every kInterval vertices; throws HierarchyStopped when it says yes.
+class HierarchyClock {
+ public:
+  explicit HierarchyClock(const std::function<bool()>& should_stop) : should_stop_(should_stop) {}
+  void tick() {
+    if (!should_stop_ || ++count_ % kInterval != 0) return;
+    if (should_stop_()) throw HierarchyStopped();
+  }
+
+ private:
+  static constexpr size_t kInterval = 4096;  // ~1-5 ms of collapses
+  const std::function<bool()>& should_stop_;
+  size_t count_ = 0;
+};
+
 // A triangle mesh that supports half-edge collapses: triangles with alive flags and
 // per-vertex lists of incident alive triangles.
 class CollapsibleMesh {
@@ -177,7 +192,7 @@ struct Keys {
 // refreshes those at its end, and `order` with them.
 size_t collapse_round(CollapsibleMesh& mesh, CollapseCost& cost, bool geometric_test,
                       CollapseLog& log, std::vector<char>& touched, std::vector<char>& stale,
-                      Order& order, Keys& keys) {
+                      Order& order, Keys& keys, HierarchyClock& clock) {
   std::vector<uint32_t> ring;
   std::vector<uint32_t> stale_list, grown;
   std::vector<std::pair<double, uint32_t>> candidates;
@@ -187,6 +202,7 @@ size_t collapse_round(CollapsibleMesh& mesh, CollapseCost& cost, bool geometric_
   size_t collapsed = 0;
   for (const auto& [key, u] : order) {
     if (mesh.alive_vertices() <= 4) break;
+    clock.tick();
     if (mesh.star_touched(u, touched)) continue;
     mesh.ordered_ring(u, ring);
     candidates.clear();
@@ -264,7 +280,9 @@ std::vector<Triangle> renumbered(std::vector<Triangle> triangles,
 }  // namespace
 
 CollapseHierarchy build_hierarchy(std::span<const Vec3> positions,
-                                  std::span<const Triangle> triangles, double level_growth) {
+                                  std::span<const Triangle> triangles, double level_growth,
+                                  const std::function<bool()>& should_stop) {
+  HierarchyClock clock(should_stop);
   const size_t n = positions.size();
   CollapsibleMesh mesh(positions, triangles);
   CollapseHierarchy h;
@@ -277,6 +295,7 @@ CollapseHierarchy build_hierarchy(std::span<const Vec3> positions,
   Order order(n);
   Keys keys{std::vector<double>(n), std::vector<uint32_t>(n), std::vector<char>(n, 0)};
   for (uint32_t u = 0; u < n; ++u) {
+    clock.tick();
     const auto [key, onto] = mesh.cheapest_collapse(u, cost);
     order[u] = {key, u};
     keys.key[u] = key, keys.onto[u] = onto;
@@ -284,7 +303,7 @@ CollapseHierarchy build_hierarchy(std::span<const Vec3> positions,
   std::sort(order.begin(), order.end());
   while (mesh.alive_vertices() > 4) {
     const size_t collapsed =
-        collapse_round(mesh, cost, geometric_test, log, touched, stale, order, keys);
+        collapse_round(mesh, cost, geometric_test, log, touched, stale, order, keys, clock);
     if (collapsed == 0) {
       if (!geometric_test) throw std::runtime_error("hierarchy: no collapsible edge left");
       geometric_test = false;

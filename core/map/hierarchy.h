@@ -11,7 +11,9 @@
 // [0, level_sizes[l]); inserting ids in ascending order undoes the collapses.
 #pragma once
 
+#include <functional>
 #include <span>
+#include <stdexcept>
 #include <vector>
 
 #include "core/mesh/mesh.h"
@@ -37,11 +39,20 @@ struct CollapseHierarchy {
   }
 };
 
+// Thrown by build_hierarchy when `should_stop` says so (a time limit, a cancel).
+class HierarchyStopped : public std::runtime_error {
+ public:
+  HierarchyStopped() : std::runtime_error("hierarchy: stopped before the tetrahedron") {}
+};
+
 // Precondition: triangles form a closed, connected, oriented genus-0 manifold with at
 // least 4 vertices. Throws std::runtime_error if no collapse is possible (cannot happen
 // on such input: every triangulated sphere but the tetrahedron has a contractible edge).
 // level_growth: vertices of a level over those of the next coarser one (about).
+// should_stop (may be empty) is asked every few thousand vertices: ~3 s of rounds on 1.3M
+// triangles had no way to stop.
 CollapseHierarchy build_hierarchy(std::span<const Vec3> positions,
-                                  std::span<const Triangle> triangles, double level_growth = 4.0);
+                                  std::span<const Triangle> triangles, double level_growth = 4.0,
+                                  const std::function<bool()>& should_stop = {});
 
 }  // namespace spheremap

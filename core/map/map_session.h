@@ -2,6 +2,7 @@
 #pragma once
 
 #include <chrono>
+#include <string>
 
 #include "core/map/spherical_map.h"
 
@@ -9,21 +10,38 @@ namespace spheremap {
 
 class MapSession {
  public:
-  MapSession(const MapOptions& options, const MapControl& control)
-      : options_(options), control_(control), start_(std::chrono::steady_clock::now()) {}
+  // `limit_start`: when the time limit started counting (the caller's clock, or the
+  // first vertex order's: a second order does not get a fresh budget). elapsed() and the
+  // stage timings count from now.
+  MapSession(const MapOptions& options, const MapControl& control,
+             std::chrono::steady_clock::time_point limit_start)
+      : options_(options),
+        control_(control),
+        start_(std::chrono::steady_clock::now()),
+        limit_start_(limit_start) {}
 
   double elapsed() const {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
   }
   bool cancelled() const { return control_.cancel && control_.cancel->load(); }
   bool timed_out() const {
-    return options_.time_limit_seconds > 0 && elapsed() > options_.time_limit_seconds;
+    return options_.time_limit_seconds > 0 &&
+           std::chrono::duration<double>(std::chrono::steady_clock::now() - limit_start_).count() >
+               options_.time_limit_seconds;
   }
-  bool should_stop() const { return cancelled() || timed_out(); }
+  // The first time it says true, the stage last reported is kept: the verdict names it.
+  bool should_stop() const {
+    const bool stop = cancelled() || timed_out();
+    if (stop && stopped_in_.empty()) stopped_in_ = stage_;
+    return stop;
+  }
+  // The stage that was running when the map was first told to stop ("" if never).
+  const std::string& stopped_in() const { return stopped_in_; }
   StopReason stop_reason() const {
     return cancelled() ? StopReason::kCancelled : StopReason::kTimeLimit;
   }
   void report(MapProgress progress) const {
+    if (stage_ != progress.stage) stage_ = progress.stage;
     if (!control_.on_progress) return;
     progress.elapsed_seconds = elapsed();
     control_.on_progress(progress);
@@ -33,7 +51,8 @@ class MapSession {
  private:
   const MapOptions& options_;
   const MapControl& control_;
-  std::chrono::steady_clock::time_point start_;
+  std::chrono::steady_clock::time_point start_, limit_start_;
+  mutable std::string stage_ = "start", stopped_in_;
 };
 
 // The two methods; both fill result.sphere (input vertex order) and result.stop_reason

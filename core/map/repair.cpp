@@ -54,7 +54,8 @@ RepairStats local_repair(LaiChengSmoother& smoother, std::span<Vec3> q, size_t f
   smoother.sync_fixed(q);
   while (stats.folds > 0 && stats.iterations < max_iterations && !should_stop()) {
     active_region(smoother, q, rings, active, active_triangles);
-    for (size_t k = 0; k < kChunk && stats.iterations < max_iterations; ++k) {
+    // Asked every iteration too: a chunk on a large region took over a second.
+    for (size_t k = 0; k < kChunk && stats.iterations < max_iterations && !should_stop(); ++k) {
       const size_t active_folds = smoother.step_active(q, active, active_triangles);
       ++stats.iterations;
       stats.vertex_updates += static_cast<double>(active.size());
@@ -67,7 +68,8 @@ RepairStats local_repair(LaiChengSmoother& smoother, std::span<Vec3> q, size_t f
   return stats;
 }
 
-size_t fold_safe_steps(LaiChengSmoother& smoother, std::span<Vec3> q, size_t steps) {
+size_t fold_safe_steps(LaiChengSmoother& smoother, std::span<Vec3> q, size_t steps,
+                       const std::function<bool()>& should_stop) {
   constexpr int kMaxHalvings = 12;
   const auto tris = smoother.triangles();
   const auto& vt = smoother.vertex_triangles();
@@ -78,7 +80,7 @@ size_t fold_safe_steps(LaiChengSmoother& smoother, std::span<Vec3> q, size_t ste
   std::vector<uint32_t> moved, candidates;
   auto valid = [&](uint32_t t) { return smoother.triangle_valid(q, t); };
   size_t folds = 0;
-  for (size_t step = 0; step < steps; ++step) {
+  for (size_t step = 0; step < steps && !(should_stop && should_stop()); ++step) {
     for (uint32_t t = 0; t < tris.size(); ++t) was_valid[t] = valid(t);
     std::copy(q.begin(), q.end(), previous.begin());
     smoother.step(q);

@@ -23,7 +23,9 @@ RepairStats local_repair(LaiChengSmoother& smoother, std::span<Vec3> q, size_t f
 // Fold-safe smoothing steps: the Lai-Cheng step for every vertex, then every vertex whose
 // move invalidated a triangle that was valid backs off (half steps, up to 12, then stays),
 // so a fold-free map stays fold-free while moving as far toward the smoothed map as it
-// can. Returns the folds left (only those the map had before).
-size_t fold_safe_steps(LaiChengSmoother& smoother, std::span<Vec3> q, size_t steps);
+// can. Returns the folds left (only those the map had before). Stops early when
+// should_stop (may be empty) says so: each step is a pass over the whole level.
+size_t fold_safe_steps(LaiChengSmoother& smoother, std::span<Vec3> q, size_t steps,
+                       const std::function<bool()>& should_stop = {});
 
 }  // namespace spheremap

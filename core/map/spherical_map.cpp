@@ -64,8 +64,8 @@ MappingInput mapping_input(const PolygonMesh& input, const std::vector<uint32_t>
 namespace {
 
 MapResult map_in_order(const MappingInput& input, const MapOptions& options,
-                       const MapControl& control) {
-  MapSession session(options, control);
+                       const MapControl& control, std::chrono::steady_clock::time_point start) {
+  MapSession session(options, control, start);
   MapResult result;
   const PolygonMesh& mesh = input.mesh;
   const OrientedTriangles& oriented = input.oriented;
@@ -77,6 +77,7 @@ MapResult map_in_order(const MappingInput& input, const MapOptions& options,
     map_paper(mesh, oriented.triangles, session, result);
   else
     map_coarse_to_fine(mesh, oriented.triangles, session, result);
+  result.stopped_in = session.stopped_in();
   if (result.stop_reason == StopReason::kCancelled) return result;
   if (options.method == Method::kCoarseToFine)
     polish_map(mesh, oriented.triangles, session, result);
@@ -85,6 +86,12 @@ MapResult map_in_order(const MappingInput& input, const MapOptions& options,
   const double verify_start = session.elapsed();
   result.check = verify_map(result.sphere, oriented.triangles, mesh, oriented.inward);
   result.verify_seconds = session.elapsed() - verify_start;
+  // A stage the clock cut short (the finest level's optimization, the polish) leaves a
+  // complete map, even a bijective one, that is not the map the options asked for: the
+  // heart plate at a 5 s limit was reported bijective in double and folded in float32.
+  result.stopped_in = session.stopped_in();
+  if (!result.stopped_in.empty() && result.stop_reason != StopReason::kCancelled)
+    result.stop_reason = session.stop_reason();
   // A map stopped by the time limit keeps that reason even when it happens to be
   // bijective: it is not the map the options asked for.
   if (result.check.bijective && result.stop_reason != StopReason::kTimeLimit)
@@ -105,6 +112,7 @@ MapResult map_to_sphere(const PolygonMesh& input, const MapOptions& options,
   // which tetrahedron corner, summation orders), so a map that folds in every setting
   // of the first order is tried again (Lai-Cheng levels) in the input's own order; the
   // better of the two maps is returned.
+  const auto start = control.clock_start.value_or(std::chrono::steady_clock::now());
   const std::vector<uint32_t> morton = morton_order(input.positions);
   std::vector<uint32_t> identity(input.vertex_count());
   std::iota(identity.begin(), identity.end(), 0u);
@@ -119,7 +127,7 @@ MapResult map_to_sphere(const PolygonMesh& input, const MapOptions& options,
       attempt_options.direct_iterations = 0;  // tried already
       attempt_options.optimize = false;
     }
-    MapResult result = map_in_order(mapping_input(input, *order), attempt_options, control);
+    MapResult result = map_in_order(mapping_input(input, *order), attempt_options, control, start);
     attempts += result.attempts, iterations += result.iterations;
     work += result.fine_iteration_equivalents;
     result.attempts = attempts, result.iterations = iterations;

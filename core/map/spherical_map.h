@@ -12,8 +12,10 @@
 #pragma once
 
 #include <atomic>
+#include <chrono>
 #include <functional>
 #include <optional>
+#include <string>
 #include <string_view>
 #include <vector>
 
@@ -75,6 +77,9 @@ struct MapProgress {
 struct MapControl {
   std::function<void(const MapProgress&)> on_progress;  // called often: keep it cheap
   const std::atomic<bool>* cancel = nullptr;            // set to stop a running map
+  // When time_limit_seconds starts counting (default: when map_to_sphere is called). The
+  // command line sets its own start, so reading and preparing the input count too.
+  std::optional<std::chrono::steady_clock::time_point> clock_start;
 };
 
 enum class StopReason { kBijective, kFoldsRemain, kIterationLimit, kTimeLimit, kCancelled };
@@ -108,6 +113,9 @@ struct MapResult {
   size_t polish_rounds = 0;           // rounds of the safety net (polish_map) that ran
   double hierarchy_seconds = 0, mapping_seconds = 0, optimize_seconds = 0, verify_seconds = 0;
   bool inward = false;  // the input faces point inward; the map keeps that orientation
+  // The stage that was running when the time limit or a cancel stopped the map
+  // ("hierarchy", "optimize", "repair", ...; empty when it ran to the end).
+  std::string stopped_in;
 };
 
 // Precondition: mesh passed require_mappable(analyze_topology(mesh)).

@@ -201,6 +201,7 @@ nlohmann::json map_metrics_json(const MappedMesh& mapped, const MapOptions& opti
       {"bijective", certify(mapped, mapped.float32_check).certified},
       {"bijective_double", m.check.bijective},
       {"stop_reason", std::string(to_string(m.stop_reason))},
+      {"stopped_in", m.stopped_in},
       {"vertices", mapped.prepared.topology.vertices},
       {"faces", mapped.prepared.topology.faces},
       {"triangles", m.check.triangles},
