@@ -10,10 +10,6 @@
 namespace spheremap {
 namespace {
 
-double seconds_since(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
-
 // The part's surface area and area-weighted centroid (its vertices' mean when it has no
 // area), which place its sphere in outputs that show every part.
 void place(MappedPart& part) {
@@ -38,7 +34,8 @@ void place(MappedPart& part) {
   part.radius = std::sqrt(area / (4 * M_PI));
 }
 
-// Not a map: each vertex's direction from the part's centroid (a part the time limit left).
+// Not a map: each vertex's direction from the part's centroid (a part the time limit left
+// no time to start).
 MapResult unmapped(const PolygonMesh& mesh, const Vec3& center) {
   MapResult map;
   map.stop_reason = StopReason::kTimeLimit;
@@ -116,17 +113,21 @@ MappedMesh map_parts(PreparedMesh prepared, const MapOptions& options, const Map
     alone.preparation = whole.prepared.preparation;
     part.mapped.prepared = std::move(alone);
     place(part);
-    // One time limit for all: each part gets what the parts before it left.
-    MapOptions part_options = options;
-    const double left = options.time_limit_seconds - seconds_since(start);
-    if (options.time_limit_seconds > 0 && left <= 0) {
+    // One time limit for all: every part counts from the same start (the caller's, else
+    // this call's), so each gets what the parts before it left.
+    MapControl part_control = control;
+    if (!part_control.clock_start) part_control.clock_start = start;
+    const double elapsed =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - *part_control.clock_start)
+            .count();
+    if (options.time_limit_seconds > 0 && elapsed >= options.time_limit_seconds) {
       const PolygonMesh& part_mesh = part.mapped.prepared.welded.mesh;
       part.mapped.map = unmapped(part_mesh, part.center);
       part.mapped.map.check =
           check_map(part.mapped.map.sphere, oriented_triangles(part_mesh).triangles);
+      part.mapped.map.stopped_in = "waiting";
     } else {
-      if (options.time_limit_seconds > 0) part_options.time_limit_seconds = left;
-      MappedMesh mapped = map_prepared(std::move(part.mapped.prepared), part_options, control);
+      MappedMesh mapped = map_prepared(std::move(part.mapped.prepared), options, part_control);
       if (mapped.map.sphere.empty()) {  // cancelled
         map.sphere.clear();
         map.stop_reason = StopReason::kCancelled;
@@ -150,6 +151,8 @@ MappedMesh map_parts(PreparedMesh prepared, const MapOptions& options, const Map
     map.verify_seconds += m.verify_seconds;
     map.optimized = whole.parts.empty() ? m.optimized : map.optimized && m.optimized;
     map.inward = map.inward && m.inward;
+    if (map.stopped_in.empty() && !m.stopped_in.empty())
+      map.stopped_in = "part " + std::to_string(whole.parts.size()) + ": " + m.stopped_in;
     whole.metrics_seconds += part.mapped.metrics_seconds;
     whole.parts.push_back(std::move(part));
   }
