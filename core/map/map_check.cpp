@@ -1,5 +1,6 @@
 #include "core/map/map_check.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "core/mesh/sphere_geometry.h"
@@ -23,6 +24,16 @@ MapCheck check_map(std::span<const Vec3> sphere, std::span<const Triangle> trian
   check.bijective =
       check.folds == 0 && std::abs(check.signed_area_sum - 4 * M_PI) < 1e-6 * 4 * M_PI;
   return check;
+}
+
+void add_check(MapCheck& total, const MapCheck& part) {
+  total.triangles += part.triangles;
+  total.folds += part.folds;
+  total.nonconvex_polygons += part.nonconvex_polygons;
+  total.degenerate += part.degenerate;
+  total.signed_area_sum += part.signed_area_sum;
+  total.min_signed_area = std::min(total.min_signed_area, part.min_signed_area);
+  total.bijective = total.bijective && part.bijective;
 }
 
 MapCheck verify_map(std::span<const Vec3> sphere, std::span<const Triangle> triangles,

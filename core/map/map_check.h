@@ -29,6 +29,11 @@ struct MapCheck {
 // only (nonconvex_polygons stays 0): enough for a level of the hierarchy.
 MapCheck check_map(std::span<const Vec3> sphere, std::span<const Triangle> triangles);
 
+// Adds `part` (a check of one part of an asset on its own sphere) into `total`: counts
+// summed, the smallest area kept, bijective only while every part's is. Start `total`
+// with min_signed_area = INFINITY and bijective = true.
+void add_check(MapCheck& total, const MapCheck& part);
+
 // The verdict on a whole mesh: check_map on its fan triangles, plus the count of
 // polygons that are not convex on the sphere. `inward`: the faces run clockwise.
 MapCheck verify_map(std::span<const Vec3> sphere, std::span<const Triangle> triangles,

@@ -43,16 +43,6 @@ MapResult unmapped(const PolygonMesh& mesh, const Vec3& center) {
   return map;
 }
 
-void add_check(MapCheck& total, const MapCheck& part) {
-  total.triangles += part.triangles;
-  total.folds += part.folds;
-  total.nonconvex_polygons += part.nonconvex_polygons;
-  total.degenerate += part.degenerate;
-  total.signed_area_sum += part.signed_area_sum;
-  total.min_signed_area = std::min(total.min_signed_area, part.min_signed_area);
-  total.bijective = total.bijective && part.bijective;
-}
-
 void add_summary(DistortionSummary& total, const DistortionSummary& part, double weight) {
   total.mean += part.mean * weight;
   total.p99 = std::max(total.p99, part.p99);

@@ -48,6 +48,13 @@ struct BuiltMorph : BuiltAsset {
 // The morph of one part as a plain mesh (the welded surface).
 BuiltMorph build_morph(const MappedMesh& mapped, double seconds);
 
+// Per welded vertex of an asset of several parts: its part and its vertex in that part
+// (kUnreferenced for none).
+struct PartIndex {
+  std::vector<uint32_t> part, local;
+  explicit PartIndex(const MappedMesh& mapped);
+};
+
 // The same assets for an asset of several parts (mapped.parts), one node per part.
 RemeshAsset parts_remesh_asset(const MappedMesh& mapped, int resolution, int threads,
                                const PolygonMesh* input, const GltfAppearance* appearance);

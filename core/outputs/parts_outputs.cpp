@@ -36,21 +36,26 @@ int part_resolution(int resolution, double area, double largest_area) {
 std::vector<std::vector<std::pair<uint32_t, uint32_t>>> input_vertices_of_parts(
     const MappedMesh& mapped) {
   const auto& to_welded = mapped.prepared.welded.input_to_welded;
-  std::vector<uint32_t> part_of(mapped.prepared.welded.mesh.vertex_count(), kUnreferenced);
-  std::vector<uint32_t> local(part_of.size(), kUnreferenced);
-  for (size_t k = 0; k < mapped.parts.size(); ++k)
-    for (size_t v = 0; v < mapped.parts[k].whole_vertex.size(); ++v) {
-      part_of[mapped.parts[k].whole_vertex[v]] = static_cast<uint32_t>(k);
-      local[mapped.parts[k].whole_vertex[v]] = static_cast<uint32_t>(v);
-    }
+  const PartIndex index(mapped);
   std::vector<std::vector<std::pair<uint32_t, uint32_t>>> out(mapped.parts.size());
   for (size_t v = 0; v < to_welded.size(); ++v)
     if (to_welded[v] != kUnreferenced)
-      out[part_of[to_welded[v]]].emplace_back(static_cast<uint32_t>(v), local[to_welded[v]]);
+      out[index.part[to_welded[v]]].emplace_back(static_cast<uint32_t>(v),
+                                                 index.local[to_welded[v]]);
   return out;
 }
 
 }  // namespace
+
+PartIndex::PartIndex(const MappedMesh& mapped)
+    : part(mapped.prepared.welded.mesh.vertex_count(), kUnreferenced),
+      local(part.size(), kUnreferenced) {
+  for (size_t k = 0; k < mapped.parts.size(); ++k)
+    for (size_t v = 0; v < mapped.parts[k].whole_vertex.size(); ++v) {
+      part[mapped.parts[k].whole_vertex[v]] = static_cast<uint32_t>(k);
+      local[mapped.parts[k].whole_vertex[v]] = static_cast<uint32_t>(v);
+    }
+}
 
 RemeshAsset parts_remesh_asset(const MappedMesh& mapped, int resolution, int threads,
                                const PolygonMesh* input, const GltfAppearance* appearance) {

@@ -15,8 +15,7 @@ namespace {
 // Part k's spherical mesh in `layout`: its welded vertices, or its input vertices in input
 // order (seams of the input kept) with its input faces.
 PolygonMesh part_sphere(const PolygonMesh& input, const MappedMesh& mapped, size_t k,
-                        SphereLayout layout, const std::vector<uint32_t>& part_of_welded,
-                        const std::vector<uint32_t>& local_of_welded) {
+                        SphereLayout layout, const PartIndex& index) {
   const MappedPart& part = mapped.parts[k];
   if (layout == SphereLayout::kWelded) {
     PolygonMesh out = part.mapped.prepared.welded.mesh;
@@ -29,12 +28,12 @@ PolygonMesh part_sphere(const PolygonMesh& input, const MappedMesh& mapped, size
   std::vector<uint32_t> corners;
   for (size_t f = 0; f < input.face_count(); ++f) {
     const uint32_t w = to_welded[input.face(f)[0]];
-    if (w == kUnreferenced || part_of_welded[w] != k) continue;
+    if (w == kUnreferenced || index.part[w] != k) continue;
     corners.clear();
     for (uint32_t v : input.face(f)) {
       if (local[v] == kUnreferenced) {
         local[v] = static_cast<uint32_t>(out.positions.size());
-        out.positions.push_back(part.mapped.map.sphere[local_of_welded[to_welded[v]]]);
+        out.positions.push_back(part.mapped.map.sphere[index.local[to_welded[v]]]);
       }
       corners.push_back(local[v]);
     }
@@ -70,12 +69,7 @@ MapCheck check_as_written(const GlbParts& unmoved, const MappedMesh& mapped,
     MapCheck check = check_map(directions, part);
     // Holes filled before mapping are not in the input's layout (sphere_glb.h).
     if (without_fills) check.bijective = check.folds == 0;
-    total.triangles += check.triangles;
-    total.folds += check.folds;
-    total.degenerate += check.degenerate;
-    total.signed_area_sum += check.signed_area_sum;
-    total.min_signed_area = std::min(total.min_signed_area, check.min_signed_area);
-    total.bijective = total.bijective && check.bijective;
+    add_check(total, check);
     first += part_triangles[k];
   }
   return total;
@@ -86,18 +80,12 @@ MapCheck check_as_written(const GlbParts& unmoved, const MappedMesh& mapped,
 SphereAsset parts_sphere_asset(const PolygonMesh& input, const MappedMesh& mapped,
                                const MapOptions& options, SphereLayout layout,
                                int draco_position_bits) {
-  std::vector<uint32_t> part_of(mapped.prepared.welded.mesh.vertex_count(), kUnreferenced);
-  std::vector<uint32_t> local(part_of.size(), kUnreferenced);
-  for (size_t k = 0; k < mapped.parts.size(); ++k)
-    for (size_t v = 0; v < mapped.parts[k].whole_vertex.size(); ++v) {
-      part_of[mapped.parts[k].whole_vertex[v]] = static_cast<uint32_t>(k);
-      local[mapped.parts[k].whole_vertex[v]] = static_cast<uint32_t>(v);
-    }
+  const PartIndex index(mapped);
   std::vector<GlbMesh> meshes(mapped.parts.size());
   std::vector<size_t> part_triangles;
   std::vector<GlbNode> unmoved(mapped.parts.size()), placed(mapped.parts.size());
   for (size_t k = 0; k < mapped.parts.size(); ++k) {
-    const PolygonMesh sphere = part_sphere(input, mapped, k, layout, part_of, local);
+    const PolygonMesh sphere = part_sphere(input, mapped, k, layout, index);
     meshes[k].positions = meshes[k].normals = sphere.positions;
     meshes[k].triangles = fan_triangulate(sphere).triangles;
     part_triangles.push_back(meshes[k].triangles.size());

@@ -213,6 +213,36 @@ expect("draco_position_bits=30", status, body, 400, "invalid_options")
 status, body = request("POST", "/v1/jobs", b"\x00" * 1000, {"Content-Type": "model/gltf-binary"})
 expect("1,000 zero bytes as GLB", status, body, 400, "malformed_gltf")
 
+# Hostile STL and PLY (Reach I): counts declared far past the bytes sent, a truncated
+# binary PLY, non-finite coordinates, indices out of range: each a 400 read from the counts
+# before anything is allocated for them.
+ply_head = ("ply\nformat binary_little_endian 1.0\nelement vertex {v}\nproperty float x\n"
+            "property float y\nproperty float z\nelement face {f}\n"
+            "property list uchar int vertex_indices\nend_header\n")
+corners = b"".join(struct.pack("<fff", *p) for p in [(0, 0, 0), (1, 0, 0), (0, 1, 0), (0, 0, 1)])
+faces = b"".join(struct.pack("<Biii", 3, *t) for t in [(0, 1, 2), (0, 1, 3)])
+nan_stl = "solid x\n" + "".join(
+    " facet normal 0 0 0\n  outer loop\n" +
+    "".join(f"   vertex {x} {y} {z}\n" for x, y, z in t) + "  endloop\n endfacet\n"
+    for t in [[("nan", 0, 0), (1, 0, 0), (0, 1, 0)], [(0, 0, 0), (0, 0, 1), (1, 0, 0)],
+              [(0, 0, 0), (0, 1, 0), (0, 0, 1)], [(1, 0, 0), (0, 0, 1), (0, 1, 0)]]) + "endsolid x\n"
+hostile_meshes = [
+    ("binary STL declaring 10^9 triangles", "model/stl",
+     b"\0" * 80 + struct.pack("<I", 10**9) + b"\0" * 100),
+    ("binary PLY declaring 10^9 vertices and faces", "application/ply",
+     ply_head.format(v=10**9, f=10**9).encode() + b"\0" * 120),
+    ("binary PLY cut short (100 faces declared, 2 sent)", "application/ply",
+     ply_head.format(v=4, f=100).encode() + corners + faces),
+    ("ASCII STL with a NaN coordinate", "model/stl", nan_stl.encode()),
+    ("ASCII PLY with an index out of range", "application/ply",
+     b"ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+     b"property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n"
+     b"0 0 0\n1 0 0\n0 1 0\n3 0 1 7\n"),
+]
+for name, content_type, data in hostile_meshes:
+    status, body = request("POST", "/v1/jobs", data, {"Content-Type": content_type})
+    expect(name, status, body, 400, "malformed_mesh")
+
 
 def glb_parts(data):
     """A GLB's JSON and binary chunk."""
