@@ -14,8 +14,7 @@ namespace {
 
 void add_artifact(Job& job, std::string name, std::string type, std::string bytes) {
   std::lock_guard lock(job.mutex);
-  const size_t size = bytes.size();
-  job.artifacts.push_back({std::move(name), std::move(type), std::move(bytes), size});
+  job.artifacts.push_back(make_artifact(std::move(name), std::move(type), std::move(bytes)));
 }
 
 void set_stage(Job& job, const char* stage) {

@@ -108,7 +108,7 @@ TEST(ServiceSecurity, TheReaderStopsInsideTheGltfAtTheDeadline) {
 
 TEST(ServiceSecurity, AnAllocationFailureFailsTheJobNotTheProcess) {
   api::Job job;
-  job.artifacts.push_back({"sphere.glb", "model/gltf-binary", "partial", 7});
+  job.artifacts.push_back(api::make_artifact("sphere.glb", "model/gltf-binary", "partial"));
   const api::JobStatus status =
       server::run_guarded(job, []() -> api::JobStatus { throw std::bad_alloc(); });
   EXPECT_EQ(status, api::JobStatus::kFailed);
