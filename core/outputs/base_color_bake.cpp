@@ -6,6 +6,7 @@
 #include <set>
 
 #include "core/io/image_reader.h"
+#include "core/io/jpeg_scans.h"
 #include "core/io/png_writer.h"
 #include "core/mesh/input_error.h"
 #include "core/mesh/parallel.h"
@@ -145,19 +146,35 @@ std::vector<BaseColor> base_colors(const GltfAppearance& look, std::map<size_t, 
   return out;
 }
 
-}  // namespace
-
-size_t base_color_pixels(const GltfAppearance& look) {
+// Calls `visit` with the bytes of each distinct image a drawn material takes its base
+// colour from: the images bake_base_color would decode.
+template <typename Visit>
+void for_each_base_color_image(const GltfAppearance& look, Visit visit) {
   const std::vector<char> drawn = drawn_materials(look);
-  std::set<size_t> counted;  // image_data entries
-  size_t pixels = 0;
+  std::set<size_t> seen;  // image_data entries
   for (size_t m = 0; m < look.materials.size(); ++m) {
     const size_t image = drawn[m] ? base_color_image(look, m) : SIZE_MAX;
     const std::string* bytes = image == SIZE_MAX ? nullptr : look.image_bytes(image);
-    if (bytes && counted.insert(look.image_source[image]).second)
-      pixels += std::min(image_pixels(*bytes), kMaxImagePixels + 1);
+    if (bytes && seen.insert(look.image_source[image]).second) visit(*bytes);
   }
+}
+
+}  // namespace
+
+size_t base_color_pixels(const GltfAppearance& look) {
+  size_t pixels = 0;
+  for_each_base_color_image(look, [&](const std::string& bytes) {
+    pixels += std::min(image_pixels(bytes), kMaxImagePixels + 1);
+  });
   return pixels;
+}
+
+size_t base_color_jpeg_scans(const GltfAppearance& look) {
+  size_t most = 0;
+  for_each_base_color_image(look, [&](const std::string& bytes) {
+    if (image_type(bytes) == "image/jpeg") most = std::max(most, jpeg_scan_count(bytes));
+  });
+  return most;
 }
 
 std::optional<BakedBaseColor> bake_base_color(const PolygonMesh& input, const GltfAppearance& look,

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "core/io/gltf_appearance.h"
+#include "core/io/jpeg_scans.h"
 #include "core/map/pipeline.h"
 
 namespace spheremap {
@@ -31,6 +32,9 @@ inline constexpr size_t kMaxBaseColorPixels = size_t{1} << 26;
 // The pixels of each distinct image a drawn material takes its base colour from, read
 // from the images' headers (nothing decoded): what bake_base_color would decode.
 size_t base_color_pixels(const GltfAppearance& look);
+// The most scans of a JPEG among those images (counted from their markers, up to
+// kMaxJpegScans + 1): over kMaxJpegScans, bake_base_color would refuse it.
+size_t base_color_jpeg_scans(const GltfAppearance& look);
 
 std::optional<BakedBaseColor> bake_base_color(const PolygonMesh& input, const GltfAppearance& look,
                                               const MappedMesh& mapped,
