@@ -2,6 +2,7 @@
 // TEXCOORD_0 is the square) needs to look like the textured original.
 #pragma once
 
+#include <functional>
 #include <optional>
 #include <span>
 #include <string>
@@ -25,6 +26,9 @@ struct BakedBaseColor {
 // no material and no vertex colour. Preconditions: mapped.map.check.bijective; `look`
 // and `input` from one read_gltf() call, `mapped` prepared from `input`; `oriented` the
 // welded mesh's oriented_triangles() (the remesh has them already).
+// `should_stop` (may be null) is asked before each image decode and before each row of
+// texels (from every thread); once it says true, the bake throws InputError("stopped")
+// instead of going on: a bake of a large texture keeps to a job's time limit.
 // The most pixels bake_base_color decodes in all (4 bytes each); over it, it throws
 // InputError("too_large").
 inline constexpr size_t kMaxBaseColorPixels = size_t{1} << 26;
@@ -39,6 +43,7 @@ size_t base_color_jpeg_scans(const GltfAppearance& look);
 std::optional<BakedBaseColor> bake_base_color(const PolygonMesh& input, const GltfAppearance& look,
                                               const MappedMesh& mapped,
                                               std::span<const Triangle> oriented, int size,
-                                              int threads);
+                                              int threads,
+                                              const std::function<bool()>* should_stop = nullptr);
 
 }  // namespace spheremap
