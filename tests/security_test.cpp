@@ -10,8 +10,11 @@
 
 #include "api/job_request.h"
 #include "api/problem.h"
+#include "core/io/glb_writer.h"
+#include "core/io/jpeg_scans.h"
 #include "server/job_guard.h"
 #include "tests/gltf_files.h"
+#include "tests/mesh_generators.h"
 #include "tests/test_server.h"
 
 namespace spheremap {
@@ -72,6 +75,27 @@ TEST(ServiceSecurity, ResourcesOverTheCapAre413) {
   EXPECT_NE(answer->body.find("131072"), std::string::npos) << answer->body;  // the cap
   // The server goes on.
   EXPECT_EQ(client.Get("/healthz")->status, 200);
+}
+
+// A base-colour JPEG of more scans than the decoder is allowed (core/io/jpeg_scans.h) is
+// refused when a remesh is submitted, not found out by the job's colour bake.
+TEST(ServiceSecurity, ARemeshWhoseJpegHasTooManyScansIs422) {
+  testing::TestServer server(security_config());
+  auto client = server.client();
+  std::string jpeg = "\xff\xd8";
+  for (size_t i = 0; i <= kMaxJpegScans; ++i) jpeg += std::string("\xff\xda\x00\x02", 4);
+  jpeg += "\xff\xd9";
+  const PolygonMesh mesh = testing::horseshoe();
+  GlbMesh glb;
+  glb.positions = mesh.positions;
+  glb.triangles = fan_triangulate(mesh).triangles;
+  glb.texcoords.assign(mesh.positions.size(), {0.5f, 0.5f});
+  glb.base_color_png = jpeg;  // typed by its bytes when read: a JPEG
+  glb.material_name = "many scans";
+  auto remesh = client.Post("/v1/jobs?outputs=remesh", format_glb(glb), "model/gltf-binary");
+  ASSERT_TRUE(remesh);
+  EXPECT_EQ(remesh->status, 422) << remesh->body;
+  EXPECT_EQ(json::parse(remesh->body)["check"], "jpeg_scans") << remesh->body;
 }
 
 TEST(ServiceSecurity, ARemeshWhoseTexturesExceedMaxImagePixelsIs413) {
