@@ -7,6 +7,8 @@
 #include <chrono>
 #include <thread>
 
+#include "core/io/gltf_reader.h"
+#include "server/job_runner.h"
 #include "tests/mesh_generators.h"
 #include "tests/test_server.h"
 
@@ -61,6 +63,41 @@ TEST(AssetTimeLimit, TheRemeshStopsAtTheJobsTimeLimit) {
   testing::TestServer server(config);
   expect_stopped_at(server, 0.5);
   expect_stopped_at(server, 3);
+}
+
+// Cancel reaches the remesh too: a job cancelled while its remesh runs (in this process,
+// as a worker thread runs it) ends as cancelled within a fraction of a second.
+TEST(AssetTimeLimit, ACancelStopsTheRemesh) {
+  const std::string glb = testing::textured_glb(testing::horseshoe());
+  server::Job job;
+  job.spec = std::make_unique<server::JobSpec>();
+  server::JobSpec& spec = *job.spec;
+  spec.input = read_gltf({reinterpret_cast<const uint8_t*>(glb.data()), glb.size()}, {}, nullptr,
+                         nullptr, &spec.look);
+  spec.prepared = prepare_mesh(spec.input, {});
+  spec.outputs = {"sphere", "remesh"};
+  spec.remesh_resolution = 1024;  // about 4 s on one thread
+  server::JobStatus status = server::JobStatus::kRunning;
+  std::chrono::steady_clock::time_point ended;
+  std::thread worker([&] {
+    status = server::run_job(job, {300, 1});
+    ended = std::chrono::steady_clock::now();
+  });
+  for (int i = 0; i < 10000; ++i) {  // until the remesh has started
+    {
+      std::lock_guard lock(job.mutex);
+      if (job.progress.stage == "remesh") break;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  const auto cancelled = std::chrono::steady_clock::now();
+  job.cancel = true;
+  worker.join();
+  const double seconds = std::chrono::duration<double>(ended - cancelled).count();
+  std::printf("remesh cancelled 0.3 s in: the job ended %.3f s after the cancel\n", seconds);
+  EXPECT_EQ(status, server::JobStatus::kCancelled);
+  EXPECT_LT(seconds, 0.5);
 }
 
 }  // namespace

@@ -366,6 +366,31 @@ TEST_F(RedisQueueTest, DownloadsShareOneFetch) {
   EXPECT_FALSE(queue.gltf_view(*found, "remesh.glb"));
 }
 
+// A .gltf view in Redis mode: built from the fetched GLB once, the same bytes after.
+TEST_F(RedisQueueTest, AGltfViewIsBuiltOnceFromTheFetchedGlb) {
+  RedisJobQueue queue(address(), {}, nullptr);
+  RedisConnection redis(address());
+  std::shared_ptr<server::Job> job;
+  ASSERT_EQ(queue.submit(spec(), job), JobQueue::Admission::kAccepted);
+  const auto d = claim(queue, redis, "n1");
+  int attempts = 0;
+  ASSERT_EQ(queue.start(redis, d, "n1", attempts), RedisJobQueue::Start::kRun);
+  GlbMesh mesh;
+  const PolygonMesh sphere = testing::icosphere(1);
+  mesh.positions = sphere.positions;
+  mesh.triangles = fan_triangulate(sphere).triangles;
+  const std::string glb = format_glb(mesh);
+  auto run = queue.load(redis, d.id, false);
+  run->artifacts = {server::make_artifact("sphere.glb", "model/gltf-binary", glb)};
+  queue.finish(redis, d, *run, server::JobStatus::kSucceeded);
+  const auto found = queue.find(job->id).job;
+  ASSERT_TRUE(found);
+  const api::SharedBytes first = queue.gltf_view(*found, "sphere.glb");
+  ASSERT_TRUE(first);
+  EXPECT_EQ(*first, glb_to_gltf(glb));
+  EXPECT_EQ(queue.gltf_view(*queue.find(job->id).job, "sphere.glb"), first);  // kept
+}
+
 // Two worker nodes starting together on a fresh Redis both find no group and both create
 // it: the second XGROUP CREATE answers BUSYGROUP, which is "already done", not "Redis is
 // unavailable" (that was logged as redis_unavailable and retried 2 s later).
