@@ -34,9 +34,19 @@ std::optional<JobStatus> job_status_from(std::string_view text) {
   return std::nullopt;
 }
 
+SharedBytes share_bytes(std::string bytes) {
+  return std::make_shared<const std::string>(std::move(bytes));
+}
+
+Artifact make_artifact(std::string name, std::string content_type, std::string bytes) {
+  const size_t size = bytes.size();
+  return {std::move(name), std::move(content_type), share_bytes(std::move(bytes)), size};
+}
+
 size_t Job::artifact_bytes() const {
   size_t total = 0;
-  for (const Artifact& a : artifacts) total += a.bytes.size();
+  for (const Artifact& a : artifacts) total += a.size;
+  for (const auto& [name, view] : gltf_views) total += view->size();
   return total;
 }
 

@@ -4,6 +4,7 @@
 #include <atomic>
 #include <chrono>
 #include <condition_variable>
+#include <map>
 #include <memory>
 #include <mutex>
 #include <nlohmann/json.hpp>
@@ -45,10 +46,17 @@ struct JobSpec {
   std::string idempotency_key;
 };
 
+// An artifact's bytes, immutable once made: the job, the queue and every download share
+// them, so a download costs a reference, not a copy.
+using SharedBytes = std::shared_ptr<const std::string>;
+SharedBytes share_bytes(std::string bytes);
+
 struct Artifact {
-  std::string name, content_type, bytes;
-  size_t size = 0;  // of bytes; also set when a view lists an artifact without its bytes
+  std::string name, content_type;
+  SharedBytes bytes;  // null when a view lists an artifact without its bytes
+  size_t size = 0;    // of bytes; also set when a view lists an artifact without its bytes
 };
+Artifact make_artifact(std::string name, std::string content_type, std::string bytes);
 
 // Why a job failed, as a problem (RFC 9457) the API can return.
 struct JobError {
@@ -83,11 +91,17 @@ struct Job {
   JobProgress progress;
   std::optional<Clock::time_point> started, finished;
   std::vector<Artifact> artifacts;
+  // The .gltf view of a .glb artifact (by the .glb's name), built on its first request
+  // and kept with the job: counted in artifact_bytes() like the artifacts.
+  std::map<std::string, SharedBytes> gltf_views;
   nlohmann::json metrics;  // when succeeded
   std::optional<JobError> error;
   std::string cancel_reason;
 
   size_t artifact_bytes() const;  // caller holds mutex
+
+  // Not under `mutex`: held while a .gltf view is built, so each is built once.
+  std::mutex gltf_building;
 };
 
 }  // namespace spheremap::api

@@ -71,6 +71,10 @@ class JobQueue {
   virtual size_t queue_position(const Job& job) = 0;  // 1 = next to run; 0 = not queued
   // One artifact of a finished job, bytes included; nullopt when it has none by that name.
   virtual std::optional<Artifact> artifact(const Job& job, const std::string& name) = 0;
+  // The .gltf view (glb_to_gltf) of the finished job's .glb artifact `glb_name`: built
+  // on its first request, once however many ask at a time, then the same bytes for every
+  // request. Null when the job has no such artifact or has not finished.
+  virtual SharedBytes gltf_view(Job& job, const std::string& glb_name) = 0;
 
   // Cancels a queued job at once and asks a running one to stop (its worker ends it).
   // Returns false when the job has already finished.

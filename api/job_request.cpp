@@ -237,6 +237,12 @@ std::unique_ptr<JobSpec> read_job_request(const httplib::Request& request,
                         std::to_string(config.max_image_pixels) +
                         "); ask for the other outputs, or send smaller textures",
                     {{"check", "image_pixels"}});
+    if (base_color_jpeg_scans(spec->look) > kMaxJpegScans)
+      throw Problem(422, "jpeg_scans", "Texture cannot be decoded",
+                    "a base-colour JPEG has over " + std::to_string(kMaxJpegScans) +
+                        " scans (progressive passes), too many to decode in time; ask for the "
+                        "other outputs, or send the texture as a baseline JPEG or a PNG",
+                    {{"check", "jpeg_scans"}});
   }
   spec->map = options.map;
   spec->layout = options.layout;

@@ -13,13 +13,24 @@
 #include "api/job_view.h"
 #include "api/log.h"
 #include "api/problem.h"
-#include "core/io/glb_writer.h"
+#include "api/shared_body.h"
 #include "web/web_assets.h"
 
 namespace spheremap::api {
 namespace {
 
 const char* const kJobId = "([0-9a-f]{32})";
+
+// The body's length; a shared body (send_shared) is not in response.body, its length is
+// in the header cpp-httplib wrote.
+size_t bytes_out(const httplib::Response& response) {
+  size_t bytes = response.body.size();
+  if (bytes == 0) {
+    const std::string length = response.get_header_value("Content-Length");
+    std::from_chars(length.data(), length.data() + length.size(), bytes);
+  }
+  return bytes;
+}
 
 void send_json(httplib::Response& response, int status, const nlohmann::json& body) {
   response.status = status;
@@ -203,7 +214,7 @@ void post_map(Backend& service, std::atomic<int>& waiting, const httplib::Reques
                         now->metrics.value("bijective_as_written", false) ? "true" : "false");
     response.set_header("Spheremap-Folds",
                         std::to_string(now->metrics.value("folds_as_written", size_t{0})));
-    response.set_content(sphere->bytes, sphere->content_type);
+    send_shared(response, sphere->bytes, sphere->content_type);
     response.status = 200;
     return;
   }
@@ -220,12 +231,16 @@ void get_artifact(Backend& service, const httplib::Request& request, httplib::Re
   // Every .glb artifact is also served as .gltf (JSON, the buffer embedded as base64).
   const bool as_gltf = name.ends_with(".gltf");
   const std::string stored = as_gltf ? name.substr(0, name.size() - 5) + ".glb" : name;
-  if (const std::optional<Artifact> a = service.queue().artifact(*job, stored)) {
-    if (as_gltf)
-      response.set_content(glb_to_gltf(a->bytes), "model/gltf+json");
-    else
-      response.set_content(a->bytes, a->content_type);
-    if (name.ends_with(".glb") || as_gltf)
+  // The view is built on its first request and kept: every request shares its bytes.
+  if (as_gltf) {
+    if (SharedBytes view = service.queue().gltf_view(*job, stored)) {
+      send_shared(response, std::move(view), "model/gltf+json");
+      response.set_header("Content-Disposition", "attachment; filename=\"" + name + "\"");
+      return;
+    }
+  } else if (const std::optional<Artifact> a = service.queue().artifact(*job, stored)) {
+    send_shared(response, a->bytes, a->content_type);
+    if (name.ends_with(".glb"))
       response.set_header("Content-Disposition", "attachment; filename=\"" + name + "\"");
     return;
   }
@@ -544,7 +559,7 @@ void install_api(GuardedServer& http, Backend& service) {
         {"ms", rounded_seconds(
                    std::chrono::duration<double, std::milli>(Clock::now() - started).count())},
         {"bytes_in", request.body.size()},
-        {"bytes_out", response.body.size()},
+        {"bytes_out", bytes_out(response)},
         {"remote", remote}};
     if (response.has_header("Spheremap-Job"))
       line["job"] = response.get_header_value("Spheremap-Job");

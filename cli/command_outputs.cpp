@@ -1,5 +1,7 @@
 // spheremap remesh | uv | morph: the assets built on the map (ALGORITHM §E).
+#include <chrono>
 #include <cstdio>
+#include <functional>
 #include <iostream>
 
 #include "cli/arguments.h"
@@ -8,6 +10,7 @@
 #include "core/io/glb_writer.h"
 #include "core/io/mesh_file.h"
 #include "core/map/certification.h"
+#include "core/mesh/input_error.h"
 #include "core/outputs/map_outputs.h"
 #include "core/outputs/report_json.h"
 
@@ -92,6 +95,13 @@ int run_output(int argc, char** argv, Output kind) {
   MapOptions options;
   read_map_options(args, prepare, options);
 
+  // --time-limit bounds the whole command: the map, then the remesh's colour bake.
+  const auto start = std::chrono::steady_clock::now();
+  const std::function<bool()> out_of_time = [&] {
+    return options.time_limit_seconds > 0 &&
+           std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() >=
+               options.time_limit_seconds;
+  };
   double last_print = 0;
   const MappedInput run =
       map_input(args, prepare, options, progress_printer(args.flag("quiet"), last_print));
@@ -103,8 +113,18 @@ int run_output(int argc, char** argv, Output kind) {
   nlohmann::json metrics = {{"map", metrics_json(mapped, options)}};
   std::string glb;
   if (kind == Output::kRemesh) {
-    const RemeshAsset asset =
-        remesh_asset(mapped, resolution, options.smoothing.threads, &run.input, &run.look);
+    RemeshAsset asset;
+    try {
+      asset = remesh_asset(mapped, resolution, options.smoothing.threads, &run.input, &run.look,
+                           &out_of_time);
+    } catch (const InputError& e) {
+      if (e.check() != "stopped") throw;
+      std::fprintf(stderr,
+                   "spheremap: time_limit: the time limit (%g s) passed while the remesh was "
+                   "written; nothing written\n",
+                   options.time_limit_seconds);
+      return kExitNotBijective;
+    }
     glb = asset.glb;
     metrics["remesh"] = asset.metrics;
     if (args.has("geometry-image"))

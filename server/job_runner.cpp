@@ -1,7 +1,10 @@
 #include "server/job_runner.h"
 
 #include <algorithm>
+#include <atomic>
+#include <chrono>
 #include <cmath>
+#include <functional>
 #include <optional>
 #include <sstream>
 
@@ -14,8 +17,7 @@ namespace {
 
 void add_artifact(Job& job, std::string name, std::string type, std::string bytes) {
   std::lock_guard lock(job.mutex);
-  const size_t size = bytes.size();
-  job.artifacts.push_back({std::move(name), std::move(type), std::move(bytes), size});
+  job.artifacts.push_back(make_artifact(std::move(name), std::move(type), std::move(bytes)));
 }
 
 void set_stage(Job& job, const char* stage) {
@@ -23,22 +25,50 @@ void set_stage(Job& job, const char* stage) {
   job.progress.stage = stage;
 }
 
+// When the job's assets must stop: it was cancelled, or its time limit (counted from
+// the start of the run, like the map's) passed. Core's long loops ask `should_stop`.
+struct AssetDeadline {
+  AssetDeadline(const std::atomic<bool>& cancel, double limit_seconds)
+      : limit_seconds(limit_seconds),
+        deadline(limit_seconds > 0
+                     ? Clock::now() + std::chrono::duration_cast<Clock::duration>(
+                                          std::chrono::duration<double>(limit_seconds))
+                     : Clock::time_point::max()),
+        should_stop([&cancel, at = deadline] { return cancel || Clock::now() >= at; }) {}
+  bool passed() const { return Clock::now() >= deadline; }
+
+  double limit_seconds;
+  Clock::time_point deadline;
+  std::function<bool()> should_stop;
+};
+
 // Runs `make` for the asset `name` when it was asked for; an asset that cannot be
 // written (float32_range: positions past float32's range, in a glTF placed by a huge
 // node scale) is left out and its problem kept, so the map and the other assets stay
-// downloadable and the job still fails with that problem.
+// downloadable and the job still fails with that problem. An asset the time limit
+// stops (or finds passed) is left out the same way, as "time_limit".
 template <typename Make>
 void add_asset(Job& job, const char* name, nlohmann::json& metrics,
-               std::optional<JobError>& asset_error, Make make) {
+               std::optional<JobError>& asset_error, const AssetDeadline& time, Make make) {
   if (job.cancel) return;
+  auto fail = [&](const std::string& check, const std::string& detail) {
+    metrics[name] = {{"error", {{"check", check}, {"detail", detail}}}};
+    if (!asset_error)
+      asset_error =
+          check == "time_limit"
+              ? JobError{422, check, "Time limit reached", std::string(name) + ": " + detail}
+              : JobError{422, check, "Asset cannot be written", std::string(name) + ": " + detail};
+  };
+  std::ostringstream limit;
+  limit << "the job's time limit (" << time.limit_seconds << " s) passed before it was written";
+  if (time.passed()) return fail("time_limit", limit.str());
   set_stage(job, name);
   try {
     make();
   } catch (const InputError& e) {
-    metrics[name] = {{"error", {{"check", e.check()}, {"detail", e.what()}}}};
-    if (!asset_error)
-      asset_error =
-          JobError{422, e.check(), "Asset cannot be written", std::string(name) + ": " + e.what()};
+    if (e.check() == "stopped" && job.cancel) return;  // the job ends as cancelled
+    if (e.check() == "stopped") return fail("time_limit", limit.str());
+    fail(e.check(), e.what());
   }
 }
 
@@ -47,7 +77,7 @@ void add_asset(Job& job, const char* name, nlohmann::json& metrics,
 // sphere as written: a map that is not certified keeps only sphere.glb and metrics.json,
 // marked "bijective": false, so the best map reached can still be downloaded.
 Certification make_artifacts(Job& job, const JobSpec& spec, const MappedMesh& mapped, int threads,
-                             std::optional<JobError>& asset_error) {
+                             const AssetDeadline& time, std::optional<JobError>& asset_error) {
   SphereAsset sphere =
       sphere_asset(spec.input, mapped, spec.map, spec.layout, spec.draco_position_bits, &spec.look);
   const Certification verdict = certify(mapped, sphere.written);
@@ -59,21 +89,21 @@ Certification make_artifacts(Job& job, const JobSpec& spec, const MappedMesh& ma
            std::find(spec.outputs.begin(), spec.outputs.end(), name) != spec.outputs.end();
   };
   if (wanted("remesh"))
-    add_asset(job, "remesh", metrics, asset_error, [&] {
-      RemeshAsset remesh =
-          remesh_asset(mapped, spec.remesh_resolution, threads, &spec.input, &spec.look);
+    add_asset(job, "remesh", metrics, asset_error, time, [&] {
+      RemeshAsset remesh = remesh_asset(mapped, spec.remesh_resolution, threads, &spec.input,
+                                        &spec.look, &time.should_stop);
       metrics["remesh"] = std::move(remesh.metrics);
       add_artifact(job, "remesh.glb", "model/gltf-binary", std::move(remesh.glb));
       add_artifact(job, "geometry_image.png", "image/png", std::move(remesh.geometry_image_png));
     });
   if (wanted("uv"))
-    add_asset(job, "uv", metrics, asset_error, [&] {
+    add_asset(job, "uv", metrics, asset_error, time, [&] {
       UvAsset uv = uv_asset(mapped);
       metrics["uv"] = std::move(uv.metrics);
       add_artifact(job, "uv.glb", "model/gltf-binary", std::move(uv.glb));
     });
   if (wanted("morph"))
-    add_asset(job, "morph", metrics, asset_error, [&] {
+    add_asset(job, "morph", metrics, asset_error, time, [&] {
       MorphAsset morph = morph_asset(mapped, 4, &spec.input, &spec.look);
       metrics["morph"] = std::move(morph.metrics);
       add_artifact(job, "morph.glb", "model/gltf-binary", std::move(morph.glb));
@@ -97,6 +127,7 @@ JobStatus run_job(Job& job, const RunLimits& limits) {
   options.time_limit_seconds = options.time_limit_seconds > 0
                                    ? std::min(options.time_limit_seconds, limits.time_limit_seconds)
                                    : limits.time_limit_seconds;
+  const AssetDeadline time(job.cancel, options.time_limit_seconds);
   MapControl control;
   control.cancel = &job.cancel;
   control.on_progress = [&job](const MapProgress& p) {
@@ -113,7 +144,8 @@ JobStatus run_job(Job& job, const RunLimits& limits) {
       job.progress.stage = "writing";
     }
     std::optional<JobError> asset_error;
-    const Certification verdict = make_artifacts(job, *spec, mapped, limits.threads, asset_error);
+    const Certification verdict =
+        make_artifacts(job, *spec, mapped, limits.threads, time, asset_error);
     if (job.cancel) return JobStatus::kCancelled;
     if (!verdict.certified) {
       std::lock_guard lock(job.mutex);

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cstdio>
 
+#include "core/io/glb_writer.h"
+
 namespace spheremap::server {
 namespace {
 
@@ -162,6 +164,45 @@ std::optional<Artifact> JobStore::artifact(const Job& job, const std::string& na
   for (const Artifact& a : job.artifacts)
     if (a.name == name) return a;
   return std::nullopt;
+}
+
+SharedBytes JobStore::gltf_view(Job& job, const std::string& glb_name) {
+  SharedBytes glb;
+  auto built = [&]() -> SharedBytes {  // caller holds job.mutex
+    const auto view = job.gltf_views.find(glb_name);
+    return view == job.gltf_views.end() ? nullptr : view->second;
+  };
+  {
+    std::lock_guard lock(job.mutex);
+    if (SharedBytes view = built()) return view;
+    // Finished jobs only: a running job's artifacts may still be dropped (cancel, failure).
+    if (!is_terminal(job.status)) return nullptr;
+    for (const Artifact& a : job.artifacts)
+      if (a.name == glb_name) glb = a.bytes;
+  }
+  if (!glb) return nullptr;
+  // Concurrent first requests wait here for the one conversion rather than make their own.
+  std::lock_guard building(job.gltf_building);
+  {
+    std::lock_guard lock(job.mutex);
+    if (SharedBytes view = built()) return view;
+  }
+  SharedBytes view = share_bytes(glb_to_gltf(*glb));  // outside every lock: it takes a while
+  std::vector<std::shared_ptr<Job>> evicted;
+  std::lock_guard lock(mutex_);
+  {
+    std::lock_guard job_lock(job.mutex);
+    job.gltf_views[glb_name] = view;
+    // finish() counted the job's bytes; the view joins them while the job is kept (an
+    // evicted job's view goes with the last request that holds it).
+    const auto kept = jobs_.find(job.id);
+    if (kept != jobs_.end() && kept->second.get() == &job) {
+      result_bytes_ += view->size();
+      tenants_[job.tenant].result_bytes += view->size();
+    }
+  }
+  evict_locked(evicted);  // the view may take the results over their caps
+  return view;
 }
 
 size_t JobStore::queue_position(const Job& job) {

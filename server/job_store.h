@@ -53,6 +53,8 @@ class JobStore : public JobQueue {
   std::shared_ptr<Job> wait(const std::shared_ptr<Job>& job, double seconds) override;
   size_t queue_position(const Job& job) override;
   std::optional<Artifact> artifact(const Job& job, const std::string& name) override;
+  // Built once and kept with the job, counted in its result bytes while it is kept.
+  SharedBytes gltf_view(Job& job, const std::string& glb_name) override;
   bool cancel(const std::shared_ptr<Job>& job, const std::string& reason) override;
   bool remove(const std::string& id) override;
 

@@ -5,6 +5,7 @@
 #include <thread>
 
 #include "api/log.h"
+#include "core/io/glb_writer.h"
 #include "server/redis_scripts.h"
 #include "server/worker_protocol.h"
 
@@ -12,6 +13,8 @@ namespace spheremap::server {
 namespace {
 
 const std::string kPrefix = "spheremap:";
+// The artifacts and .gltf views an API process keeps after serving them (downloads_).
+constexpr size_t kDownloadCacheBytes = size_t{256} << 20;
 const std::string kStream = kPrefix + "jobs";
 const std::string kQueued = kPrefix + "queued";
 const std::string kFinished = kPrefix + "finished";
@@ -128,7 +131,7 @@ std::shared_ptr<Job> job_from_hash(const RedisReply& fields) {
       job->cancel = value == "1";
     else if (key == "artifacts") {
       for (const nlohmann::json& a : nlohmann::json::parse(value))
-        job->artifacts.push_back({a.at("name"), a.at("type"), "", a.at("size")});
+        job->artifacts.push_back({a.at("name"), a.at("type"), nullptr, a.at("size")});
     }
   }
   job->status = job_status_from(status).value_or(JobStatus::kQueued);
@@ -138,7 +141,10 @@ std::shared_ptr<Job> job_from_hash(const RedisReply& fields) {
 }  // namespace
 
 RedisJobQueue::RedisJobQueue(RedisAddress address, RedisQueueLimits limits, Observer observer)
-    : limits_(limits), observer_(std::move(observer)), pool_(std::move(address), 16) {}
+    : limits_(limits),
+      observer_(std::move(observer)),
+      pool_(std::move(address), 16),
+      downloads_(kDownloadCacheBytes) {}
 
 // Runs `body` on a pooled connection; Redis out of reach becomes QueueUnavailable.
 template <typename Body>
@@ -354,12 +360,26 @@ std::optional<Artifact> RedisJobQueue::artifact(const Job& job, const std::strin
       if (a.name == name) type = a.content_type;
   }
   if (type.empty()) return std::nullopt;
-  return with_redis([&](RedisConnection& redis) -> std::optional<Artifact> {
-    const RedisReply bytes = redis.command({"HGET", files_key(job.id), name});
-    if (bytes.is_nil()) return std::nullopt;  // evicted between the view and now
-    std::string data = bytes.text();
-    const size_t size = data.size();
-    return Artifact{name, type, std::move(data), size};
+  // A job's artifacts never change once listed: the id and the name name the bytes.
+  const SharedBytes bytes = downloads_.get(job.id + "/" + name, [&] {
+    return with_redis([&](RedisConnection& redis) -> SharedBytes {
+      const RedisReply reply = redis.command({"HGET", files_key(job.id), name});
+      if (reply.is_nil()) return nullptr;  // evicted between the view and now
+      return share_bytes(reply.text());
+    });
+  });
+  if (!bytes) return std::nullopt;
+  return Artifact{name, type, bytes, bytes->size()};
+}
+
+SharedBytes RedisJobQueue::gltf_view(Job& job, const std::string& glb_name) {
+  {
+    std::lock_guard lock(job.mutex);
+    if (!is_terminal(job.status)) return nullptr;
+  }
+  return downloads_.get(job.id + "/" + glb_name + " as .gltf", [&]() -> SharedBytes {
+    const std::optional<Artifact> glb = artifact(job, glb_name);
+    return glb ? share_bytes(glb_to_gltf(*glb->bytes)) : nullptr;
   });
 }
 
@@ -608,7 +628,7 @@ void RedisJobQueue::finish(RedisConnection& redis, const Delivery& delivery, Job
   size_t bytes = 0;
   {
     std::lock_guard lock(job.mutex);
-    for (const Artifact& a : job.artifacts) bytes += a.bytes.size();
+    for (const Artifact& a : job.artifacts) bytes += a.size;
   }
   // Results larger than the whole cluster's result memory could never be downloaded.
   if (bytes > limits_.result_memory_bytes)
@@ -618,7 +638,7 @@ void RedisJobQueue::finish(RedisConnection& redis, const Delivery& delivery, Job
                           std::to_string(limits_.result_memory_bytes)});
   {
     std::lock_guard lock(job.mutex);
-    for (const Artifact& a : job.artifacts) files.push_back(a.name), files.push_back(a.bytes);
+    for (const Artifact& a : job.artifacts) files.push_back(a.name), files.push_back(*a.bytes);
   }
   if (files.size() > 2) {
     try {
@@ -640,8 +660,8 @@ void RedisJobQueue::finish(RedisConnection& redis, const Delivery& delivery, Job
   {
     std::lock_guard lock(job.mutex);
     for (const Artifact& a : job.artifacts) {
-      listed.push_back({{"name", a.name}, {"type", a.content_type}, {"size", a.bytes.size()}});
-      bytes += a.bytes.size();
+      listed.push_back({{"name", a.name}, {"type", a.content_type}, {"size", a.size}});
+      bytes += a.size;
     }
     job.progress.stage = std::string(to_string(status));
     fields = {"progress", progress_json(job.progress), "artifacts", listed.dump()};

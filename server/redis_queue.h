@@ -41,6 +41,7 @@
 
 #include "server/api_types.h"
 #include "server/redis_connection.h"
+#include "server/shared_bytes_cache.h"
 
 namespace spheremap::server {
 
@@ -77,7 +78,10 @@ class RedisJobQueue : public JobQueue {
   Lookup find(const std::string& id) override;
   std::shared_ptr<Job> wait(const std::shared_ptr<Job>& job, double seconds) override;
   size_t queue_position(const Job& job) override;
+  // Fetched through downloads_: parallel requests for one artifact share one fetch.
   std::optional<Artifact> artifact(const Job& job, const std::string& name) override;
+  // Built from the fetched .glb once and kept in downloads_ (bounded), not with the job.
+  SharedBytes gltf_view(Job& job, const std::string& glb_name) override;
   bool cancel(const std::shared_ptr<Job>& job, const std::string& reason) override;
   bool remove(const std::string& id) override;
   bool accepting() const override;  // not draining, and Redis answered within the last second
@@ -169,6 +173,7 @@ class RedisJobQueue : public JobQueue {
   std::mutex telling_mutex_;
   std::condition_variable told_cv_;
   std::set<std::string> telling_;  // jobs submitted here whose "queued" is not told yet
+  SharedBytesCache downloads_;     // artifacts and .gltf views this process has served
 };
 
 }  // namespace spheremap::server

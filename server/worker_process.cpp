@@ -135,10 +135,8 @@ std::optional<JobStatus> apply(Job& job, const FrameReader::Frame& frame) {
     case FrameType::kArtifact: {
       const size_t newline = frame.payload.find('\n');
       const nlohmann::json header = nlohmann::json::parse(frame.payload.substr(0, newline));
-      std::string bytes = frame.payload.substr(newline + 1);
-      const size_t size = bytes.size();
-      job.artifacts.push_back(
-          {header.at("name"), header.at("content_type"), std::move(bytes), size});
+      job.artifacts.push_back(make_artifact(header.at("name"), header.at("content_type"),
+                                            frame.payload.substr(newline + 1)));
       break;
     }
     case FrameType::kMetrics:
@@ -405,9 +403,9 @@ void serve_one(const std::string& request) {
   std::lock_guard lock(job.mutex);
   send(FrameType::kProgress, progress_json(job.progress));
   for (const Artifact& a : job.artifacts)
-    send(
-        FrameType::kArtifact,
-        nlohmann::json{{"name", a.name}, {"content_type", a.content_type}}.dump() + "\n" + a.bytes);
+    send(FrameType::kArtifact,
+         nlohmann::json{{"name", a.name}, {"content_type", a.content_type}}.dump() + "\n" +
+             *a.bytes);
   if (!job.metrics.is_null()) send(FrameType::kMetrics, job.metrics.dump());
   if (job.error) send(FrameType::kError, error_json(*job.error));
   send(FrameType::kStatus, nlohmann::json{{"status", to_string(status)}}.dump());

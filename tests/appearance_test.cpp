@@ -3,13 +3,17 @@
 // remesh's grid. On generated textured files (always) and on the duck (corpus).
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <cmath>
+#include <functional>
+#include <mutex>
 
 #include "core/io/gltf_reader.h"
 #include "core/io/image_reader.h"
 #include "core/io/mesh_file.h"
 #include "core/io/scene_glb.h"
 #include "core/map/certification.h"
+#include "core/mesh/input_error.h"
 #include "core/outputs/base_color_bake.h"
 #include "core/outputs/map_outputs.h"
 #include "core/outputs/octahedral.h"
@@ -215,6 +219,45 @@ TEST(Appearance, BakedBaseColourIsTheMaterialOfTheFaceUnderEachTexel) {
   EXPECT_GE(agree, static_cast<size_t>(0.99 * size * size));  // ties on triangle edges
   EXPECT_GT(reds, 0u);
   EXPECT_LT(reds, static_cast<size_t>(size * size));
+}
+
+// The colour bake asks its stop check before each decode and each row: asked to stop,
+// it throws InputError("stopped") instead of finishing, within a row's time of being
+// asked (here a 2048 x 2048 bake told to stop 20 ms in).
+TEST(Appearance, TheColourBakeStopsWhenAsked) {
+  const ReadBack in = read_with_look(testing::textured_glb(testing::horseshoe()));
+  const MappedMesh mapped = map_mesh(in.mesh, {}, {});
+  const std::function<bool()> always = [] { return true; };
+  try {
+    remesh_asset(mapped, 1024, 1, &in.mesh, &in.look, &always);
+    ADD_FAILURE() << "not stopped";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.check(), "stopped");
+  }
+  const auto start = std::chrono::steady_clock::now();
+  const auto deadline = start + std::chrono::milliseconds(20);
+  size_t asked = 0;
+  std::mutex asked_mutex;
+  const std::function<bool()> at_deadline = [&] {
+    std::lock_guard lock(asked_mutex);
+    ++asked;
+    return std::chrono::steady_clock::now() >= deadline;
+  };
+  const OrientedTriangles oriented = oriented_triangles(mapped.prepared.welded.mesh);
+  EXPECT_THROW(bake_base_color(in.mesh, in.look, mapped, oriented.triangles, 2048, 1, &at_deadline),
+               InputError);
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const auto whole_start = std::chrono::steady_clock::now();
+  ASSERT_TRUE(bake_base_color(in.mesh, in.look, mapped, oriented.triangles, 2048, 1));
+  const double whole =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - whole_start).count();
+  std::printf(
+      "2048^2 colour bake: %.3f s whole, stopped %.3f s after its start (deadline 0.020 s, "
+      "asked %zu times)\n",
+      whole, seconds, asked);
+  EXPECT_LT(seconds, 0.5);
+  EXPECT_GT(asked, 1u);
 }
 
 TEST(Appearance, RemeshCarriesTheTextureItSamples) {

@@ -131,8 +131,7 @@ class RedisQueueTest : public ::testing::Test {
     return job;
   }
   static server::Artifact artifact(std::string name, std::string bytes) {
-    const size_t size = bytes.size();
-    return {std::move(name), "application/octet-stream", std::move(bytes), size};
+    return server::make_artifact(std::move(name), "application/octet-stream", std::move(bytes));
   }
 
   static inline int port_ = 0;
@@ -184,7 +183,7 @@ TEST_F(RedisQueueTest, AJobFinishedTwiceKeepsTheFirstResult) {
   EXPECT_EQ(found.job->status, server::JobStatus::kSucceeded);
   const auto bytes = api.artifact(*found.job, "sphere.glb");
   ASSERT_TRUE(bytes);
-  EXPECT_EQ(bytes->bytes, "first");
+  EXPECT_EQ(*bytes->bytes, "first");
   EXPECT_EQ(api.counts().running, 0u);  // both entries acknowledged
 }
 
@@ -346,6 +345,50 @@ TEST_F(RedisQueueTest, AListedArtifactShowsItsSize) {
   ASSERT_TRUE(found.job);
   const nlohmann::json view = api::job_json(*found.job, 0);
   EXPECT_EQ(view["artifacts"]["sphere.glb"]["bytes"], 5000) << view.dump();
+}
+
+// Downloads of one artifact share one fetch's bytes: the second request gets the same
+// object, and parallel requests make one fetch between them.
+TEST_F(RedisQueueTest, DownloadsShareOneFetch) {
+  RedisJobQueue queue(address(), {}, nullptr);
+  RedisConnection redis(address());
+  const auto job = run_to_end(queue, redis, 1u << 20);
+  const auto found = queue.find(job->id).job;
+  ASSERT_TRUE(found);
+  std::vector<api::SharedBytes> got(16);
+  std::vector<std::thread> requests;
+  for (size_t i = 0; i < got.size(); ++i)
+    requests.emplace_back([&, i] { got[i] = queue.artifact(*found, "sphere.glb")->bytes; });
+  for (auto& r : requests) r.join();
+  for (const auto& g : got) EXPECT_EQ(g, got[0]);
+  EXPECT_EQ(got[0]->size(), 1u << 20);
+  EXPECT_FALSE(queue.artifact(*found, "remesh.glb"));
+  EXPECT_FALSE(queue.gltf_view(*found, "remesh.glb"));
+}
+
+// A .gltf view in Redis mode: built from the fetched GLB once, the same bytes after.
+TEST_F(RedisQueueTest, AGltfViewIsBuiltOnceFromTheFetchedGlb) {
+  RedisJobQueue queue(address(), {}, nullptr);
+  RedisConnection redis(address());
+  std::shared_ptr<server::Job> job;
+  ASSERT_EQ(queue.submit(spec(), job), JobQueue::Admission::kAccepted);
+  const auto d = claim(queue, redis, "n1");
+  int attempts = 0;
+  ASSERT_EQ(queue.start(redis, d, "n1", attempts), RedisJobQueue::Start::kRun);
+  GlbMesh mesh;
+  const PolygonMesh sphere = testing::icosphere(1);
+  mesh.positions = sphere.positions;
+  mesh.triangles = fan_triangulate(sphere).triangles;
+  const std::string glb = format_glb(mesh);
+  auto run = queue.load(redis, d.id, false);
+  run->artifacts = {server::make_artifact("sphere.glb", "model/gltf-binary", glb)};
+  queue.finish(redis, d, *run, server::JobStatus::kSucceeded);
+  const auto found = queue.find(job->id).job;
+  ASSERT_TRUE(found);
+  const api::SharedBytes first = queue.gltf_view(*found, "sphere.glb");
+  ASSERT_TRUE(first);
+  EXPECT_EQ(*first, glb_to_gltf(glb));
+  EXPECT_EQ(queue.gltf_view(*queue.find(job->id).job, "sphere.glb"), first);  // kept
 }
 
 // Two worker nodes starting together on a fresh Redis both find no group and both create
@@ -664,7 +707,7 @@ TEST_F(RedisQueueTest, AFinishRetriedDoesNotSendTheResultsAgain) {
   const auto found = queue.find(job->id).job;
   ASSERT_TRUE(found);
   EXPECT_EQ(found->status, server::JobStatus::kSucceeded);
-  EXPECT_EQ(queue.artifact(*found, "sphere.glb")->bytes, result);
+  EXPECT_EQ(*queue.artifact(*found, "sphere.glb")->bytes, result);
   EXPECT_EQ(queue.counts().result_bytes, result.size());  // counted once
 }
 

@@ -10,8 +10,11 @@
 
 #include "api/job_request.h"
 #include "api/problem.h"
+#include "core/io/glb_writer.h"
+#include "core/io/jpeg_scans.h"
 #include "server/job_guard.h"
 #include "tests/gltf_files.h"
+#include "tests/mesh_generators.h"
 #include "tests/test_server.h"
 
 namespace spheremap {
@@ -74,6 +77,27 @@ TEST(ServiceSecurity, ResourcesOverTheCapAre413) {
   EXPECT_EQ(client.Get("/healthz")->status, 200);
 }
 
+// A base-colour JPEG of more scans than the decoder is allowed (core/io/jpeg_scans.h) is
+// refused when a remesh is submitted, not found out by the job's colour bake.
+TEST(ServiceSecurity, ARemeshWhoseJpegHasTooManyScansIs422) {
+  testing::TestServer server(security_config());
+  auto client = server.client();
+  std::string jpeg = "\xff\xd8";
+  for (size_t i = 0; i <= kMaxJpegScans; ++i) jpeg += std::string("\xff\xda\x00\x02", 4);
+  jpeg += "\xff\xd9";
+  const PolygonMesh mesh = testing::horseshoe();
+  GlbMesh glb;
+  glb.positions = mesh.positions;
+  glb.triangles = fan_triangulate(mesh).triangles;
+  glb.texcoords.assign(mesh.positions.size(), {0.5f, 0.5f});
+  glb.base_color_png = jpeg;  // typed by its bytes when read: a JPEG
+  glb.material_name = "many scans";
+  auto remesh = client.Post("/v1/jobs?outputs=remesh", format_glb(glb), "model/gltf-binary");
+  ASSERT_TRUE(remesh);
+  EXPECT_EQ(remesh->status, 422) << remesh->body;
+  EXPECT_EQ(json::parse(remesh->body)["check"], "jpeg_scans") << remesh->body;
+}
+
 TEST(ServiceSecurity, ARemeshWhoseTexturesExceedMaxImagePixelsIs413) {
   server::ServerConfig config = security_config();
   config.max_image_pixels = 100;  // the test texture has 16 x 16
@@ -108,7 +132,7 @@ TEST(ServiceSecurity, TheReaderStopsInsideTheGltfAtTheDeadline) {
 
 TEST(ServiceSecurity, AnAllocationFailureFailsTheJobNotTheProcess) {
   api::Job job;
-  job.artifacts.push_back({"sphere.glb", "model/gltf-binary", "partial", 7});
+  job.artifacts.push_back(api::make_artifact("sphere.glb", "model/gltf-binary", "partial"));
   const api::JobStatus status =
       server::run_guarded(job, []() -> api::JobStatus { throw std::bad_alloc(); });
   EXPECT_EQ(status, api::JobStatus::kFailed);

@@ -4,6 +4,10 @@
 #include <turbojpeg.h>
 
 #include <memory>
+#include <string>
+
+#include "core/io/jpeg_scans.h"
+#include "core/mesh/input_error.h"
 
 namespace spheremap {
 namespace {
@@ -38,6 +42,11 @@ std::optional<RgbaImage> decode_jpeg(std::string_view bytes, size_t max_pixels) 
   if (tjDecompressHeader3(handle.get(), data, size, &width, &height, &subsampling, &colorspace) ||
       width <= 0 || height <= 0 || static_cast<uint64_t>(width) * height > max_pixels)
     return std::nullopt;
+  // Each scan is decoded over the whole image: thousands of them take minutes.
+  if (const size_t scans = jpeg_scan_count(bytes); scans > kMaxJpegScans)
+    throw InputError("jpeg_scans", "a JPEG image has over " + std::to_string(kMaxJpegScans) +
+                                       " scans (progressive passes); decoding them would take "
+                                       "too long, so it is refused");
   RgbaImage out;
   out.width = width;
   out.height = height;

@@ -25,7 +25,8 @@ std::string image_type(std::string_view bytes);
 size_t image_pixels(std::string_view bytes);
 
 // The image, or nothing when it is not a PNG or JPEG that decodes, or has more than
-// `max_pixels` pixels.
+// `max_pixels` pixels. Throws InputError("jpeg_scans") for a JPEG of more than
+// kMaxJpegScans scans (core/io/jpeg_scans.h), before decoding any.
 std::optional<RgbaImage> decode_image(std::string_view bytes, size_t max_pixels);
 
 }  // namespace spheremap

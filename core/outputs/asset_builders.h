@@ -3,6 +3,8 @@
 // of an asset of several parts side by side in one file.
 #pragma once
 
+#include <functional>
+
 #include <nlohmann/json.hpp>
 #include <vector>
 
@@ -34,7 +36,8 @@ struct BuiltRemesh : BuiltAsset {
 };
 // The remesh of one part (preconditions of remesh_asset).
 BuiltRemesh build_remesh(const MappedMesh& mapped, int resolution, int threads,
-                         const PolygonMesh* input, const GltfAppearance* appearance);
+                         const PolygonMesh* input, const GltfAppearance* appearance,
+                         const std::function<bool()>* should_stop = nullptr);
 
 // The UV mesh of one part, without its texture.
 BuiltAsset build_uv(const MappedMesh& mapped);
@@ -57,7 +60,8 @@ struct PartIndex {
 
 // The same assets for an asset of several parts (mapped.parts), one node per part.
 RemeshAsset parts_remesh_asset(const MappedMesh& mapped, int resolution, int threads,
-                               const PolygonMesh* input, const GltfAppearance* appearance);
+                               const PolygonMesh* input, const GltfAppearance* appearance,
+                               const std::function<bool()>* should_stop = nullptr);
 UvAsset parts_uv_asset(const MappedMesh& mapped);
 MorphAsset parts_morph_asset(const MappedMesh& mapped, double seconds);
 // Each part's unit sphere in a node placed at the part (the input's look is not kept).

@@ -6,9 +6,12 @@
 #include <set>
 
 #include "core/io/image_reader.h"
+#include "core/io/jpeg_scans.h"
 #include "core/io/png_writer.h"
 #include "core/mesh/input_error.h"
 #include "core/mesh/parallel.h"
+#include "core/mesh/parallel_stop.h"
+#include "core/mesh/stop_check.h"
 #include "core/outputs/octahedral.h"
 #include "core/outputs/sphere_asset.h"
 #include "core/outputs/sphere_locator.h"
@@ -98,7 +101,7 @@ size_t base_color_image(const GltfAppearance& look, size_t m) {
 // The base colour of every material drawn, decoding each distinct image it uses once,
 // at most kMaxBaseColorPixels in all.
 std::vector<BaseColor> base_colors(const GltfAppearance& look, std::map<size_t, RgbaImage>& images,
-                                   size_t& decoded) {
+                                   size_t& decoded, const StopCheck& stop) {
   std::vector<BaseColor> out(look.materials.size());
   const std::vector<char> drawn = drawn_materials(look);
   size_t pixels = 0;
@@ -130,6 +133,7 @@ std::vector<BaseColor> base_colors(const GltfAppearance& look, std::map<size_t, 
     if (!bytes) continue;
     const size_t data = look.image_source[source];
     if (!images.count(data)) {
+      stop.check();  // a decode takes up to seconds
       pixels += std::min(image_pixels(*bytes), kMaxImagePixels + 1);
       if (pixels > kMaxBaseColorPixels)
         throw InputError("too_large", "the base-colour images the remesh samples hold over " +
@@ -145,31 +149,49 @@ std::vector<BaseColor> base_colors(const GltfAppearance& look, std::map<size_t, 
   return out;
 }
 
-}  // namespace
-
-size_t base_color_pixels(const GltfAppearance& look) {
+// Calls `visit` with the bytes of each distinct image a drawn material takes its base
+// colour from: the images bake_base_color would decode.
+template <typename Visit>
+void for_each_base_color_image(const GltfAppearance& look, Visit visit) {
   const std::vector<char> drawn = drawn_materials(look);
-  std::set<size_t> counted;  // image_data entries
-  size_t pixels = 0;
+  std::set<size_t> seen;  // image_data entries
   for (size_t m = 0; m < look.materials.size(); ++m) {
     const size_t image = drawn[m] ? base_color_image(look, m) : SIZE_MAX;
     const std::string* bytes = image == SIZE_MAX ? nullptr : look.image_bytes(image);
-    if (bytes && counted.insert(look.image_source[image]).second)
-      pixels += std::min(image_pixels(*bytes), kMaxImagePixels + 1);
+    if (bytes && seen.insert(look.image_source[image]).second) visit(*bytes);
   }
+}
+
+}  // namespace
+
+size_t base_color_pixels(const GltfAppearance& look) {
+  size_t pixels = 0;
+  for_each_base_color_image(look, [&](const std::string& bytes) {
+    pixels += std::min(image_pixels(bytes), kMaxImagePixels + 1);
+  });
   return pixels;
+}
+
+size_t base_color_jpeg_scans(const GltfAppearance& look) {
+  size_t most = 0;
+  for_each_base_color_image(look, [&](const std::string& bytes) {
+    if (image_type(bytes) == "image/jpeg") most = std::max(most, jpeg_scan_count(bytes));
+  });
+  return most;
 }
 
 std::optional<BakedBaseColor> bake_base_color(const PolygonMesh& input, const GltfAppearance& look,
                                               const MappedMesh& mapped,
                                               std::span<const Triangle> oriented, int size,
-                                              int threads) {
+                                              int threads,
+                                              const std::function<bool()>* should_stop) {
+  const StopCheck stop(should_stop);
   const bool coloured = std::any_of(look.primitives.begin(), look.primitives.end(),
                                     [](auto& p) { return p.material >= 0 || p.has("COLOR_0"); });
   if (look.empty() || !coloured || size <= 0) return std::nullopt;
   BakedBaseColor baked;
   std::map<size_t, RgbaImage> images;
-  const std::vector<BaseColor> colors = base_colors(look, images, baked.images_decoded);
+  const std::vector<BaseColor> colors = base_colors(look, images, baked.images_decoded, stop);
 
   // Welded faces are the input's faces in order, less dropped components: face t of the
   // map is input face input_face[t], its corners matched by welded vertex.
@@ -188,7 +210,10 @@ std::optional<BakedBaseColor> bake_base_color(const PolygonMesh& input, const Gl
 
   std::vector<uint16_t> rgb(static_cast<size_t>(size) * size * 3, 128);
   std::vector<char> missed(static_cast<size_t>(size) * size, 0);
+  // Asked every row (at most 2048 texels: milliseconds).
+  ParallelStop row_stop(should_stop, 1);
   parallel_for(static_cast<size_t>(size), threads, [&](size_t row) {
+    if (row_stop.skip(row)) return;
     for (int column = 0; column < size; ++column) {
       const double u = (column + 0.5) / size, v = (row + 0.5) / size;
       const SphereHit hit = locator.locate(octahedral_decode({2 * u - 1, 1 - 2 * v}));
@@ -229,6 +254,7 @@ std::optional<BakedBaseColor> bake_base_color(const PolygonMesh& input, const Gl
         rgb[texel * 3 + k] = static_cast<uint16_t>(std::lround(255 * linear_to_srgb(color[k])));
     }
   });
+  row_stop.throw_if_stopped();
   baked.unlocated_texels = static_cast<size_t>(std::count(missed.begin(), missed.end(), 1));
   baked.size = size;
   baked.png = encode_png(size, size, 8, rgb);

@@ -2,11 +2,13 @@
 // TEXCOORD_0 is the square) needs to look like the textured original.
 #pragma once
 
+#include <functional>
 #include <optional>
 #include <span>
 #include <string>
 
 #include "core/io/gltf_appearance.h"
+#include "core/io/jpeg_scans.h"
 #include "core/map/pipeline.h"
 
 namespace spheremap {
@@ -24,6 +26,9 @@ struct BakedBaseColor {
 // no material and no vertex colour. Preconditions: mapped.map.check.bijective; `look`
 // and `input` from one read_gltf() call, `mapped` prepared from `input`; `oriented` the
 // welded mesh's oriented_triangles() (the remesh has them already).
+// `should_stop` (may be null) is asked before each image decode and before each row of
+// texels (from every thread); once it says true, the bake throws InputError("stopped")
+// instead of going on: a bake of a large texture keeps to a job's time limit.
 // The most pixels bake_base_color decodes in all (4 bytes each); over it, it throws
 // InputError("too_large").
 inline constexpr size_t kMaxBaseColorPixels = size_t{1} << 26;
@@ -31,10 +36,14 @@ inline constexpr size_t kMaxBaseColorPixels = size_t{1} << 26;
 // The pixels of each distinct image a drawn material takes its base colour from, read
 // from the images' headers (nothing decoded): what bake_base_color would decode.
 size_t base_color_pixels(const GltfAppearance& look);
+// The most scans of a JPEG among those images (counted from their markers, up to
+// kMaxJpegScans + 1): over kMaxJpegScans, bake_base_color would refuse it.
+size_t base_color_jpeg_scans(const GltfAppearance& look);
 
 std::optional<BakedBaseColor> bake_base_color(const PolygonMesh& input, const GltfAppearance& look,
                                               const MappedMesh& mapped,
                                               std::span<const Triangle> oriented, int size,
-                                              int threads);
+                                              int threads,
+                                              const std::function<bool()>* should_stop = nullptr);
 
 }  // namespace spheremap

@@ -9,6 +9,7 @@
 #include "core/io/glb_writer.h"
 #include "core/io/png_writer.h"
 #include "core/io/scene_glb.h"
+#include "core/mesh/stop_check.h"
 #include "core/mesh/topology.h"
 #include "core/outputs/asset_builders.h"
 #include "core/outputs/base_color_bake.h"
@@ -103,21 +104,27 @@ SceneGeometry scene_morph(const PolygonMesh& input, const GltfAppearance& look,
 }  // namespace
 
 BuiltRemesh build_remesh(const MappedMesh& mapped, int resolution, int threads,
-                         const PolygonMesh* input, const GltfAppearance* appearance) {
+                         const PolygonMesh* input, const GltfAppearance* appearance,
+                         const std::function<bool()>* should_stop) {
+  const StopCheck stop(should_stop);
+  stop.check();
   const auto start = std::chrono::steady_clock::now();
   const PolygonMesh& mesh = mapped.prepared.welded.mesh;
   const OrientedTriangles oriented = oriented_triangles(mesh);
   const OctahedralRemesh remesh =
       octahedral_remesh(mesh.positions, mapped.map.sphere, oriented.triangles, resolution, threads);
   const double sample_seconds = seconds_since(start);
+  stop.check();
 
   // Our own validator on the stitched surface: closed, manifold, genus 0.
   const PolygonMesh stitched = stitched_mesh(remesh);
   const TopologyReport topology = analyze_topology(stitched);
   const auto failures = mapping_failures(topology);
+  stop.check();
   const auto distance_start = std::chrono::steady_clock::now();
-  const SurfaceDistance distance = surface_distance(mesh.positions, oriented.triangles,
-                                                    remesh.positions, remesh.triangles, threads);
+  const SurfaceDistance distance = surface_distance(
+      mesh.positions, oriented.triangles, remesh.positions, remesh.triangles, threads, should_stop);
+  stop.check();
   BuiltRemesh asset;
   asset.image = geometry_image(remesh);
   const nlohmann::json& image = asset.image.description;
@@ -164,8 +171,8 @@ BuiltRemesh build_remesh(const MappedMesh& mapped, int resolution, int threads,
   if (input && appearance) {
     // Twice the grid's resolution (a texel per half quad), within 256..2048.
     const int size = std::clamp(2 * resolution, 256, 2048);
-    if (auto baked =
-            bake_base_color(*input, *appearance, mapped, oriented.triangles, size, threads)) {
+    if (auto baked = bake_base_color(*input, *appearance, mapped, oriented.triangles, size, threads,
+                                     should_stop)) {
       glb.base_color_png = std::move(baked->png);
       glb.material_name = "base colour of the input";
       asset.metrics["texture"] = {{"size", baked->size},
@@ -179,10 +186,11 @@ BuiltRemesh build_remesh(const MappedMesh& mapped, int resolution, int threads,
 }
 
 RemeshAsset remesh_asset(const MappedMesh& mapped, int resolution, int threads,
-                         const PolygonMesh* input, const GltfAppearance* appearance) {
+                         const PolygonMesh* input, const GltfAppearance* appearance,
+                         const std::function<bool()>* should_stop) {
   if (!mapped.parts.empty())
-    return parts_remesh_asset(mapped, resolution, threads, input, appearance);
-  BuiltRemesh built = build_remesh(mapped, resolution, threads, input, appearance);
+    return parts_remesh_asset(mapped, resolution, threads, input, appearance, should_stop);
+  BuiltRemesh built = build_remesh(mapped, resolution, threads, input, appearance, should_stop);
   RemeshAsset asset;
   asset.geometry_image_png = encode_png(built.image.side, built.image.side, 16, built.image.rgb);
   asset.metrics = std::move(built.metrics);

@@ -4,6 +4,8 @@
 // Shared by `spheremap remesh|uv|morph` and the service's artifacts.
 #pragma once
 
+#include <functional>
+
 #include <nlohmann/json.hpp>
 #include <string>
 
@@ -21,9 +23,13 @@ struct RemeshAsset {
 // Precondition: mapped.map.check.bijective. resolution: quads per side, even, >= 2.
 // With the `appearance` read beside `input` (a glTF with materials or vertex colours),
 // the GLB's material carries the input's base colour resampled onto the grid.
+// `should_stop` (may be null: never stop) is asked between stages, between image
+// decodes and every row of the colour bake; when it says true, remesh_asset throws
+// InputError("stopped") within a row's time (a job's time limit or cancel).
 RemeshAsset remesh_asset(const MappedMesh& mapped, int resolution, int threads = 0,
                          const PolygonMesh* input = nullptr,
-                         const GltfAppearance* appearance = nullptr);
+                         const GltfAppearance* appearance = nullptr,
+                         const std::function<bool()>* should_stop = nullptr);
 
 struct UvAsset {
   std::string glb;

@@ -58,7 +58,8 @@ PartIndex::PartIndex(const MappedMesh& mapped)
 }
 
 RemeshAsset parts_remesh_asset(const MappedMesh& mapped, int resolution, int threads,
-                               const PolygonMesh* input, const GltfAppearance* appearance) {
+                               const PolygonMesh* input, const GltfAppearance* appearance,
+                               const std::function<bool()>* should_stop) {
   const auto start = std::chrono::steady_clock::now();
   double largest_area = 0;
   for (const MappedPart& part : mapped.parts)
@@ -86,11 +87,11 @@ RemeshAsset parts_remesh_asset(const MappedMesh& mapped, int resolution, int thr
       MappedMesh with_input = part.mapped;
       for (auto [v, w] : inputs[k]) scratch[v] = w;
       with_input.prepared.welded.input_to_welded = std::move(scratch);
-      built = build_remesh(with_input, grid, threads, input, appearance);
+      built = build_remesh(with_input, grid, threads, input, appearance, should_stop);
       scratch = std::move(with_input.prepared.welded.input_to_welded);
       for (auto [v, w] : inputs[k]) scratch[v] = kUnreferenced;
     } else {
-      built = build_remesh(part.mapped, grid, threads, nullptr, nullptr);
+      built = build_remesh(part.mapped, grid, threads, nullptr, nullptr, should_stop);
     }
     const nlohmann::json& m = built.metrics;
     samples += m["samples"].get<size_t>();

@@ -7,6 +7,8 @@
 #include <vector>
 
 #include "core/mesh/parallel.h"
+#include "core/mesh/parallel_stop.h"
+#include "core/mesh/stop_check.h"
 
 namespace spheremap {
 namespace {
@@ -151,10 +153,13 @@ std::vector<Vec3> samples_of(std::span<const Vec3> positions, std::span<const Tr
 
 // {sum of squared distances, max distance} of the samples to the tree.
 std::pair<double, double> one_way(const std::vector<Vec3>& samples, const TriangleTree& tree,
-                                  int threads) {
+                                  int threads, const std::function<bool()>* should_stop) {
   std::vector<double> d2(samples.size());
-  parallel_for(samples.size(), resolve_threads(threads),
-               [&](size_t i) { d2[i] = tree.squared_distance(samples[i]); });
+  ParallelStop stop(should_stop, 4096);  // a few milliseconds of queries
+  parallel_for(samples.size(), resolve_threads(threads), [&](size_t i) {
+    if (!stop.skip(i)) d2[i] = tree.squared_distance(samples[i]);
+  });
+  stop.throw_if_stopped();
   double sum = 0, max = 0;
   for (double x : d2) sum += x, max = std::max(max, x);
   return {sum, std::sqrt(max)};
@@ -165,7 +170,8 @@ std::pair<double, double> one_way(const std::vector<Vec3>& samples, const Triang
 SurfaceDistance surface_distance(std::span<const Vec3> a_positions,
                                  std::span<const Triangle> a_triangles,
                                  std::span<const Vec3> b_positions,
-                                 std::span<const Triangle> b_triangles, int threads) {
+                                 std::span<const Triangle> b_triangles, int threads,
+                                 const std::function<bool()>* should_stop) {
   SurfaceDistance out;
   // Both surfaces in a's unit frame: the figures are relative to a's diagonal, so a
   // similarity does not change them, and a mesh at 1e-300 units no longer underflows to
@@ -182,8 +188,14 @@ SurfaceDistance surface_distance(std::span<const Vec3> a_positions,
   if (!(d > 0) || b_triangles.empty()) return out;
   const std::vector<Vec3> a_samples = samples_of(a_unit, a_triangles);
   const std::vector<Vec3> b_samples = samples_of(b_unit, b_triangles);
-  const auto [a_sum, a_max] = one_way(a_samples, TriangleTree(b_unit, b_triangles), threads);
-  const auto [b_sum, b_max] = one_way(b_samples, TriangleTree(a_unit, a_triangles), threads);
+  // Asked before each tree too: building one over a million triangles takes a while.
+  const StopCheck stop(should_stop);
+  stop.check();
+  const auto [a_sum, a_max] =
+      one_way(a_samples, TriangleTree(b_unit, b_triangles), threads, should_stop);
+  stop.check();
+  const auto [b_sum, b_max] =
+      one_way(b_samples, TriangleTree(a_unit, a_triangles), threads, should_stop);
   out.rms_a_to_b = std::sqrt(a_sum / a_samples.size()) / d;
   out.max_a_to_b = a_max / d;
   out.rms_b_to_a = std::sqrt(b_sum / b_samples.size()) / d;

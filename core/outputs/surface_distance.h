@@ -4,6 +4,7 @@
 // surface's bounding-box diagonal.
 #pragma once
 
+#include <functional>
 #include <span>
 
 #include "core/mesh/mesh.h"
@@ -22,6 +23,7 @@ struct SurfaceDistance {
 SurfaceDistance surface_distance(std::span<const Vec3> a_positions,
                                  std::span<const Triangle> a_triangles,
                                  std::span<const Vec3> b_positions,
-                                 std::span<const Triangle> b_triangles, int threads = 0);
+                                 std::span<const Triangle> b_triangles, int threads = 0,
+                                 const std::function<bool()>* should_stop = nullptr);
 
 }  // namespace spheremap

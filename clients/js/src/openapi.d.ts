@@ -358,7 +358,9 @@ export interface components {
          *     too_small, and `failures`, `topology`; `check` instancing for an
          *     EXT_mesh_gpu_instancing scene), missing_resources (422: files a .gltf names were
          *     not sent); in a failed job: not_bijective,
-         *     time_limit (422), float32_range (422: a requested output's positions cannot be
+         *     time_limit (422; also when the time limit passes while an output is written: that
+         *     output is left out like float32_range's), jpeg_scans (422 at submission: a
+         *     remesh's base-colour JPEG has over 500 scans), float32_range (422: a requested output's positions cannot be
          *     stored as glTF's float32, a coordinate past 3.4e38 or every one below 1.2e-38;
          *     that output is left out, its metrics hold the error, and sphere.glb, the other
          *     outputs and metrics.json stay downloadable),
