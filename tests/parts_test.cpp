@@ -141,6 +141,37 @@ TEST(MapParts, CertifiesEveryPartOnItsOwnSphere) {
   EXPECT_EQ(left_out, 1u);
 }
 
+// A part whose map is not certified is left out with the reason when another part is
+// certified: here the paper's method with no smoothing at all, which maps the convex
+// sphere (its radial projection) but folds the horseshoe.
+TEST(MapParts, APartWhoseMapIsNotCertifiedIsLeftOutWithTheReason) {
+  PolygonMesh input = assembled({{testing::horseshoe(), {}}, {testing::icosphere(2), {10, 0, 0}}});
+  MapOptions crippled;
+  crippled.method = Method::kPaper;
+  crippled.max_iterations = 0;
+  crippled.min_level_iterations = 0;
+  crippled.presmooth_steps = 0;
+  const MappedMesh mapped = map_prepared(prepare_input(input, nullptr, {}), crippled);
+  ASSERT_EQ(mapped.parts.size(), 1u);
+  EXPECT_TRUE(certify(mapped, mapped.float32_check).certified);
+  EXPECT_EQ(mapped.prepared.welded.mesh.face_count(), testing::icosphere(2).face_count());
+  EXPECT_EQ(mapped.prepared.parts_left_out(), 1u);
+  const nlohmann::json metrics = metrics_json(mapped, crippled);
+  EXPECT_EQ(metrics["parts_mapped"], 1);
+  bool reported = false;
+  for (const auto& part : metrics["parts"])
+    if (!part["mapped"]) {
+      EXPECT_EQ(part["check"], "not_certified");
+      EXPECT_NE(part["reason"].get<std::string>().find("folded"), std::string::npos) << part;
+      reported = true;
+    }
+  EXPECT_TRUE(reported);
+  // The sphere written holds the certified part only.
+  const SphereAsset sphere = sphere_asset(input, mapped, crippled, SphereLayout::kOriginal, 0);
+  EXPECT_TRUE(sphere.metrics["bijective"]);
+  EXPECT_EQ(testing::Glb(sphere.glb).json["nodes"].size(), 1u);
+}
+
 TEST(MapParts, OneTimeLimitForAllTheParts) {
   MapOptions options;
   options.time_limit_seconds = 1e-9;

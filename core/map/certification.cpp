@@ -8,6 +8,15 @@ std::string counts(const MapCheck& check) {
          std::to_string(check.degenerate) + " degenerate";
 }
 
+// The counts, and when neither explains the verdict, the signed area that does.
+std::string what_fails(const MapCheck& check) {
+  std::string out = counts(check);
+  if (check.folds == 0 && check.degenerate == 0 && !check.bijective)
+    out += "; the signed areas sum to " + std::to_string(check.signed_area_sum) +
+           ", not 4 pi per sphere: the map covers a sphere more than once or not at all";
+  return out;
+}
+
 }  // namespace
 
 Certification certify(const MappedMesh& mapped, const MapCheck& written) {
@@ -21,21 +30,18 @@ Certification certify(const MappedMesh& mapped, const MapCheck& written) {
             " (the map returned is complete but not optimized to the end)"};
   if (!clean(map.check)) {
     std::string detail = "no bijective map reached (" + std::string(to_string(map.stop_reason)) +
-                         "): " + counts(map.check);
+                         "): " + what_fails(map.check);
     if (map.attempts > 0) detail += " after " + std::to_string(map.attempts) + " attempts";
-    if (map.check.folds == 0 && map.check.degenerate == 0 && !map.check.bijective)
-      detail += "; the signed areas sum to " + std::to_string(map.check.signed_area_sum) +
-                ", not 4 pi: the map covers the sphere more than once";
     return {false, "not_bijective", detail};
   }
   if (!clean(mapped.float32_check))
     return {false, "not_bijective",
             "the map is bijective in double precision, but rounded to float32 it has " +
-                counts(mapped.float32_check)};
+                what_fails(mapped.float32_check)};
   if (!clean(written))
     return {false, "not_bijective",
-            "the map is bijective in double and float32, but as written (quantized) it has " +
-                counts(written) + "; use more Draco position bits or no Draco"};
+            "the map is bijective in double and float32, but as written it has " +
+                what_fails(written)};
   return {true, "", ""};
 }
 

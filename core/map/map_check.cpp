@@ -21,8 +21,12 @@ MapCheck check_map(std::span<const Vec3> sphere, std::span<const Triangle> trian
     check.signed_area_sum += area;
     check.min_signed_area = std::min(check.min_signed_area, area);
   }
+  // The sum tells a sphere covered once from one covered twice (8 pi) or left partly
+  // bare (by a whole valid triangle's area): 1e-5 of 4 pi, not tighter, since positions
+  // rounded to float32 are off the unit sphere by up to 6e-8 and a coarse mesh's large
+  // triangles then sum to 4 pi within about 1e-6 only (seen: 1.35e-6 on 12 faces).
   check.bijective =
-      check.folds == 0 && std::abs(check.signed_area_sum - 4 * M_PI) < 1e-6 * 4 * M_PI;
+      check.folds == 0 && std::abs(check.signed_area_sum - 4 * M_PI) < 1e-5 * 4 * M_PI;
   return check;
 }
 

@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 
+#include "core/map/certification.h"
 #include "core/mesh/sphere_geometry.h"
 #include "core/prepare/connected_parts.h"
 
@@ -80,20 +81,102 @@ StopReason combined_stop(const std::vector<MappedPart>& parts) {
   return worst;
 }
 
+// The members of `whole` that describe its parts together (pipeline.h), from whole.parts.
+void combine(MappedMesh& whole) {
+  MapResult& map = whole.map;
+  map = MapResult{};
+  map.sphere.assign(whole.prepared.welded.mesh.vertex_count(), Vec3{});
+  map.check.min_signed_area = INFINITY;
+  map.check.bijective = true;
+  whole.float32_check = map.check;
+  map.inward = true;
+  map.optimized = true;
+  for (size_t k = 0; k < whole.parts.size(); ++k) {
+    const MappedPart& part = whole.parts[k];
+    const MapResult& m = part.mapped.map;
+    for (size_t v = 0; v < part.whole_vertex.size(); ++v)
+      map.sphere[part.whole_vertex[v]] = m.sphere[v];
+    add_check(map.check, m.check);
+    add_check(whole.float32_check, part.mapped.float32_check);
+    // A part left unmapped has no float32 check of its own: the whole is not certified.
+    if (part.mapped.float32_check.triangles == 0) whole.float32_check.bijective = false;
+    map.attempts = std::max(map.attempts, m.attempts);
+    map.iterations += m.iterations;
+    map.hierarchy_rounds += m.hierarchy_rounds;
+    map.polish_rounds += m.polish_rounds;
+    map.stretch_vertex_updates += m.stretch_vertex_updates;
+    map.hierarchy_seconds += m.hierarchy_seconds;
+    map.mapping_seconds += m.mapping_seconds;
+    map.optimize_seconds += m.optimize_seconds;
+    map.verify_seconds += m.verify_seconds;
+    map.optimized = map.optimized && m.optimized;
+    map.inward = map.inward && m.inward;
+    if (map.stopped_in.empty() && !m.stopped_in.empty())
+      map.stopped_in = "part " + std::to_string(k) + ": " + m.stopped_in;
+  }
+  map.stop_reason = combined_stop(whole.parts);
+  whole.quality = combined_quality(whole.parts);
+}
+
+// Parts whose map ran to the end but is not certified (folds left, or float32 rounding
+// breaks it) are left out like parts that cannot map, with the reason, when some other
+// part is certified: the asset is served where it can be. `whole` keeps the others.
+void leave_out_uncertified(MappedMesh& whole) {
+  std::vector<char> keep(whole.parts.size());
+  size_t kept = 0;
+  for (size_t k = 0; k < whole.parts.size(); ++k) {
+    const MappedMesh& part = whole.parts[k].mapped;
+    keep[k] = part.map.stop_reason == StopReason::kTimeLimit ||
+              certify(part, part.float32_check).certified;
+    kept += keep[k];
+  }
+  if (kept == whole.parts.size() || kept == 0) return;
+  // The reports of the parts that mapped, in the same order as whole.parts.
+  std::vector<PartReport*> reports;
+  for (PartReport& report : whole.prepared.parts)
+    if (report.mappable()) reports.push_back(&report);
+  WeldResult& welded = whole.prepared.welded;
+  std::vector<uint32_t> new_id(welded.mesh.vertex_count(), kUnreferenced);
+  PolygonMesh mesh;
+  std::vector<MappedPart> parts;
+  std::vector<uint32_t> corners;
+  for (size_t k = 0; k < whole.parts.size(); ++k) {
+    MappedPart& part = whole.parts[k];
+    if (!keep[k]) {
+      if (k < reports.size())
+        reports[k]->failures = {
+            {"not_certified", "its map is not certified: " +
+                                  certify(part.mapped, part.mapped.float32_check).detail}};
+      continue;
+    }
+    const uint32_t first = static_cast<uint32_t>(mesh.positions.size());
+    for (uint32_t& w : part.whole_vertex) {
+      new_id[w] = first + static_cast<uint32_t>(&w - part.whole_vertex.data());
+      mesh.positions.push_back(welded.mesh.positions[w]);
+      w = new_id[w];
+    }
+    const PolygonMesh& own = part.mapped.prepared.welded.mesh;
+    for (size_t f = 0; f < own.face_count(); ++f) {
+      corners.clear();
+      for (uint32_t v : own.face(f)) corners.push_back(first + v);
+      mesh.add_face(corners);
+    }
+    parts.push_back(std::move(part));
+  }
+  for (uint32_t& w : welded.input_to_welded)
+    if (w != kUnreferenced) w = new_id[w];
+  welded.mesh = std::move(mesh);
+  whole.prepared.topology = analyze_topology(welded.mesh);
+  whole.parts = std::move(parts);
+}
+
 }  // namespace
 
 MappedMesh map_parts(PreparedMesh prepared, const MapOptions& options, const MapControl& control) {
   const auto start = std::chrono::steady_clock::now();
   MappedMesh whole;
   whole.prepared = std::move(prepared);
-  const PolygonMesh& mesh = whole.prepared.welded.mesh;
-  std::vector<MeshPart> split = connected_parts(mesh);
-  MapResult& map = whole.map;
-  map.sphere.assign(mesh.vertex_count(), Vec3{});
-  map.check.min_signed_area = INFINITY;
-  map.check.bijective = true;
-  whole.float32_check = map.check;
-  map.inward = true;
+  std::vector<MeshPart> split = connected_parts(whole.prepared.welded.mesh);
   for (MeshPart& piece : split) {
     MappedPart part;
     part.whole_vertex = std::move(piece.vertex);
@@ -119,38 +202,16 @@ MappedMesh map_parts(PreparedMesh prepared, const MapOptions& options, const Map
     } else {
       MappedMesh mapped = map_prepared(std::move(part.mapped.prepared), options, part_control);
       if (mapped.map.sphere.empty()) {  // cancelled
-        map.sphere.clear();
-        map.stop_reason = StopReason::kCancelled;
+        whole.map.stop_reason = StopReason::kCancelled;
         return whole;
       }
       part.mapped = std::move(mapped);
     }
-    const MapResult& m = part.mapped.map;
-    for (size_t v = 0; v < part.whole_vertex.size(); ++v)
-      map.sphere[part.whole_vertex[v]] = m.sphere[v];
-    add_check(map.check, part.mapped.map.check);
-    add_check(whole.float32_check, part.mapped.float32_check);
-    map.attempts = std::max(map.attempts, m.attempts);
-    map.iterations += m.iterations;
-    map.hierarchy_rounds += m.hierarchy_rounds;
-    map.polish_rounds += m.polish_rounds;
-    map.stretch_vertex_updates += m.stretch_vertex_updates;
-    map.hierarchy_seconds += m.hierarchy_seconds;
-    map.mapping_seconds += m.mapping_seconds;
-    map.optimize_seconds += m.optimize_seconds;
-    map.verify_seconds += m.verify_seconds;
-    map.optimized = whole.parts.empty() ? m.optimized : map.optimized && m.optimized;
-    map.inward = map.inward && m.inward;
-    if (map.stopped_in.empty() && !m.stopped_in.empty())
-      map.stopped_in = "part " + std::to_string(whole.parts.size()) + ": " + m.stopped_in;
     whole.metrics_seconds += part.mapped.metrics_seconds;
     whole.parts.push_back(std::move(part));
   }
-  map.stop_reason = combined_stop(whole.parts);
-  // A part left unmapped has no float32 check of its own: the whole is not certified.
-  for (const MappedPart& part : whole.parts)
-    if (part.mapped.float32_check.triangles == 0) whole.float32_check.bijective = false;
-  whole.quality = combined_quality(whole.parts);
+  leave_out_uncertified(whole);
+  combine(whole);
   return whole;
 }
 

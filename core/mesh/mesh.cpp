@@ -64,10 +64,14 @@ FanTriangulation fan_triangulate(const PolygonMesh& mesh) {
 }
 
 PolygonMesh apex_first(const PolygonMesh& mesh) {
+  return apex_first(mesh, mesh);
+}
+
+PolygonMesh apex_first(const PolygonMesh& mesh, const PolygonMesh& decided_on) {
   PolygonMesh out = mesh;
   if (mesh.is_triangle_mesh()) return out;
   size_t conflicting = 0;
-  const std::vector<uint32_t> apex = choose_apexes(mesh, conflicting);
+  const std::vector<uint32_t> apex = choose_apexes(decided_on, conflicting);
   for (size_t f = 0; f < mesh.face_count(); ++f) {
     const auto face = mesh.face(f);
     const size_t d = face.size();

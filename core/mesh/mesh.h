@@ -48,6 +48,11 @@ FanTriangulation fan_triangulate(const PolygonMesh& mesh);
 // unchanged. Vertices and face order are kept; fan_triangulate of the result gives the
 // same triangles.
 PolygonMesh apex_first(const PolygonMesh& mesh);
+// The same with the apexes chosen on `decided_on`: the same faces (count and sizes) over
+// other vertex ids, such as the input's faces named by their welded vertices. The input
+// layout splits vertices at seams, so its own edges can pick another apex than the welded
+// mesh the map was certified on; this writes the certified one.
+PolygonMesh apex_first(const PolygonMesh& mesh, const PolygonMesh& decided_on);
 
 // Vertex -> incident triangles, as CSR, triangle ids ascending (a fixed order keeps
 // every gather over it deterministic).

@@ -12,10 +12,13 @@
 namespace spheremap {
 namespace {
 
-// Part k's spherical mesh in `layout`: its welded vertices, or its input vertices in input
-// order (seams of the input kept) with its input faces.
+// Part k's spherical mesh in `layout`: its welded vertices, or its input vertices in first
+// use order (seams of the input kept) with its input faces `faces`. `local`: per input
+// vertex, kUnreferenced on entry and on return (scratch shared by the parts, so that all
+// parts together cost O(input)).
 PolygonMesh part_sphere(const PolygonMesh& input, const MappedMesh& mapped, size_t k,
-                        SphereLayout layout, const PartIndex& index) {
+                        SphereLayout layout, const PartIndex& index,
+                        const std::vector<uint32_t>& faces, std::vector<uint32_t>& local) {
   const MappedPart& part = mapped.parts[k];
   if (layout == SphereLayout::kWelded) {
     PolygonMesh out = part.mapped.prepared.welded.mesh;
@@ -23,22 +26,26 @@ PolygonMesh part_sphere(const PolygonMesh& input, const MappedMesh& mapped, size
     return out;
   }
   const auto& to_welded = mapped.prepared.welded.input_to_welded;
-  std::vector<uint32_t> local(input.vertex_count(), kUnreferenced);
-  PolygonMesh out;
-  std::vector<uint32_t> corners;
-  for (size_t f = 0; f < input.face_count(); ++f) {
-    const uint32_t w = to_welded[input.face(f)[0]];
-    if (w == kUnreferenced || index.part[w] != k) continue;
+  PolygonMesh out, welded_ids;
+  std::vector<uint32_t> corners, welded_corners;
+  for (uint32_t f : faces) {
     corners.clear();
+    welded_corners.clear();
     for (uint32_t v : input.face(f)) {
       if (local[v] == kUnreferenced) {
         local[v] = static_cast<uint32_t>(out.positions.size());
         out.positions.push_back(part.mapped.map.sphere[index.local[to_welded[v]]]);
       }
       corners.push_back(local[v]);
+      welded_corners.push_back(index.local[to_welded[v]]);
     }
     out.add_face(corners);
+    welded_ids.add_face(welded_corners);
   }
+  for (uint32_t f : faces)  // `local` back to unused for the next part
+    for (uint32_t v : input.face(f)) local[v] = kUnreferenced;
+  // The corner first whose fan the part's map was certified on (pipeline.h).
+  return apex_first(out, welded_ids);
   return out;
 }
 
@@ -81,11 +88,20 @@ SphereAsset parts_sphere_asset(const PolygonMesh& input, const MappedMesh& mappe
                                const MapOptions& options, SphereLayout layout,
                                int draco_position_bits) {
   const PartIndex index(mapped);
+  // Each part's input faces, in one pass.
+  std::vector<std::vector<uint32_t>> faces_of(mapped.parts.size());
+  const auto& to_welded = mapped.prepared.welded.input_to_welded;
+  if (layout == SphereLayout::kOriginal)
+    for (size_t f = 0; f < input.face_count(); ++f)
+      if (const uint32_t w = to_welded[input.face(f)[0]]; w != kUnreferenced)
+        faces_of[index.part[w]].push_back(static_cast<uint32_t>(f));
+  std::vector<uint32_t> local(layout == SphereLayout::kOriginal ? input.vertex_count() : 0,
+                              kUnreferenced);
   std::vector<GlbMesh> meshes(mapped.parts.size());
   std::vector<size_t> part_triangles;
   std::vector<GlbNode> unmoved(mapped.parts.size()), placed(mapped.parts.size());
   for (size_t k = 0; k < mapped.parts.size(); ++k) {
-    const PolygonMesh sphere = part_sphere(input, mapped, k, layout, index);
+    const PolygonMesh sphere = part_sphere(input, mapped, k, layout, index, faces_of[k], local);
     meshes[k].positions = meshes[k].normals = sphere.positions;
     meshes[k].triangles = fan_triangulate(sphere).triangles;
     part_triangles.push_back(meshes[k].triangles.size());
