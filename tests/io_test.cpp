@@ -94,6 +94,20 @@ TEST(OffReader, ReadsPolygonsAndComments) {
   EXPECT_EQ(m.face_size(1), 4u);
 }
 
+// OFF is whitespace-separated: libigl's tutorial data breaks each face over lines, with
+// blank lines between; what follows a record on its line (colours) is skipped.
+TEST(OffReader, ReadsRecordsBrokenOverLinesAndSkipsColours) {
+  PolygonMesh m = parse_off(
+      "OFF\n4 2 0\n0 0 0\n1 0\n0\n0 1 0 255 0 0\n0 0 1\n3\n0 1\n\n2\n4 0 1 2 3 0.5 0.5 0.5\n");
+  EXPECT_EQ(m.vertex_count(), 4u);
+  ASSERT_EQ(m.face_count(), 2u);
+  EXPECT_EQ(m.face_size(0), 3u);
+  EXPECT_EQ(m.face_size(1), 4u);
+  EXPECT_EQ(m.positions[1].x, 1.0);
+  EXPECT_EQ(m.positions[2].y, 1.0);
+  EXPECT_THROW(parse_off("OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1\n"), InputError);
+}
+
 TEST(OffReader, RejectsHugeDeclaredCountsBeforeAllocating) {
   try {
     parse_off("OFF\n2000000000 2000000000 0\n");

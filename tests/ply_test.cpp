@@ -213,8 +213,17 @@ TEST(PlyReader, HeaderErrorsNameTheLine) {
             std::string::npos);
   EXPECT_NE(error_of(head + "element vertex 5\nend_header\n").find("no properties"),
             std::string::npos);
-  EXPECT_NE(error_of(head + "frobnicate\nend_header\n").find("unknown header keyword"),
+  // After the first element a line that is no keyword is an error; before it, a free text
+  // line (Blender 2.4 wrote one without "comment") is read as a comment.
+  EXPECT_NE(error_of(head + "element vertex 0\nproperty float x\nfrobnicate\nend_header\n")
+                .find("unknown header keyword"),
             std::string::npos);
+  EXPECT_EQ(parse_ply("ply\nformat ascii 1.0\nCreated by Blender3D 247 - www.blender.org\n"
+                      "element vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+                      "element face 1\nproperty list uchar int vertex_indices\nend_header\n"
+                      "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n")
+                .face_count(),
+            1u);
   EXPECT_NE(error_of(head + "end_header\n").find("no 'vertex' element"), std::string::npos);
 }
 

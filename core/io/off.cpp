@@ -14,6 +14,16 @@ bool next_content_line(TextReader& reader) {
   return false;
 }
 
+// OFF is a stream of whitespace-separated numbers: a record usually takes a line, but some
+// writers (libigl's tutorial data) break a face over several. The next number may then be
+// on a later line; what follows a record on its last line (colours) is skipped by starting
+// the next record on a new line.
+void need_token(TextReader& reader, const std::string& what) {
+  if (reader.rest().find_first_not_of(" \t") == std::string_view::npos &&
+      !next_content_line(reader))
+    reader.fail("file ends before " + what);
+}
+
 }  // namespace
 
 PolygonMesh parse_off(std::string_view text) {
@@ -37,9 +47,12 @@ PolygonMesh parse_off(std::string_view text) {
   mesh.positions.reserve(static_cast<size_t>(vertex_count));
   for (long long i = 0; i < vertex_count; ++i) {
     if (!next_content_line(reader)) reader.fail("file ends before vertex " + std::to_string(i));
+    const std::string vertex = "vertex " + std::to_string(i) + " is complete";
     Vec3 p;
     p.x = reader.number("x");
+    need_token(reader, vertex);
     p.y = reader.number("y");
+    need_token(reader, vertex);
     p.z = reader.number("z");
     mesh.positions.push_back(p);
   }
@@ -51,6 +64,7 @@ PolygonMesh parse_off(std::string_view text) {
       reader.fail("face " + std::to_string(f) + " has " + std::to_string(n) + " corners");
     corners.clear();
     for (long long k = 0; k < n; ++k) {
+      need_token(reader, "face " + std::to_string(f) + " is complete");
       long long index = reader.integer("a face index");
       if (index < 0 || index >= vertex_count)
         reader.fail("face index " + std::to_string(index) + " is out of range (" +

@@ -53,6 +53,11 @@ class HeaderParser {
         read_element(w);
       } else if (w[0] == "property") {
         read_property(w);
+      } else if (header_.elements.empty()) {
+        // A free text line before the first element (Blender 2.4 wrote "Created by
+        // Blender3D ..." without "comment"): read as the comment it is, as other readers
+        // do. After it, a line that is no keyword is an error (a misspelt "property").
+        continue;
       } else {
         fail("unknown header keyword '" + std::string(w[0]) + "'");
       }
