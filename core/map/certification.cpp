@@ -39,9 +39,9 @@ Certification certify(const MappedMesh& mapped, const MapCheck& written) {
             "the map is bijective in double precision, but rounded to float32 it has " +
                 what_fails(mapped.float32_check)};
   if (!clean(written))
-    return {false, "not_bijective",
-            "the map is bijective in double and float32, but as written it has " +
-                what_fails(written)};
+    return {
+        false, "not_bijective",
+        "the map is bijective in double and float32, but as written it has " + what_fails(written)};
   return {true, "", ""};
 }
 

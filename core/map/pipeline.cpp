@@ -70,16 +70,19 @@ PolygonMesh sphere_on_input(const PolygonMesh& input, const MappedMesh& mapped) 
   for (size_t v = 0; v < out.positions.size(); ++v)
     out.positions[v] = to_welded[v] == kUnreferenced ? Vec3{} : sphere[to_welded[v]];
   // The faces with the corner first whose fan the map was certified on (decided on the
-  // faces over welded ids; the input's seams could pick another apex).
+  // faces over welded ids; the input's seams could pick another apex). Triangles have one.
+  const bool polygons = !input.is_triangle_mesh();
   PolygonMesh welded_ids;
   std::vector<uint32_t> corners;
   for (size_t f = 0; f < input.face_count(); ++f)
     if (to_welded[input.face(f)[0]] != kUnreferenced) {
       out.add_face(input.face(f));
+      if (!polygons) continue;
       corners.clear();
       for (uint32_t v : input.face(f)) corners.push_back(to_welded[v]);
       welded_ids.add_face(corners);
     }
+  if (!polygons) return out;
   welded_ids.positions.resize(mapped.prepared.welded.mesh.vertex_count());
   return apex_first(out, welded_ids);
 }
