@@ -17,6 +17,8 @@ export declare class SpheremapError extends Error {
   /** The problem's one line for a person, with the counts (same as problem.detail). */
   detail?: string;
   fix?: { option: string; value: unknown; effect: string };
+  /** The response's Retry-After header, when it had one (503, 429). */
+  retryAfter?: string;
 }
 
 export declare class SpheremapClient {
@@ -24,7 +26,8 @@ export declare class SpheremapClient {
                          headers?: Record<string, string> });
   endpoint: string;
   submit(mesh: Bytes, options?: JobOptions,
-         extra?: { resources?: Record<string, Bytes>; name?: string }): Promise<Job>;
+         extra?: { resources?: Record<string, Bytes>; name?: string; idempotencyKey?: string;
+                   retries?: number }): Promise<Job>;
   job(id: string): Promise<Job>;
   events(id: string, options?: { signal?: AbortSignal }):
     AsyncGenerator<{ event: 'progress'; data: Progress } | { event: 'status'; data: Job }>;
@@ -32,6 +35,6 @@ export declare class SpheremapClient {
   download(id: string, name: ArtifactName): Promise<Uint8Array>;
   cancel(id: string): Promise<void>;
   map(mesh: Bytes, options?: JobOptions,
-      extra?: { resources?: Record<string, Bytes>; onProgress?: (progress: Progress) => void;
-                signal?: AbortSignal }): Promise<{ job: Job; artifacts: Partial<Record<ArtifactName, Uint8Array>> }>;
+      extra?: { resources?: Record<string, Bytes>; name?: string; onProgress?: (progress: Progress) => void;
+                signal?: AbortSignal; idempotencyKey?: string; retries?: number }): Promise<{ job: Job; artifacts: Partial<Record<ArtifactName, Uint8Array>> }>;
 }

@@ -21,6 +21,14 @@ function asBlob(data, type) {
   return new Blob([data], { type });
 }
 
+// The type the service reads a file as, from its name (it also sniffs the bytes).
+const TYPES = { glb: 'model/gltf-binary', gltf: 'model/gltf+json', obj: 'model/obj', stl: 'model/stl',
+  ply: 'application/ply', off: 'model/off' };
+function contentType(name, glb) {
+  const extension = /\.([a-z0-9]+)$/i.exec(name)?.[1]?.toLowerCase();
+  return TYPES[extension] ?? (glb ? TYPES.glb : TYPES.gltf);
+}
+
 function isGlb(bytes) {
   const view = bytes instanceof ArrayBuffer ? new Uint8Array(bytes) : bytes;
   return view?.length >= 4 && view[0] === 0x67 && view[1] === 0x6c && view[2] === 0x54 && view[3] === 0x46;
@@ -44,23 +52,48 @@ export class SpheremapClient {
     if (response.ok) return response;
     let problem;
     try { problem = await response.json(); } catch { problem = { title: response.statusText }; }
-    throw new SpheremapError(problem, response.status);
+    const error = new SpheremapError(problem, response.status);
+    error.retryAfter = response.headers.get('Retry-After') ?? undefined;
+    throw error;
   }
 
   /**
-   * Submits a mesh: a GLB or .gltf (bytes or Blob). A .gltf's external files go in
-   * `resources`, by the URI the .gltf names them with. Returns the job as queued.
+   * Submits a mesh: a GLB or .gltf (bytes or Blob), or an OBJ, STL, PLY or OFF file named by
+   * `name` (its extension gives the type). A .gltf's external files go in `resources`, by
+   * the URI the .gltf names them with. Returns the job as queued.
+   *
+   * `idempotencyKey` (1-255 printable ASCII characters, no quote or backslash) makes the submission safe to send
+   * again: the service answers a repeat of the same key with the job the first one made.
+   * With a key, `retries` (default 0) resends the submission when the service answers 503
+   * (busy, or Redis unsure whether the job was stored) or the connection fails, after the
+   * server's Retry-After (at most 10 s) or 1 s: never twice a job.
    */
-  async submit(mesh, options = {}, { resources = {}, name } = {}) {
+  async submit(mesh, options = {}, { resources = {}, name, idempotencyKey, retries = 0 } = {}) {
     const form = new FormData();
     const glb = !(typeof Blob !== 'undefined' && mesh instanceof Blob) && isGlb(mesh);
-    form.append('mesh', asBlob(mesh, glb ? 'model/gltf-binary' : 'model/gltf+json'),
-      name ?? (glb ? 'mesh.glb' : 'mesh.gltf'));
+    const fileName = name ?? (glb ? 'mesh.glb' : 'mesh.gltf');
+    form.append('mesh', asBlob(mesh, contentType(fileName, glb)), fileName);
     for (const [uri, bytes] of Object.entries(resources))
       form.append(decodeURIComponent(uri), asBlob(bytes, 'application/octet-stream'), decodeURIComponent(uri));
     form.append('options', new Blob([JSON.stringify(options)], { type: 'application/json' }));
-    const response = await this.#request('/v1/jobs', { method: 'POST', body: form });
-    return response.json();
+    if (idempotencyKey === undefined) {
+      const response = await this.#request('/v1/jobs', { method: 'POST', body: form });
+      return response.json();
+    }
+    if (!/^[\x20-\x21\x23-\x5b\x5d-\x7e]{1,255}$/.test(idempotencyKey))
+      throw new TypeError('idempotencyKey: 1 to 255 printable ASCII characters, no quote or backslash');
+    const headers = { 'Idempotency-Key': `"${idempotencyKey}"` };  // a Structured Field string
+    for (let attempt = 0; ; ++attempt) {
+      try {
+        const response = await this.#request('/v1/jobs', { method: 'POST', body: form, headers });
+        return await response.json();
+      } catch (error) {
+        const retryable = error instanceof SpheremapError ? error.status === 503 : error instanceof TypeError;
+        if (!retryable || attempt >= retries) throw error;
+        const seconds = Math.min(10, Number(error.retryAfter) || 1);
+        await new Promise((resolve) => setTimeout(resolve, seconds * 1000));
+      }
+    }
   }
 
   /** The job as GET /v1/jobs/{id} answers it. */
@@ -128,10 +161,14 @@ export class SpheremapClient {
   /**
    * Submit, wait, download: resolves to {job, artifacts: {name: Uint8Array}} for the
    * artifacts asked for (options.outputs, plus sphere.glb and metrics.json); throws a
-   * SpheremapError when the job does not succeed.
+   * SpheremapError when the job does not succeed. The submission carries an idempotency
+   * key of its own (or `idempotencyKey`) and is resent up to `retries` (default 3) times
+   * on a 503 or a failed connection, so a busy service delays it without duplicating it.
    */
-  async map(mesh, options = {}, { resources, onProgress, signal } = {}) {
-    const submitted = await this.submit(mesh, options, { resources });
+  async map(mesh, options = {}, { resources, name, onProgress, signal, idempotencyKey, retries = 3 } = {}) {
+    const key = idempotencyKey ?? globalThis.crypto?.randomUUID?.();
+    const submitted = await this.submit(mesh, options,
+      { resources, name, idempotencyKey: key, retries: key === undefined ? 0 : retries });
     const job = await this.wait(submitted.id, { onProgress, signal });
     if (job.status !== 'succeeded')
       throw new SpheremapError(job.error ?? { title: `job ${job.status}` }, job.error?.status ?? 500);

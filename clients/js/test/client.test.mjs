@@ -69,3 +69,53 @@ test('the gltf-transform step replaces the scene by the remesh', async () => {
   assert.equal(scene.getExtras().spheremap.metrics.bijective, true);
   assert.ok((await io.writeBinary(document)).byteLength > 0);
 });
+
+test('the same idempotency key gives the same job, not a second one', async () => {
+  const key = `client-test-${Date.now()}-${Math.random()}`;
+  const first = await client.submit(mesh, { quality: 'fast' }, { idempotencyKey: key });
+  const again = await client.submit(mesh, { quality: 'fast' }, { idempotencyKey: key });
+  assert.equal(again.id, first.id);
+  const other = await client.submit(mesh, { quality: 'fast' }, { idempotencyKey: `${key}-other` });
+  assert.notEqual(other.id, first.id);
+  await assert.rejects(client.submit(mesh, {}, { idempotencyKey: '' }), TypeError);
+  await assert.rejects(client.submit(mesh, {}, { idempotencyKey: 'a"b' }), TypeError);
+});
+
+test('a 503 is retried with the same key; a 400 is not retried', async () => {
+  const sent = [];
+  let refuse = 1;
+  const flaky = new SpheremapClient({
+    endpoint,
+    fetch: async (url, init) => {
+      if (init.method !== 'POST') return fetch(url, init);
+      sent.push(init.headers['Idempotency-Key']);
+      if (refuse-- > 0) {
+        return new Response(JSON.stringify({ title: 'busy', status: 503 }),
+          { status: 503, headers: { 'Content-Type': 'application/problem+json', 'Retry-After': '1' } });
+      }
+      return fetch(url, init);
+    },
+  });
+  const key = `retry-${Date.now()}-${Math.random()}`;
+  const { job } = await flaky.map(mesh, { quality: 'fast' }, { idempotencyKey: key });
+  assert.equal(job.status, 'succeeded');
+  assert.equal(sent.length, 2);
+  assert.equal(sent[0], sent[1]);
+  assert.equal(sent[0], `"${key}"`);
+  assert.equal((await client.submit(mesh, {}, { idempotencyKey: key })).id, job.id);
+
+  sent.length = 0;
+  await assert.rejects(flaky.submit(new TextEncoder().encode('{"asset":{"version":"2.0"}}'), {},
+    { idempotencyKey: `bad-${Date.now()}`, retries: 3 }), (error) => error.status === 400);
+  assert.equal(sent.length, 1);
+});
+
+test('an OBJ is sent as model/obj by its name and maps', async () => {
+  const octahedron = ['v 1 0 0', 'v -1 0 0', 'v 0 1 0', 'v 0 -1 0', 'v 0 0 1', 'v 0 0 -1',
+    'f 1 3 5', 'f 3 2 5', 'f 2 4 5', 'f 4 1 5', 'f 3 1 6', 'f 2 3 6', 'f 4 2 6', 'f 1 4 6'].join('\n');
+  const { job } = await client.map(new TextEncoder().encode(octahedron), { quality: 'fast' },
+    { name: 'octahedron.obj' });
+  assert.equal(job.metrics.bijective, true);
+  assert.equal(job.input.format, 'obj');
+  assert.equal(job.input.faces, 8);
+});
