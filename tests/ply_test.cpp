@@ -158,7 +158,7 @@ TEST(PlyReader, RejectsIndicesOutOfRangeAndShortFaces) {
   const std::string good = testing::ply(testing::icosphere(0), ascii);
   const size_t last_face = good.rfind("\n3 ") + 1;
   std::string message = error_of(with_word(good, last_face + 2, "12"));
-  EXPECT_NE(message.find("1 face corners name vertices out of range (the first: 12; there are "
+  EXPECT_NE(message.find("1 face corner names a vertex out of range (the first: 12; there are "
                          "12 vertices)"),
             std::string::npos)
       << message;
@@ -176,7 +176,7 @@ TEST(PlyReader, NonFiniteCoordinatesAreCounted) {
   ascii.encoding = Encoding::kAscii;
   std::string text = testing::ply(testing::icosphere(0), ascii);
   text = with_word(text, text.find("end_header\n") + 11, "nan");
-  EXPECT_NE(error_of(text).find("1 of 12 vertices have a non-finite"), std::string::npos);
+  EXPECT_NE(error_of(text).find("1 of 12 vertices has a non-finite"), std::string::npos);
   std::string binary = testing::ply(testing::icosphere(0));
   const float inf = std::numeric_limits<float>::infinity();
   const size_t data = binary.find("end_header\n") + 11;

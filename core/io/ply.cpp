@@ -7,6 +7,7 @@
 
 #include "core/io/byte_order.h"
 #include "core/io/ply_header.h"
+#include "core/mesh/counted.h"
 #include "core/mesh/input_error.h"
 
 namespace spheremap {
@@ -249,15 +250,17 @@ void check_indices_and_positions(const PolygonMesh& mesh) {
   for (uint32_t index : mesh.indices)
     if (index >= mesh.positions.size() && out_of_range++ == 0) first = index;
   if (out_of_range > 0)
-    fail(std::to_string(out_of_range) +
-         " face corners name vertices out of range (the first: " + std::to_string(first) +
-         "; there are " + std::to_string(mesh.positions.size()) + " vertices)");
+    fail(counted(out_of_range, "face corner") +
+         (out_of_range == 1 ? " names a vertex" : " name vertices") + " out of range (the first: " +
+         std::to_string(first) + "; there " + (mesh.positions.size() == 1 ? "is " : "are ") +
+         counted(mesh.positions.size(), "vertex", "vertices") + ")");
   size_t non_finite = 0;
   for (const Vec3& p : mesh.positions)
     if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) ++non_finite;
   if (non_finite > 0)
-    fail(std::to_string(non_finite) + " of " + std::to_string(mesh.positions.size()) +
-         " vertices have a non-finite coordinate (NaN or infinity)");
+    fail(std::to_string(non_finite) + " of " +
+         counted(mesh.positions.size(), "vertex", "vertices") +
+         (non_finite == 1 ? " has" : " have") + " a non-finite coordinate (NaN or infinity)");
 }
 
 }  // namespace

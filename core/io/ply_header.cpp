@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <charconv>
 
+#include "core/mesh/counted.h"
 #include "core/mesh/input_error.h"
 
 namespace spheremap::ply {
@@ -146,9 +147,9 @@ class HeaderParser {
         fail("element '" + e.name + "' has no properties but a count of " +
              std::to_string(e.count));
       if (e.count > available / each)
-        fail("element '" + e.name + "' declares " + std::to_string(e.count) +
-             " entries of at least " + std::to_string(each) + " bytes each, but only " +
-             std::to_string(after) + " bytes follow the header");
+        fail("element '" + e.name + "' declares " + counted(e.count, "entry", "entries") +
+             " of at least " + counted(each, "byte") + " each, but only " + counted(after, "byte") +
+             (after == 1 ? " follows" : " follow") + " the header");
     }
   }
 
