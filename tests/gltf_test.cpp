@@ -187,7 +187,12 @@ TEST(Gltf, RejectsFilesWithoutTriangles) {
             std::string::npos);
   EXPECT_NE(read_error("[1, 2]").find("not glTF: neither a GLB"), std::string::npos);
   EXPECT_NE(read_error("{not json at all").find("does not parse as an object"), std::string::npos);
-  EXPECT_NE(read_error(R"({"asset":{"version":"1.0"}})").find("glTF 1.0 file"), std::string::npos);
+  for (const char* version : {R"("1.0")", R"("1")", "1", "1.0"})
+    EXPECT_NE(
+        read_error(std::string(R"({"asset":{"version":)") + version + "}}").find("glTF 1.0 file"),
+        std::string::npos)
+        << version;
+  EXPECT_NE(read_error(R"({"asset":{"version":2}})").find("not a glTF 2.0"), std::string::npos);
   EXPECT_NE(read_error(R"({"asset":{"version":"3.0"}})").find("not a glTF 2.0"), std::string::npos);
 }
 

@@ -170,13 +170,20 @@ Document::Document(std::span<const uint8_t> bytes, const GltfResources* resource
     fail(std::string("the glTF JSON is ") + e.what());
   }
   if (json_.is_discarded() || !json_.is_object()) fail("the glTF JSON does not parse as an object");
+  // glTF 1.0 files say "1.0", and some exporters wrote the number 1 or 1.0 (or "1"):
+  // all get the conversion hint, not the bare "must be 2.x".
   const auto asset = json_.find("asset");
-  if (asset != json_.end() && asset->is_object() && asset->contains("version") &&
-      (*asset)["version"].is_string() && (*asset)["version"].get<std::string>().rfind("1.", 0) == 0)
-    fail(kGltf1);
-  if (asset == json_.end() || !asset->is_object() || !asset->contains("version") ||
-      !(*asset)["version"].is_string() ||
-      (*asset)["version"].get<std::string>().rfind("2.", 0) != 0)
+  const nlohmann::json* version =
+      asset != json_.end() && asset->is_object() && asset->contains("version")
+          ? &(*asset)["version"]
+          : nullptr;
+  const bool version_1 =
+      version &&
+      ((version->is_string() &&
+        (version->get<std::string>() == "1" || version->get<std::string>().rfind("1.", 0) == 0)) ||
+       (version->is_number() && version->get<double>() >= 1 && version->get<double>() < 2));
+  if (version_1) fail(kGltf1);
+  if (!version || !version->is_string() || version->get<std::string>().rfind("2.", 0) != 0)
     fail("not a glTF 2.0 asset (asset.version must be \"2.x\")");
   check_required_extensions();
   load_buffers(bin, has_bin);
