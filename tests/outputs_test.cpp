@@ -2,7 +2,9 @@
 // texture coordinates, surface distance, PNG and the GLB assets.
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <cmath>
+#include <functional>
 #include <random>
 
 #include "core/io/gltf_reader.h"
@@ -86,6 +88,25 @@ TEST(Remesh, OfASphereIsAClosedGenusZeroSphere) {
   }
   EXPECT_THROW(octahedral_remesh(sphere.positions, sphere.positions, triangles, 7),
                std::invalid_argument);
+}
+
+// A time limit or a cancel stops the sampling, not only the stages around it.
+TEST(Remesh, SamplingAsksTheStopCheck) {
+  const PolygonMesh sphere = testing::icosphere(3);
+  const std::vector<Triangle> triangles = fan_triangulate(sphere).triangles;
+  std::atomic<size_t> asked{0};
+  const std::function<bool()> stop_now = [&] { return ++asked > 0; };
+  try {
+    octahedral_remesh(sphere.positions, sphere.positions, triangles, 256, 2, &stop_now);
+    ADD_FAILURE() << "a stop seen at the first sample did not stop the remesh";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.check(), "stopped");
+  }
+  EXPECT_GE(asked.load(), 1u);
+  const std::function<bool()> never = [] { return false; };
+  EXPECT_EQ(
+      octahedral_remesh(sphere.positions, sphere.positions, triangles, 64, 2, &never).unlocated,
+      0u);
 }
 
 TEST(SurfaceDistance, IsZeroForTheSameSurfaceAndMeasuresAnOffset) {

@@ -111,8 +111,8 @@ BuiltRemesh build_remesh(const MappedMesh& mapped, int resolution, int threads,
   const auto start = std::chrono::steady_clock::now();
   const PolygonMesh& mesh = mapped.prepared.welded.mesh;
   const OrientedTriangles oriented = oriented_triangles(mesh);
-  const OctahedralRemesh remesh =
-      octahedral_remesh(mesh.positions, mapped.map.sphere, oriented.triangles, resolution, threads);
+  const OctahedralRemesh remesh = octahedral_remesh(
+      mesh.positions, mapped.map.sphere, oriented.triangles, resolution, threads, should_stop);
   const double sample_seconds = seconds_since(start);
   stop.check();
 

@@ -4,6 +4,7 @@
 #include <stdexcept>
 
 #include "core/mesh/parallel.h"
+#include "core/mesh/parallel_stop.h"
 #include "core/mesh/union_find.h"
 #include "core/outputs/sphere_locator.h"
 
@@ -36,8 +37,8 @@ std::vector<uint32_t> stitch(int n, size_t& distinct) {
 }  // namespace
 
 OctahedralRemesh octahedral_remesh(std::span<const Vec3> surface, std::span<const Vec3> sphere,
-                                   std::span<const Triangle> triangles, int resolution,
-                                   int threads) {
+                                   std::span<const Triangle> triangles, int resolution, int threads,
+                                   const std::function<bool()>* should_stop) {
   if (resolution < 2 || resolution % 2)
     throw std::invalid_argument("octahedral remesh: the resolution must be even and >= 2");
   OctahedralRemesh out;
@@ -57,7 +58,9 @@ OctahedralRemesh octahedral_remesh(std::span<const Vec3> surface, std::span<cons
   const SphereLocator locator(sphere, triangles);
   std::vector<Vec3> at_vertex(out.vertex_count);
   std::atomic<size_t> unlocated{0};
+  ParallelStop stop(should_stop, 4096);
   parallel_for(out.vertex_count, resolve_threads(threads), [&](size_t v) {
+    if (stop.skip(v)) return;
     const SphereHit hit = locator.locate(octahedral_decode(out.square[representative[v]]));
     if (hit.triangle == UINT32_MAX) {
       unlocated.fetch_add(1, std::memory_order_relaxed);
@@ -67,6 +70,7 @@ OctahedralRemesh octahedral_remesh(std::span<const Vec3> surface, std::span<cons
     at_vertex[v] = surface[t[0]] * hit.barycentric[0] + surface[t[1]] * hit.barycentric[1] +
                    surface[t[2]] * hit.barycentric[2];
   });
+  stop.throw_if_stopped();
   out.unlocated = unlocated;
   for (size_t s = 0; s < samples; ++s) out.positions[s] = at_vertex[out.vertex[s]];
 

@@ -5,6 +5,7 @@
 // coordinates and the sampled positions its geometry image.
 #pragma once
 
+#include <functional>
 #include <span>
 #include <vector>
 
@@ -27,10 +28,13 @@ struct OctahedralRemesh {
 // `surface` and `sphere`: positions of the same vertices on the original surface and on
 // the unit sphere; `triangles`: positively oriented on the sphere (a bijective map's
 // oriented triangles). `resolution`: N >= 2, even (so the octahedron's edges are grid
-// lines and diagonals). `threads`: 0 = all cores.
+// lines and diagonals). `threads`: 0 = all cores. `should_stop` (may be null), asked every
+// few thousand samples from any thread: true throws InputError("stopped") (a 4096² grid
+// locates 16M samples: seconds, which a time limit or a cancel must not wait for).
 OctahedralRemesh octahedral_remesh(std::span<const Vec3> surface, std::span<const Vec3> sphere,
                                    std::span<const Triangle> triangles, int resolution,
-                                   int threads = 0);
+                                   int threads = 0,
+                                   const std::function<bool()>* should_stop = nullptr);
 
 // The remesh as a polygon mesh over its stitched vertices (for the topology checks).
 PolygonMesh stitched_mesh(const OctahedralRemesh& remesh);
