@@ -10,6 +10,7 @@ import { MeshoptDecoder } from 'three/addons/libs/meshopt_decoder.module.js';
 const $ = (id) => document.getElementById(id);
 const state = {
   files: [], extraOptions: {}, events: null, poll: null, models: {}, view: null,
+  submission: 0,  // counts submissions: a late answer to an earlier one is ignored
   newJob: true,  // the next view framed picks its own direction (side-on), not the current one
   fitted: null,  // the last fit's box, redone when the canvas changes shape
   touched: false,  // the person moved the camera since that fit: a resize keeps their view
@@ -341,7 +342,7 @@ async function loadGlb(url) {
 }
 
 // The input as the browser reads it, with the selected files as its resources.
-async function previewInput(main) {
+async function previewInput(main, ticket) {
   const urls = new Map(state.files.map((f) => [f.name, URL.createObjectURL(f)]));
   const manager = new THREE.LoadingManager();
   manager.setURLModifier((url) => {
@@ -350,6 +351,7 @@ async function previewInput(main) {
   });
   try {
     const gltf = await gltfLoader(manager).parseAsync(await main.arrayBuffer(), '');
+    if (ticket !== state.submission) return;  // another file was chosen meanwhile
     setModel('input', framed(gltf.scene));
     if (!state.view) show('input');  // unless a result came back first
   } catch (error) {
@@ -407,6 +409,7 @@ const MESH_FILE = /\.(glb|gltf|obj|stl|ply|off)$/i;
 
 async function submit() {
   stopFollowing();
+  const ticket = ++state.submission;
   const main = state.files.find((f) => MESH_FILE.test(f.name));
   if (!main) {
     showError('Choose a .glb, .obj, .stl, .ply or .off file, or a .gltf with the .bin files it names.');
@@ -419,7 +422,7 @@ async function submit() {
   setStatus('submitting');
   clearModels();
   // The browser previews glTF itself; other formats show once mapped (the morph's start).
-  if (/\.(glb|gltf)$/i.test(main.name)) previewInput(main);
+  if (/\.(glb|gltf)$/i.test(main.name)) previewInput(main, ticket);
   const form = new FormData();
   form.append('mesh', main, main.name);
   // A .gltf's files go along as parts named by their file name (the service matches URIs).
@@ -430,10 +433,14 @@ async function submit() {
     response = await api('/v1/jobs', { method: 'POST', body: form });
     body = await response.json();
   } catch (error) {
+    if (ticket !== state.submission) return;
     setStatus('error');
     showError(`The service did not answer: ${error.message}`);
     return;
   }
+  // Submitted again while this one was on its way (a second file, a fix button): the
+  // newer submission owns the page; this job runs on, unwatched.
+  if (ticket !== state.submission) return;
   if (response.status === 401) $('key-field').hidden = false;
   if (response.status !== 202) {
     setStatus('rejected');
@@ -443,7 +450,7 @@ async function submit() {
   }
   setStatus(body.status);
   showProgress({ ...body.progress, status: body.status });
-  follow(body.id);
+  follow(body.id, ticket);
 }
 
 function stopFollowing() {
@@ -453,8 +460,8 @@ function stopFollowing() {
 }
 
 // Server-Sent Events while they work; polling when they cannot (too many streams, a proxy).
-function follow(id) {
-  if (apiKey()) return poll(id);  // EventSource cannot send the key
+function follow(id, ticket) {
+  if (apiKey()) return poll(id, ticket);  // EventSource cannot send the key
   const events = new EventSource(`/v1/jobs/${id}/events`);
   state.events = events;
   events.addEventListener('progress', (e) => {
@@ -464,24 +471,26 @@ function follow(id) {
   });
   events.addEventListener('status', (e) => {
     stopFollowing();
-    finished(JSON.parse(e.data));
+    finished(JSON.parse(e.data), ticket);
   });
   events.onerror = () => {
     if (state.events !== events) return;
     stopFollowing();
-    poll(id);
+    poll(id, ticket);
   };
 }
 
-function poll(id) {
-  state.poll = setInterval(async () => {
+function poll(id, ticket) {
+  const timer = setInterval(async () => {
     const job = await (await api(`/v1/jobs/${id}`)).json();
+    if (state.poll !== timer) return;  // stopped while this request was out
     showProgress({ ...job.progress, status: job.status });
     if (!['queued', 'running'].includes(job.status)) {
       stopFollowing();
-      finished(job);
+      finished(job, ticket);
     }
   }, 500);
+  state.poll = timer;
 }
 
 // With a key, a plain link cannot download (it carries no header): fetch, then save.
@@ -495,7 +504,7 @@ async function download(event, href, name) {
 
 const number = (x, digits = 3) => (typeof x === 'number' ? x.toFixed(digits) : '–');
 
-async function finished(job) {
+async function finished(job, ticket) {
   showProgress({ ...job.progress, status: job.status });
   const metrics = job.metrics ?? {};
   const artifacts = job.artifacts ?? {};
@@ -525,6 +534,8 @@ async function finished(job) {
       [prepared.collapsed_faces_dropped, 'collapsed faces dropped'],
       [prepared.faces_shortened, 'polygons shortened'],
       [prepared.faces_flipped, 'faces flipped'],
+      [prepared.holes_filled, `holes filled (${prepared.faces_added} faces added)`],
+      [prepared.holes_left, 'holes left open'],
     ].filter(([count]) => count > 0).map(([count, what]) => `${count.toLocaleString()} ${what}`);
     rows.push([`preparation (${prepared.method})`, changes.length ? changes.join(', ') : 'none needed']);
   }
@@ -550,19 +561,26 @@ async function finished(job) {
     li.append(link, ` (${(a.bytes / 1024).toFixed(1)} KiB)`);
     return li;
   }));
+  // Each model arrives after an await: a submission made meanwhile owns the views.
+  const load = async (name) => {
+    const model = await loadGlb(artifacts[name].href);
+    if (ticket !== state.submission) throw new Error('superseded by a newer submission');
+    return model;
+  };
   try {
-    if (artifacts['sphere.glb']) setModel('sphere', surface(await loadGlb(artifacts['sphere.glb'].href), 0x8fb3e8));
-    if (artifacts['remesh.glb']) setModel('remesh', surface(await loadGlb(artifacts['remesh.glb'].href), 0x9ad0a1));
+    if (artifacts['sphere.glb']) setModel('sphere', surface(await load('sphere.glb'), 0x8fb3e8));
+    if (artifacts['remesh.glb']) setModel('remesh', surface(await load('remesh.glb'), 0x9ad0a1));
     if (artifacts['morph.glb']) {
-      setModel('morph', framed(surface(await loadGlb(artifacts['morph.glb'].href), 0xd8b06a, false)));
+      setModel('morph', framed(surface(await load('morph.glb'), 0xd8b06a, false)));
       // An input the browser cannot preview (OBJ, STL, PLY, OFF): the morph at its mesh end
       // is that input, welded.
       if (!state.models.input)
-        setModel('input', framed(surface(await loadGlb(artifacts['morph.glb'].href), 0xc8c8c8)));
+        setModel('input', framed(surface(await load('morph.glb'), 0xc8c8c8)));
     }
     if (state.models.sphere) show('sphere');
   } catch (error) {
     console.warn('could not show a result:', error.message);
+    if (ticket !== state.submission) return;
   }
   // Last: the status is what tests wait for, once everything is drawn.
   requestAnimationFrame(() => setStatus(job.status));
