@@ -69,7 +69,8 @@ struct JobProgress {
   std::string stage = "queued";
   int level = 0, levels = 0;
   size_t vertices = 0, iteration = 0, folds = 0;
-  double energy = 0;  // stage "optimize": stretch energy per unit area (1.1 = isometric)
+  double energy = 0;           // stage "optimize": stretch energy per unit area (1.1 = isometric)
+  size_t part = 0, parts = 0;  // several parts: the one being mapped (1-based) of how many
 };
 
 using Clock = std::chrono::steady_clock;

@@ -48,6 +48,8 @@ nlohmann::json job_json(const Job& job, size_t queue_position) {
         {"iteration", job.progress.iteration},
         {"folds", job.progress.folds},
         {"energy", job.progress.energy},
+        {"part", job.progress.part},
+        {"parts", job.progress.parts},
         {"elapsed_seconds", job.started ? seconds(*job.started, end) : 0.0}}},
       {"links", {{"self", job_path(job.id)}}},
   };

@@ -178,10 +178,12 @@ MapControl progress_printer(bool quiet, double& last_print) {
   control.on_progress = [&last_print](const MapProgress& p) {
     if (p.elapsed_seconds < 1.0 || p.elapsed_seconds - last_print < 0.5) return;
     last_print = p.elapsed_seconds;
-    std::fprintf(stderr,
-                 "spheremap: %5.1f s  %-9s level %d/%d (%zu vertices)  iteration %zu  folds %zu\n",
-                 p.elapsed_seconds, std::string(p.stage).c_str(), p.level, p.levels, p.vertices,
-                 p.iteration, p.folds);
+    std::string part;
+    if (p.parts > 1) part = "part " + std::to_string(p.part) + "/" + std::to_string(p.parts) + "  ";
+    std::fprintf(
+        stderr, "spheremap: %5.1f s  %s%-9s level %d/%d (%zu vertices)  iteration %zu  folds %zu\n",
+        p.elapsed_seconds, part.c_str(), std::string(p.stage).c_str(), p.level, p.levels,
+        p.vertices, p.iteration, p.folds);
   };
   return control;
 }

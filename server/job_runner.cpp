@@ -132,8 +132,15 @@ JobStatus run_job(Job& job, const RunLimits& limits) {
   control.cancel = &job.cancel;
   control.on_progress = [&job](const MapProgress& p) {
     std::lock_guard lock(job.mutex);
-    job.progress = {std::string(p.stage), p.level, p.levels, p.vertices,
-                    p.iteration,          p.folds, p.energy};
+    job.progress = {std::string(p.stage),
+                    p.level,
+                    p.levels,
+                    p.vertices,
+                    p.iteration,
+                    p.folds,
+                    p.energy,
+                    p.part,
+                    p.parts};
   };
   try {
     const MappedMesh mapped = map_prepared(std::move(spec->prepared), options, control);

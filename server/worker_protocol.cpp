@@ -272,7 +272,7 @@ std::optional<FrameReader::Frame> FrameReader::next(size_t max_payload) {
 std::string progress_json(const JobProgress& p) {
   return nlohmann::json{{"stage", p.stage},       {"level", p.level},         {"levels", p.levels},
                         {"vertices", p.vertices}, {"iteration", p.iteration}, {"folds", p.folds},
-                        {"energy", p.energy}}
+                        {"energy", p.energy},     {"part", p.part},           {"parts", p.parts}}
       .dump();
 }
 
@@ -286,6 +286,8 @@ JobProgress progress_from_json(const std::string& text) {
   p.iteration = j.value("iteration", size_t{0});
   p.folds = j.value("folds", size_t{0});
   p.energy = j.value("energy", 0.0);
+  p.part = j.value("part", size_t{0});
+  p.parts = j.value("parts", size_t{0});
   return p;
 }
 

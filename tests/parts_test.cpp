@@ -3,6 +3,7 @@
 // output holding one node per part.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "core/io/gltf_reader.h"
@@ -144,6 +145,32 @@ TEST(MapParts, CertifiesEveryPartOnItsOwnSphere) {
 // A part whose map is not certified is left out with the reason when another part is
 // certified: here the paper's method with no smoothing at all, which maps the convex
 // sphere (its radial projection) but folds the horseshoe.
+// Progress names the part being mapped, so a progress bar can run over all of them (each
+// part's levels count from 0 again).
+TEST(MapParts, ProgressNamesThePartBeingMapped) {
+  PolygonMesh input = kit();
+  const PreparedMesh prepared = prepare_input(input, nullptr, {});
+  std::vector<size_t> seen;  // the part of each progress report
+  size_t parts = 0;
+  MapControl control;
+  control.on_progress = [&](const MapProgress& p) {
+    seen.push_back(p.part);
+    parts = p.parts;
+  };
+  const MappedMesh mapped = map_prepared(prepared, {}, control);
+  ASSERT_EQ(mapped.parts.size(), 4u);
+  EXPECT_EQ(parts, 4u);
+  ASSERT_FALSE(seen.empty());
+  EXPECT_EQ(seen.front(), 1u);
+  EXPECT_EQ(seen.back(), 4u);
+  EXPECT_TRUE(std::is_sorted(seen.begin(), seen.end()));
+  // One mesh: no part named.
+  bool named = false;
+  control.on_progress = [&](const MapProgress& p) { named |= p.parts != 0 || p.part != 0; };
+  map_prepared(prepare_mesh(testing::icosphere(2), {}), {}, control);
+  EXPECT_FALSE(named);
+}
+
 TEST(MapParts, APartWhoseMapIsNotCertifiedIsLeftOutWithTheReason) {
   PolygonMesh input = assembled({{testing::horseshoe(), {}}, {testing::icosphere(2), {10, 0, 0}}});
   MapOptions crippled;

@@ -14,6 +14,7 @@
 #include <thread>
 
 #include "core/map/pipeline.h"
+#include "server/worker_protocol.h"
 #include "tests/mesh_generators.h"
 
 namespace spheremap {
@@ -194,3 +195,35 @@ TEST(WorkerProcess, TheWatchdogSaysHowLongPastTheLimitItWaited) {
 
 }  // namespace
 }  // namespace spheremap
+
+namespace spheremap::server {
+namespace {
+
+// Progress crosses the worker pipe and Redis as JSON: every field comes back, the part too.
+TEST(WorkerProtocol, ProgressRoundTripsWithThePart) {
+  JobProgress p;
+  p.stage = "optimize";
+  p.level = 3;
+  p.levels = 7;
+  p.vertices = 1234;
+  p.iteration = 56;
+  p.folds = 2;
+  p.energy = 1.25;
+  p.part = 2;
+  p.parts = 5;
+  const JobProgress back = progress_from_json(progress_json(p));
+  EXPECT_EQ(back.stage, "optimize");
+  EXPECT_EQ(back.level, 3);
+  EXPECT_EQ(back.levels, 7);
+  EXPECT_EQ(back.vertices, 1234u);
+  EXPECT_EQ(back.iteration, 56u);
+  EXPECT_EQ(back.folds, 2u);
+  EXPECT_EQ(back.energy, 1.25);
+  EXPECT_EQ(back.part, 2u);
+  EXPECT_EQ(back.parts, 5u);
+  // A progress written before parts existed (a Redis hash of an older node) reads as one mesh.
+  EXPECT_EQ(progress_from_json(R"({"stage":"hierarchy"})").parts, 0u);
+}
+
+}  // namespace
+}  // namespace spheremap::server

@@ -384,9 +384,13 @@ function showError(text, fix) {
 
 function showProgress(p) {
   $('progress').hidden = false;
-  const fraction = p.status === 'succeeded' ? 1 : p.levels > 0 ? p.level / p.levels : 0.02;
+  // Several parts: each part's levels count from 0 again, so the bar runs over the parts.
+  const within = p.levels > 0 ? p.level / p.levels : 0;
+  const fraction = p.status === 'succeeded' ? 1
+    : p.parts > 1 ? (p.part - 1 + within) / p.parts : p.levels > 0 ? within : 0.02;
   $('bar-fill').style.width = `${Math.round(100 * Math.min(1, Math.max(fraction, 0.02)))}%`;
   const parts = [p.status === 'queued' ? 'queued' : p.stage];
+  if (p.parts > 1) parts.push(`part ${p.part}/${p.parts}`);
   if (p.levels) parts.push(`level ${p.level}/${p.levels}`);
   if (p.vertices) parts.push(`${p.vertices.toLocaleString()} vertices`);
   if (p.iteration) parts.push(`iteration ${p.iteration}`);

@@ -190,6 +190,14 @@ MappedMesh map_parts(PreparedMesh prepared, const MapOptions& options, const Map
     // this call's), so each gets what the parts before it left.
     MapControl part_control = control;
     if (!part_control.clock_start) part_control.clock_start = start;
+    if (control.on_progress)
+      part_control.on_progress = [&control, k = whole.parts.size() + 1,
+                                  n = split.size()](const MapProgress& p) {
+        MapProgress of_part = p;
+        of_part.part = k;
+        of_part.parts = n;
+        control.on_progress(of_part);
+      };
     const double elapsed =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - *part_control.clock_start)
             .count();

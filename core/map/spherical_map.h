@@ -72,6 +72,9 @@ struct MapProgress {
   size_t folds = 0;
   double energy = 0;  // "optimize": stretch energy per unit area (1 + lambda: isometric)
   double elapsed_seconds = 0;
+  // An asset of several parts (map_parts.h): the part being mapped (1-based) of how many;
+  // 0 of 0 for one mesh. Each part's levels count from 0 again.
+  size_t part = 0, parts = 0;
 };
 
 struct MapControl {

@@ -333,6 +333,10 @@ export interface components {
                 folds?: number;
                 /** @description stage optimize: stretch energy per unit area at the end of the level (1.1 = isometric) */
                 energy?: number;
+                /** @description an asset of several parts: the part being mapped, from 1 (its levels count from 0 again); 0 for one mesh */
+                part?: number;
+                /** @description an asset of several parts: how many are mapped; 0 for one mesh */
+                parts?: number;
                 elapsed_seconds?: number;
             };
             /** @description as metrics.json: bijective (the certified verdict: no fold and no degenerate triangle in double, float32 and as written), bijective_double, bijective_as_written, problem, quality, folds, distortion (area_distortion.mean_abs_log), stretch, seconds per stage, preparation (method, the faces dropped, shortened and flipped, and holes_filled, faces_added, holes_left, largest_fill); for an asset of several parts, parts (each part: mapped, or its check and reason), parts_mapped and parts_left_out; input_warnings when the input was read leniently (a glTF bufferView with byteStride 0 read as packed) */
