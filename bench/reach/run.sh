@@ -8,13 +8,15 @@
 #   unreadable        exit 2 with a read check      crash/timeout      anything else (a bug)
 # Writes SETDIR/results.tsv (one line per file) and prints the summary per kind, then the
 # crashes/timeouts and not-certified files, then the per-file lines.
-# Usage: bench/reach/run.sh SPHEREMAP SETDIR
+# PREPARE (default parts) and COMPARE (default repair) name the two --prepare methods.
+# Usage: [PREPARE=auto COMPARE=parts] bench/reach/run.sh SPHEREMAP SETDIR
 set -euo pipefail
 spheremap=$(realpath "$1")
 setdir=$(realpath "$2")
 python3 - "$spheremap" "$setdir" << 'EOF'
 import collections, concurrent.futures, csv, json, os, re, subprocess, sys, tempfile, time
 spheremap, setdir = sys.argv[1:3]
+prepare, compare = os.environ.get("PREPARE", "parts"), os.environ.get("COMPARE", "repair")
 read_checks = {"io", "parse", "gltf", "missing_resources"}  # the reader could not read it
 
 def run(path, prepare):
@@ -27,12 +29,16 @@ def run(path, prepare):
         p = subprocess.run(cmd, capture_output=True, text=True, errors="replace")
         r = {"exit": p.returncode, "seconds": round(time.monotonic() - start, 2),
              "check": "", "bijective": "", "mapped": "", "left_out": "", "left_checks": "",
+             "decided": "", "wrapped": "",
              "message": " ".join(p.stderr.split())[:300]}
         try:
             m = json.load(open(f"{tmp}/out.json"))
             r["bijective"] = m.get("bijective", "")
             r["mapped"] = m.get("parts_mapped", "")
             r["left_out"] = m.get("parts_left_out", "")
+            # prepare=auto: what it took, and how many parts it wrapped.
+            r["decided"] = m.get("preparation", {}).get("decided", "")
+            r["wrapped"] = sum(1 for q in m.get("parts") or [] if q.get("wrapped")) or ""
             checks = collections.Counter(q.get("check", "?") for q in m.get("parts") or []
                                          if not q.get("mapped", True))
             r["left_checks"] = ",".join(f"{c}x{n}" for c, n in sorted(checks.items()))
@@ -56,14 +62,15 @@ def run(path, prepare):
 rows = list(csv.DictReader(open(f"{setdir}/MANIFEST.tsv"), delimiter="\t"))
 def both(row):
     path = f"{setdir}/{row['kind']}/{row['source']}/{row['path']}"
-    return row, run(path, "parts"), run(path, "repair")
+    return row, run(path, prepare), run(path, compare)
 results = []
 with concurrent.futures.ThreadPoolExecutor(int(os.environ.get("JOBS", "2"))) as pool:  # 1 thread each
     for i, res in enumerate(pool.map(both, rows), 1):
         results.append(res)
         print(f"[{i}/{len(rows)}] {res[1]['class']:18} {res[0]['path']}", file=sys.stderr, flush=True)
 
-fields = ["exit", "seconds", "class", "check", "bijective", "mapped", "left_out", "left_checks"]
+fields = ["exit", "seconds", "class", "check", "bijective", "mapped", "left_out", "left_checks",
+          "decided", "wrapped"]
 lines = ["\t".join(["kind", "source", "path", "bytes", *fields, "repair_exit", "repair_class",
                     "repair_check", "message"])]
 for row, p, r in results:
@@ -80,9 +87,9 @@ for res in results:
 version = subprocess.run([spheremap, "--version"], capture_output=True, text=True).stdout.strip()
 digest = subprocess.run(["sha256sum", spheremap], capture_output=True, text=True).stdout.split()[0]
 print(f"binary: {spheremap} ({version}; sha256 {digest[:16]}); {len(rows)} files of {setdir}\n")
-print("== Summary (--prepare parts; last column: the same share under --prepare repair)")
+print(f"== Summary (--prepare {prepare}; last column: the same share under --prepare {compare})")
 print(f"{'kind':32} {'files':>5} {'all parts':>10} {'some':>5} {'refused':>7} {'not cert':>8} "
-      f"{'unread':>6} {'crash/to':>8} {'repair: all':>11}")
+      f"{'unread':>6} {'crash/to':>8} {compare + ': all':>11}")
 for kind in sorted(groups, key=lambda k: (k == "ALL", k)):
     g = groups[kind]
     n = collections.Counter(p["class"] for _, p, _ in g)
@@ -97,13 +104,15 @@ for kind in sorted(groups, key=lambda k: (k == "ALL", k)):
         for c in filter(None, p["left_checks"].split(",")):
             name, k = c.rsplit("x", 1)
             left[name] += int(k)
-    print(f"-- {kind}: refusals {dict(ref.most_common()) or '-'}; parts left out by check {dict(left.most_common()) or '-'}")
+    decided = collections.Counter(p["decided"] for _, p, _ in groups[kind] if p["decided"])
+    print(f"-- {kind}: refusals {dict(ref.most_common()) or '-'}; parts left out by check {dict(left.most_common()) or '-'}"
+          + (f"; decided {dict(decided.most_common())}" if decided else ""))
 gain = collections.Counter(p["class"] for _, p, r in results
                            if r["class"] != "all-parts-mapped" and p["class"].endswith("mapped"))
-print(f"-- gain over --prepare repair: {dict(gain)} (files not mapped under repair, now mapped)")
+print(f"-- gain over --prepare {compare}: {dict(gain)} (files not mapped under {compare}, now mapped)")
 print("\n== Crashes / timeouts (bugs)")
 for row, p, r in results:
-    for mode, x in (("parts", p), ("repair", r)):
+    for mode, x in ((prepare, p), (compare, r)):
         if x["class"] == "crash/timeout":
             print(f"{mode:6} exit {x['exit']} {x['seconds']}s {row['source']}/{row['path']}: {x['message']}")
 print("\n== Not certified (exit 3), unreadable")
