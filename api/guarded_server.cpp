@@ -6,6 +6,8 @@
 
 #include <algorithm>
 #include <chrono>
+#include <memory>
+#include <thread>
 
 #include "api/guarded_stream.h"
 #include "api/problem.h"
@@ -15,7 +17,7 @@ namespace {
 
 using Clock = GuardedStream::Clock;
 
-thread_local const GuardedStream* serving = nullptr;
+thread_local const ServedConnection* serving = nullptr;
 
 // A reverse proxy on the same host connects from here; a local client could exhaust the
 // machine by other means anyway.
@@ -94,8 +96,49 @@ void GuardedServer::release(const std::string& address) {
   if (--entry->second == 0) connections_.erase(entry);
 }
 
-const GuardedStream* GuardedServer::stream_of_this_thread() {
+const ServedConnection* GuardedServer::stream_of_this_thread() {
   return serving;
+}
+
+bool GuardedServer::listen_after_bind() {
+  if (!front_) return httplib::Server::listen_after_bind();
+  FrontSettings settings = *front_;
+  settings.limits = limits_;
+  settings.keep_alive = std::chrono::seconds(std::max<time_t>(1, keep_alive_timeout_sec_));
+  settings.keep_alive_max_count = keep_alive_max_count_;
+  settings.pace.stall =
+      std::chrono::seconds(write_timeout_sec_) + std::chrono::microseconds(write_timeout_usec_);
+  EventFront front(
+      std::move(settings),
+      [this](FrontStream& stream, bool close_after) {
+        serving = &stream;
+        bool closed = false;
+        const bool served = process_request(stream, close_after, closed, nullptr);
+        serving = nullptr;
+        return served && !closed;
+      },
+      [this](const std::string& slug, const std::string& address) {
+        if (observer_) observer_(slug, address);
+      });
+  std::unique_ptr<httplib::TaskQueue> pool(new_task_queue());
+  front_running_ = true;
+  front.run(svr_sock_, *pool);
+  front_running_ = false;
+  return true;
+}
+
+void GuardedServer::stop() {
+  if (!front_running_) {
+    httplib::Server::stop();
+    return;
+  }
+  // The front sees the swap and ends its loop; the socket is shut (accept fails, the
+  // loop wakes), and closed here once nothing may wait on it.
+  const socket_t listening = svr_sock_.exchange(INVALID_SOCKET);
+  if (listening == INVALID_SOCKET) return;
+  ::shutdown(listening, SHUT_RDWR);
+  while (front_running_) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  ::close(listening);
 }
 
 bool GuardedServer::serve_connection(socket_t socket) {
