@@ -95,6 +95,7 @@ struct EventFront::Connection {
 struct EventFront::Done {
   Connection* connection;
   bool keep;
+  bool failed;  // its writes failed or ran past their deadline
   PendingOutput out;
 };
 
@@ -350,14 +351,14 @@ void EventFront::start(Connection& c, httplib::TaskQueue& pool) {
     } catch (...) {
       keep = false;
     }
-    if (stream.failed())
+    if (stream.timed_out())
       log_event({{"event", "response_abandoned"},
                  {"remote", connection->address},
                  {"bytes", stream.bytes_written()},
                  {"reason", "the client did not read the response within its deadline"}});
     {
       std::lock_guard lock(done_mutex_);
-      done_.push_back({connection, keep, stream.take_pending()});
+      done_.push_back({connection, keep, stream.failed(), stream.take_pending()});
     }
     const uint64_t one = 1;
     (void)!::write(wake_, &one, sizeof one);
@@ -380,7 +381,9 @@ void EventFront::take_done() {
     c.close_after_write = !d.keep;
     c.handed_back = c.progress = Clock::now();
     c.sent = 0;
-    if (c.out.empty()) {
+    if (d.failed) {
+      abort(c);
+    } else if (c.out.empty()) {
       finish_response(c);
     } else {
       c.state = Connection::State::kWriting;
@@ -461,7 +464,7 @@ void EventFront::check_deadlines() {
                  {"bytes_sent", c->sent},
                  {"bytes_left", c->out.bytes()},
                  {"reason", "the client did not read the response within its deadline"}});
-      close(*c);
+      abort(*c);
     } else {
       close(*c);
     }
@@ -486,6 +489,14 @@ void EventFront::linger(Connection& c) {
   c.state = Connection::State::kLingering;
   c.linger_until = Clock::now() + kLinger;
   watch(c, EPOLLIN);
+}
+
+void EventFront::abort(Connection& c) {
+  // A reset, not an orderly close: the kernel would otherwise keep the unsent bytes (up
+  // to its send buffer, megabytes) for minutes, trying a client that does not read.
+  const struct ::linger reset { 1, 0 };
+  ::setsockopt(c.fd, SOL_SOCKET, SO_LINGER, &reset, sizeof reset);
+  close(c);
 }
 
 void EventFront::close(Connection& c) {

@@ -89,6 +89,8 @@ class EventFront {
   // so the answer is not lost to a reset.
   void linger(Connection& c);
   void close(Connection& c);
+  // Closes with a reset: for a client that did not take its answer in time.
+  void abort(Connection& c);
   void watch(Connection& c, uint32_t events);
 
   FrontSettings settings_;

@@ -157,7 +157,10 @@ bool FrontStream::send_waiting(const char* data, size_t size) {
       if (sent_ > before) progress = now;
       const Clock::time_point until =
           std::min(progress + pace_.stall, pace_.deadline(response_start_, written_));
-      if (now >= until) return !(failed_ = true);
+      if (now >= until) {
+        timed_out_ = true;
+        return !(failed_ = true);
+      }
       pollfd entry{socket_, POLLOUT, 0};
       const auto wait = std::chrono::ceil<std::chrono::milliseconds>(until - now);
       ::poll(&entry, 1, static_cast<int>(std::min<long long>(wait.count(), 1000)));

@@ -53,6 +53,8 @@ class FrontStream final : public httplib::Stream, public ServedConnection {
   PendingOutput take_pending();
   // A write failed or ran past its deadline: the connection must close.
   bool failed() const { return failed_; }
+  // ...because the client did not take it within the response deadline.
+  bool timed_out() const { return timed_out_; }
   size_t bytes_written() const { return written_; }
 
   bool is_readable() const override { return read_at_ < request_.size(); }
@@ -88,6 +90,7 @@ class FrontStream final : public httplib::Stream, public ServedConnection {
   std::atomic<long long>& copy_budget_;
   bool drop_continue_;
   bool failed_ = false;
+  bool timed_out_ = false;
   bool first_write_ = true;
   Clock::time_point response_start_{};
   size_t written_ = 0;  // handed to the socket or the queue
