@@ -284,6 +284,15 @@ void EventFront::advance(Connection& c) {
   }
   if (c.scanner.head_complete() && !head_was_complete) {
     c.body_start = Clock::now();
+    if (state == RequestHeadScanner::State::kIncomplete && settings_.check_head) {
+      const std::optional<std::string> answer =
+          settings_.check_head(std::string_view(c.in).substr(0, c.scanner.head_bytes()), c.address);
+      if (answer) {
+        (void)!::send(c.fd, answer->data(), answer->size(), MSG_NOSIGNAL | MSG_DONTWAIT);
+        linger(c);
+        return;
+      }
+    }
     if (state == RequestHeadScanner::State::kIncomplete && c.scanner.expects_continue() &&
         !c.continue_sent) {
       c.continue_sent = true;

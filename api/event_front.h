@@ -22,7 +22,9 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "api/connection_limits.h"
@@ -44,6 +46,12 @@ struct FrontSettings {
   // reference, not copied): per connection, and in all.
   size_t max_copied_per_connection = size_t{256} << 10;
   size_t response_copy_bytes = size_t{64} << 20;
+  // Asked when a head has ended and its body has not arrived (on the event thread: it
+  // must be quick): a whole answer refuses the request at once (sent, then the
+  // connection closes, the body unread); nullopt waits for the body. For the checks the
+  // service makes before reading a body (API key, Content-Encoding).
+  std::function<std::optional<std::string>(std::string_view head, const std::string& peer)>
+      check_head;
 };
 
 class EventFront {

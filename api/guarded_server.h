@@ -49,6 +49,12 @@ class GuardedServer : public httplib::Server {
   // The library's, or the event front's loop when it is on (these hide the library's
   // non-virtual ones: call them on a GuardedServer).
   bool listen_after_bind();
+  // The library's, also kept here: the event front applies the pre-routing handler (and
+  // then the post-routing handler and the logger) to a head whose body has not arrived,
+  // so what it refuses before reading a body is refused before the body is sent.
+  GuardedServer& set_pre_routing_handler(HandlerWithResponse handler);
+  GuardedServer& set_post_routing_handler(Handler handler);
+  GuardedServer& set_logger(httplib::Logger logger);
   bool is_running() const { return front_running_ || httplib::Server::is_running(); }
   void stop();
 
@@ -66,6 +72,8 @@ class GuardedServer : public httplib::Server {
   bool process_and_close_socket(socket_t socket) override { return serve_connection(socket); }
   // Counts a connection from `address`; false when that address is at its cap.
   bool admit(const std::string& address);
+  // The answer the pre-routing handler gives `head` alone, if it handles it.
+  std::optional<std::string> answer_head(std::string_view head, const std::string& peer);
   void release(const std::string& address);
 
   ConnectionLimits limits_;
@@ -73,6 +81,9 @@ class GuardedServer : public httplib::Server {
   std::mutex mutex_;
   std::map<std::string, size_t> connections_;  // served now, per counted address
   std::optional<FrontSettings> front_;
+  HandlerWithResponse pre_routing_;
+  Handler post_routing_;
+  httplib::Logger logger_;
   std::atomic<bool> front_running_{false};
 };
 

@@ -143,6 +143,21 @@ TEST(EventFront, ChunkedBodiesAre411AndTheConnectionCloses) {
   EXPECT_EQ(count_of(answer, "HTTP/1.1 "), 1u);
 }
 
+// What the service refuses before reading a body (here a compressed one) is refused at
+// the head, as before the front: the client need not send the body first.
+TEST(EventFront, ARequestRefusedBeforeItsBodyIsAnsweredAtItsHead) {
+  TestServer server(front_config());
+  const int fd = connect_from(server.port(), "127.0.0.2");
+  send_text(fd,
+            "POST /v1/jobs HTTP/1.1\r\nHost: x\r\nContent-Type: model/gltf-binary\r\n"
+            "Content-Encoding: gzip\r\nContent-Length: 1000000\r\n\r\n");
+  const std::string answer = read_until(fd);
+  close(fd);
+  EXPECT_TRUE(answer.starts_with("HTTP/1.1 415 Unsupported Media Type")) << answer;
+  EXPECT_NE(answer.find("unsupported_content_encoding"), std::string::npos);
+  EXPECT_NE(answer.find("X-Content-Type-Options: nosniff"), std::string::npos);  // post-routing
+}
+
 TEST(EventFront, RequestBytesBeyondTheBufferAre503) {
   server::ServerConfig config = front_config();
   config.request_buffer_bytes = 64 << 10;
