@@ -114,6 +114,16 @@ ssize_t FrontStream::write(const char* ptr, size_t size) {
     response_start_ = Clock::now();
   }
   written_ += size;
+  // What earlier writes queued goes first, as far as the socket takes it now: a long
+  // response (an event stream) must not wait for its end to send what it queued.
+  if (!pending_.empty()) {
+    const size_t copied = pending_.copied();
+    if (!pending_.send_some(socket_, sent_)) {
+      failed_ = true;
+      return -1;
+    }
+    copy_budget_.fetch_add(static_cast<long long>(copied - pending_.copied()));
+  }
   size_t offset = 0;
   if (pending_.empty()) {
     ssize_t n;
