@@ -29,7 +29,7 @@ struct ServerConfig {
   int workers = -1;                    // jobs mapped at once; -1 = the machine's cores; 0 = none
                                        // (an API-only node; redis queue only)
   int threads_per_job = 0;             // engine threads per job; 0 = cores / workers (at least 1)
-  int http_threads = 16;               // connections served at once (requests only, no mesh work)
+  int http_threads = 16;               // requests handled at once (not connections; no mesh work)
   int intake_threads = 0;              // submitted meshes read and checked at once; 0 = cores
   double intake_timeout_seconds = 30;  // for one submission's wait and reading (503 beyond)
   size_t queue_capacity = 32;          // jobs waiting for a worker; more get 429
