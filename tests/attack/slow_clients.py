@@ -9,7 +9,7 @@ server drops them, for HOLD seconds:
 Meanwhile GET /healthz on the API port (from 127.0.0.1) every 100 ms must answer 200,
 each within 2 s. Prints /healthz's latency (max, p99) and the server's threads and
 resident memory (sampled from /proc) during the attack. Exits 1 on a failure.
-Usage: slow_clients.py API_URL SERVER_PID GLB_FILE [HOLD_SECONDS]"""
+Usage: slow_clients.py API_URL SERVER_PID GLB_FILE [HOLD_SECONDS [CONNECTIONS]]"""
 import http.client
 import json
 import os
@@ -25,7 +25,9 @@ hold = float(sys.argv[4]) if len(sys.argv) > 4 else 20
 host, port = urllib.parse.urlsplit(api).hostname, urllib.parse.urlsplit(api).port
 glb = open(glb_path, "rb").read()
 addresses = ["127.0.0.2", "127.0.0.3", "127.0.0.4", "127.0.0.5"]
-per_kind = [334, 333, 333]  # slow headers, slow bodies, never-reading downloads: 1,000
+total = int(sys.argv[5]) if len(sys.argv) > 5 else 1000
+# Slow headers, slow bodies, never-reading downloads: a third each.
+per_kind = [total - 2 * (total // 3), total // 3, total // 3]
 
 
 def fail(message):
@@ -226,7 +228,7 @@ for c in clients:
 
 latencies.sort()
 p99 = latencies[min(len(latencies) - 1, int(len(latencies) * 0.99))] if latencies else 0
-print(f"1,000 slow clients from {len(addresses)} addresses for {hold:.0f} s "
+print(f"{total} slow clients from {len(addresses)} addresses for {hold:.0f} s "
       f"({held} connected at the end; {counts}):", flush=True)
 print(f"  /healthz on the API port: {len(latencies)} probes, max {latencies[-1]:.3f} s, "
       f"p99 {p99:.3f} s", flush=True)
