@@ -32,6 +32,9 @@ struct ApiSettings {
   double keep_alive_timeout_seconds = 5;
   double read_timeout_seconds = 30;
   ConnectionLimits connection;               // its `exempt` = trusted_proxies
+  size_t max_connections = 4096;             // held by the event front at once
+  size_t request_buffer_bytes = 256u << 20;  // requests being received, all connections
+  double response_min_bytes_per_second = 16384;
   std::string cors_origins;                  // "" = no CORS headers at all
   std::vector<std::string> trusted_proxies;  // peers whose X-Forwarded-For is believed
   int workers = 0;                           // on this node, for /metrics

@@ -17,13 +17,12 @@
 #include <string>
 
 #include "api/connection_limits.h"
+#include "api/served_connection.h"
 
 namespace spheremap::api {
 
-class GuardedStream final : public httplib::Stream {
+class GuardedStream final : public httplib::Stream, public ServedConnection {
  public:
-  using Clock = std::chrono::steady_clock;
-
   // `io_timeout` bounds each single wait for the socket (cpp-httplib's read and write
   // timeouts); the deadlines of `limits` bound a request's headers and body as a whole.
   GuardedStream(socket_t socket, const ConnectionLimits& limits, Clock::duration io_timeout);
@@ -31,9 +30,9 @@ class GuardedStream final : public httplib::Stream {
   // Starts the next request on the connection: the header clock runs from now.
   void begin_request();
   // When the current request's first bytes were there (begin_request).
-  Clock::time_point request_start() const { return request_start_; }
+  Clock::time_point request_start() const override { return request_start_; }
   // The peer's numeric address ("" if the socket has none).
-  const std::string& peer_address() const { return peer_address_; }
+  const std::string& peer_address() const override { return peer_address_; }
   // Called with the problem slug as a limit is broken, before the answer is written, so
   // whatever it records is there before the client can see the answer.
   void on_refusal(std::function<void(const std::string& slug)> callback) {
@@ -42,7 +41,7 @@ class GuardedStream final : public httplib::Stream {
   // Bytes of a next request are already here (no need to wait for the socket).
   bool has_buffered() const { return begin_ < end_; }
   // A limit was broken and answered: the connection must close.
-  bool refused() const { return refused_; }
+  bool refused() const override { return refused_; }
   // Its problem slug ("header_timeout", ...), once refused.
   const std::string& refusal() const { return refusal_; }
 

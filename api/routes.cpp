@@ -465,6 +465,14 @@ void install_api(GuardedServer& http, Backend& service) {
   http.set_keep_alive_max_count(100);
   // Without it a small response waits for the client's delayed ACK: 40 ms per request.
   http.set_tcp_nodelay(true);
+  // Connections are held by one event thread while requests arrive and slow clients
+  // read; the pool's threads run handlers only (api/event_front.h).
+  FrontSettings front;
+  front.threads = http_threads;
+  front.max_connections = config.max_connections;
+  front.request_buffer_bytes = config.request_buffer_bytes;
+  front.pace.min_bytes_per_second = config.response_min_bytes_per_second;
+  http.use_event_front(front);
 
   http.set_pre_routing_handler([&service](const httplib::Request& request,
                                           httplib::Response& response) {
@@ -542,7 +550,7 @@ void install_api(GuardedServer& http, Backend& service) {
   http.set_logger([&service](const httplib::Request& request, const httplib::Response& response) {
     // A request the connection limits refused is logged and counted once, as
     // connection_refused; the library still calls this for it, with a status of its own.
-    const GuardedStream* stream = GuardedServer::stream_of_this_thread();
+    const ServedConnection* stream = GuardedServer::stream_of_this_thread();
     if (stream && stream->refused()) return;
     service.metrics().request(response.status);
     // Timed from the request's first bytes, which the connection saw. Requests the

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "api/front_stream.h"
+
 namespace spheremap::api {
 namespace {
 
@@ -15,6 +17,9 @@ void send_shared(httplib::Response& response, SharedBytes bytes, const std::stri
   response.set_content_provider(
       size, content_type,
       [bytes = std::move(bytes)](size_t offset, size_t length, httplib::DataSink& sink) {
+        // Lent to the event front: what a slow client has not taken yet is queued as a
+        // reference to these bytes, and the thread goes back to the pool.
+        lend_response_bytes(bytes, bytes->data(), bytes->size());
         return sink.write(bytes->data() + offset, std::min(length, kChunkBytes));
       });
 }

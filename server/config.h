@@ -29,7 +29,7 @@ struct ServerConfig {
   int workers = -1;                    // jobs mapped at once; -1 = the machine's cores; 0 = none
                                        // (an API-only node; redis queue only)
   int threads_per_job = 0;             // engine threads per job; 0 = cores / workers (at least 1)
-  int http_threads = 16;               // connections served at once (requests only, no mesh work)
+  int http_threads = 16;               // requests handled at once (not connections; no mesh work)
   int intake_threads = 0;              // submitted meshes read and checked at once; 0 = cores
   double intake_timeout_seconds = 30;  // for one submission's wait and reading (503 beyond)
   size_t queue_capacity = 32;          // jobs waiting for a worker; more get 429
@@ -56,7 +56,14 @@ struct ServerConfig {
   double body_timeout_seconds = 120;       // end of the headers to the body's last byte
   size_t max_header_count = 100;           // request line and header lines
   size_t max_header_bytes = 32u << 10;     // all of them together
-  size_t max_connections_per_address = 8;  // served at once; 0 = no cap
+  size_t max_connections_per_address = 8;  // held at once; 0 = no cap
+  // The API port's event front (api/event_front.h): connections held at once in all
+  // (503 beyond), bytes of requests received and not yet answered, all connections
+  // together (503 beyond; 0 = 4 x max_body_bytes), and the least pace at which a client
+  // must take a response after read_timeout_seconds of grace.
+  size_t max_connections = 4096;
+  size_t request_buffer_bytes = 0;
+  double response_min_bytes_per_second = 16384;
   // A file of `TENANT KEY` lines: every /v1 route then needs `Authorization: Bearer KEY`
   // and a job is seen only by its tenant. "" = no keys (ids are the only handle).
   std::string api_keys;

@@ -49,7 +49,7 @@ int bind_port(httplib::Server& http, const ServerConfig& config, int port, const
 // step left the later join() waiting forever: a serve stopped right after it logged
 // "listening" never ended on a loaded CI machine. Waiting here closes that window, and
 // makes the "listening" line, logged after this, true.
-std::thread start_accept_loop(httplib::Server& server) {
+std::thread start_accept_loop(api::GuardedServer& server) {
   auto returned = std::make_shared<std::atomic<bool>>(false);
   std::thread loop([&server, returned] {
     server.listen_after_bind();

@@ -57,6 +57,10 @@ ApiSettings api_settings(const ServerConfig& c) {
   s.connection.max_header_count = c.max_header_count;
   s.connection.max_header_bytes = c.max_header_bytes;
   s.connection.max_connections_per_address = c.max_connections_per_address;
+  s.max_connections = c.max_connections;
+  s.request_buffer_bytes =
+      c.request_buffer_bytes != 0 ? c.request_buffer_bytes : 4 * c.max_body_bytes;
+  s.response_min_bytes_per_second = c.response_min_bytes_per_second;
   s.cors_origins = c.cors_origins;
   std::stringstream proxies(c.trusted_proxies);
   for (std::string proxy; std::getline(proxies, proxy, ',');) {
