@@ -102,7 +102,7 @@ const char* const kMapOptionsHelp = R"(Mapping options:
                             original layout leaves the fills out, the remesh keeps them
   --max-handle-cycle L      repair and parts close each handle (genus > 0) of a closed part
                             along a non-separating cycle of at most L times the part's
-                            bounding-box diagonal, shortest first (default 1; 0: none): the
+                            bounding-box diagonal, shortest first (default 1.5; 0: none): the
                             cut's vertices are copied and both sides filled like holes
 )";
 

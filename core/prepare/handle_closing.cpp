@@ -154,7 +154,10 @@ size_t cut_and_fill(PolygonMesh& mesh, std::vector<uint32_t>& faces, const PartS
   std::vector<Triangle> fill;
   for (const auto* loop : {&left_loop, &right_loop}) {
     double unused = 0;
-    const std::vector<Triangle> side = least_area_fill(mesh, *loop, edges, unused, stop);
+    // Collinear corners (common along CAD edges) would give triangles of no area: such
+    // triangles are not used, so the fill goes around them.
+    const std::vector<Triangle> side =
+        least_area_fill(mesh, *loop, edges, unused, stop, kCrackArea * surface);
     const bool crack = std::any_of(side.begin(), side.end(), [&](const Triangle& t) {
       return !(area(mesh, t) > kCrackArea * surface);
     });
@@ -192,28 +195,40 @@ std::string close_part(PolygonMesh& mesh, std::vector<uint32_t>& faces, long lon
   if (!(diagonal > 0)) return "its bounding box has no extent";
   while (genus > 0) {
     if (stop) stop->check();
-    if (static_cast<size_t>(genus) > max_genus)
-      return "its genus " + std::to_string(genus) + " is above the " + std::to_string(max_genus) +
-             " handles closed per part";
+    const size_t cap = std::min(max_genus, kHandleWork / std::max<size_t>(faces.size(), 1));
+    if (static_cast<size_t>(genus) > cap)
+      return "its genus " + std::to_string(genus) + " is above the " + std::to_string(cap) +
+             " handles closed in a part of " + std::to_string(faces.size()) + " faces (at most " +
+             std::to_string(max_genus) + ", and faces x handles at most " +
+             std::to_string(kHandleWork) + ")";
     const PartSurface s = part_surface(mesh, faces, stop);
     if (!s.closable || s.genus != genus) return "its surface changed while closing";
     const std::vector<HandleCycle> cycles = handle_cycles(mesh, faces, kRoots, stop);
-    size_t tried = 0;
+    size_t tried = 0, long_ones = 0, separating = 0, unfilled = 0;
     bool closed = false;
     for (const HandleCycle& cycle : cycles) {
       const double relative = cycle.length / diagonal;
-      if (!(relative <= max_cycle))
-        return "the shortest non-separating cycle left" +
-               std::string(tried ? " that could be closed" : "") + " is " + number(relative) +
+      if (!(relative <= max_cycle)) {
+        if (tried > 0) break;
+        return "the shortest non-separating cycle left is " + number(relative) +
                " of the part's bounding-box diagonal long, above max_handle_cycle " +
                number(max_cycle);
+      }
       ++tried;
-      if (cycle.vertices.size() < 3 || cycle.vertices.size() > kMaxHoleCorners ||
-          !leaves_connected(s, faces, cycle.vertices))
+      if (cycle.vertices.size() < 3 || cycle.vertices.size() > kMaxHoleCorners) {
+        ++long_ones;
         continue;
+      }
+      if (!leaves_connected(s, faces, cycle.vertices)) {
+        ++separating;
+        continue;
+      }
       const size_t added =
           cut_and_fill(mesh, faces, s, cycle.vertices, surface, result, original_vertices, stop);
-      if (added == 0) continue;
+      if (added == 0) {
+        ++unfilled;
+        continue;
+      }
       ++result.handles_closed;
       result.faces_added += added;
       result.largest_cycle = std::max(result.largest_cycle, relative);
@@ -221,10 +236,13 @@ std::string close_part(PolygonMesh& mesh, std::vector<uint32_t>& faces, long lon
       break;
     }
     if (!closed)
-      return "none of its " + std::to_string(tried) +
-             " shortest non-separating cycles could be cut and filled (each side needs a "
-             "triangulation over its corners, at most " +
-             std::to_string(kMaxHoleCorners) + ", without a non-manifold edge)";
+      return "none of its " + std::to_string(tried) + " non-separating cycles within " +
+             "max_handle_cycle " + number(max_cycle) + " could be cut and filled (" +
+             std::to_string(long_ones) + " of more than " + std::to_string(kMaxHoleCorners) +
+             " corners, " + std::to_string(separating) + " that would split the part, " +
+             std::to_string(unfilled) +
+             " without a fill of both sides free of non-manifold edges and triangles of no "
+             "area)";
     --genus;
   }
   return "";

@@ -22,8 +22,11 @@
 namespace spheremap {
 
 // The most handles one part may have to be closed (each costs a few shortest-path trees
-// over the part): a part of higher genus is left as it is.
-inline constexpr size_t kMaxHandles = 64;
+// over the part, about a microsecond per face): at most kMaxHandles, and at most
+// kHandleWork / faces (a part of a million faces: 16). A part of higher genus is left as
+// it is.
+inline constexpr size_t kMaxHandles = 256;
+inline constexpr size_t kHandleWork = size_t{1} << 24;
 
 struct HandleClosing {
   size_t handles_closed = 0, faces_added = 0;
@@ -46,8 +49,8 @@ struct HandleClosing {
 // are not closed, manifold (edges and vertices) and consistently oriented, or of genus 0,
 // are untouched. In the others, handles are closed while the next cycle is at most
 // `max_cycle` times the part's bounding-box diagonal long and the part's genus is at most
-// `max_genus`; a cycle is cut only when it is simple, leaves the part connected (non-
-// separating) and both its sides can be filled without a non-manifold edge, a crack
+// `max_genus` and kHandleWork / its faces; a cycle is cut only when it is simple, leaves the part
+// connected (non- separating) and both its sides can be filled without a non-manifold edge, a crack
 // triangle (kCrackArea) or more than kMaxHoleCorners corners. `stop` may be null.
 HandleClosing close_handles(PolygonMesh& mesh, double max_cycle, const StopCheck* stop = nullptr,
                             size_t max_genus = kMaxHandles);

@@ -76,7 +76,7 @@ std::vector<std::vector<uint32_t>> boundary_loops(const PolygonMesh& mesh, size_
 
 std::vector<Triangle> least_area_fill(const PolygonMesh& mesh, std::span<const uint32_t> loop,
                                       const std::unordered_set<uint64_t>& edges, double& area,
-                                      const StopCheck* stop) {
+                                      const StopCheck* stop, double min_area) {
   const size_t n = loop.size();
   constexpr double kNone = std::numeric_limits<double>::infinity();
   std::vector<double> best(n * n, kNone);
@@ -91,7 +91,9 @@ std::vector<Triangle> least_area_fill(const PolygonMesh& mesh, std::span<const u
       for (size_t j = i + 1; j < k; ++j) {
         const double a = best[i * n + j], b = best[j * n + k];
         if (a == kNone || b == kNone) continue;
-        const double total = a + b + triangle_area(mesh, loop[i], loop[j], loop[k]);
+        const double triangle = triangle_area(mesh, loop[i], loop[j], loop[k]);
+        if (!(triangle > min_area)) continue;
+        const double total = a + b + triangle;
         if (total < best[i * n + k]) {
           best[i * n + k] = total;
           split[i * n + k] = static_cast<uint32_t>(j);

@@ -49,9 +49,10 @@ inline constexpr double kCrackArea = 1e-9;
 // sub-polygons, corners^3 / 6 steps: callers bound `loop` by kMaxHoleCorners), none with an
 // edge in `edges` (undirected_edge_key) but the loop's own; empty when there is none.
 // `loop` runs the way the faces beside it do; the triangles run against it, so they close
-// the surface consistently oriented. `area` receives their total area. `stop` may be null.
+// the surface consistently oriented. `area` receives their total area. Triangles of at most
+// `min_area` are not used (a negative bound allows every one). `stop` may be null.
 std::vector<Triangle> least_area_fill(const PolygonMesh& mesh, std::span<const uint32_t> loop,
                                       const std::unordered_set<uint64_t>& edges, double& area,
-                                      const StopCheck* stop);
+                                      const StopCheck* stop, double min_area = -1);
 
 }  // namespace spheremap

@@ -277,8 +277,8 @@ export interface components {
              */
             max_hole_fill: number;
             /**
-             * @description repair and parts close each handle (genus > 0) of a closed, manifold, oriented part along a non-separating cycle of at most this length over the part's bounding-box diagonal, shortest first (tree-cotree cycles, as Praun & Hoppe's MinCycles; at most 64 handles per part): the cycle's vertices are copied and both sides of the cut filled like holes; 0 closes none. metrics.preparation: handles_closed, handles_left, largest_handle_cycle (faces_added counts these fills too). The sphere in the original layout leaves the fills out (the input's vertices on a cut are copied, one per side); the remesh, UV and morph keep them. A part left of genus > 0 says which bound stopped it
-             * @default 1
+             * @description repair and parts close each handle (genus > 0) of a closed, manifold, oriented part along a non-separating cycle of at most this length over the part's bounding-box diagonal, shortest first (tree-cotree cycles, as Praun & Hoppe's MinCycles; at most 256 handles per part, fewer in parts of over 65,536 faces): the cycle's vertices are copied and both sides of the cut filled like holes; 0 closes none. metrics.preparation: handles_closed, handles_left, largest_handle_cycle (faces_added counts these fills too). The sphere in the original layout leaves the fills out (the input's vertices on a cut are copied, one per side); the remesh, UV and morph keep them. A part left of genus > 0 says which bound stopped it
+             * @default 1.5
              */
             max_handle_cycle: number;
             /**
