@@ -93,7 +93,8 @@ const char* const kMapOptionsHelp = R"(Mapping options:
                             its part is; parts that cannot map are left out and listed with
                             their reasons in the metrics ("parts").
                             repair: drop faces the weld collapses and duplicate (double-sided)
-                            faces, make each part's orientation consistent; no vertex moves,
+                            faces, make each part's orientation consistent, split
+                            non-manifold vertices (one per fan); no vertex moves,
                             and a mesh that needs none of it is untouched; one part only.
                             exact: map the input as it is or refuse it
   --max-hole-fill F         repair and parts close each hole whose least-area fill is at most

@@ -9,13 +9,14 @@ trap 'rm -rf "$out"' EXIT
 # A mesh the default (--prepare parts) maps is refused under the method given:
 # "repair" (one part at a time: several parts refused, parts named as the fix) or
 # "repair-no-fill" (holes left open: --max-hole-fill 0) or "no-handles" (handles left:
-# --max-handle-cycle 0).
+# --max-handle-cycle 0) or "exact" (--prepare exact: non-manifold vertices not split).
 method=${4:-}
 refused_with=()
 case "$method" in
   repair) refused_with=(--prepare repair) ;;
   repair-no-fill) refused_with=(--prepare repair --max-hole-fill 0) ;;
   no-handles) refused_with=(--max-handle-cycle 0) ;;
+  exact) refused_with=(--prepare exact) ;;
 esac
 err=$("$spheremap" map "$mesh" -o "$out/sphere.obj" --quiet "${refused_with[@]}" 2>&1 >/dev/null)
 code=$?

@@ -22,6 +22,7 @@ nlohmann::json preparation_json(const PreparationReport& p) {
           {"duplicate_faces_dropped", p.duplicate_faces},
           {"faces_flipped", p.flipped_faces},
           {"parts_reoriented", p.reoriented_parts},
+          {"non_manifold_vertices_split", p.vertices_split},
           {"holes_filled", p.holes_filled},
           {"faces_added", p.faces_added},
           {"holes_left", p.holes_left},

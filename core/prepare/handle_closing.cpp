@@ -132,7 +132,8 @@ size_t cut_and_fill(PolygonMesh& mesh, std::vector<uint32_t>& faces, const PartS
   }
   const uint32_t first_copy = static_cast<uint32_t>(mesh.vertex_count());
   for (uint32_t v : cycle) {
-    mesh.positions.push_back(mesh.positions[v]);
+    const Vec3 position = mesh.positions[v];
+    mesh.positions.push_back(position);
     result.copy_of.push_back(v < original_vertices ? v : result.copy_of[v - original_vertices]);
   }
   for (const auto& [slot, i] : left) mesh.indices[slot] = first_copy + i;

@@ -48,6 +48,7 @@ struct PreparationReport {
   size_t input_faces = 0;
   size_t collapsed_faces = 0, shortened_faces = 0, duplicate_faces = 0, flipped_faces = 0;
   size_t reoriented_parts = 0;
+  size_t vertices_split = 0;  // non-manifold vertices made one vertex per fan
   size_t holes_filled = 0, holes_left = 0;
   size_t faces_added = 0;   // by hole fills and handle closings together
   double largest_fill = 0;  // the largest fill's area over the surface area
