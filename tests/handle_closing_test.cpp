@@ -21,6 +21,7 @@
 #include "core/outputs/sphere_asset.h"
 #include "core/prepare/handle_closing.h"
 #include "core/prepare/prepare_mesh.h"
+#include "core/prepare/vertex_copies.h"
 #include "tests/corpus.h"
 #include "tests/gltf_files.h"
 #include "tests/mesh_generators.h"
@@ -195,13 +196,45 @@ TEST(HandleClosing, AGlTFInputKeepsItsLookWithTheCutVerticesCopiedInItsPrimitive
   ASSERT_EQ(prepared.preparation.handles_closed, 1u);
   ASSERT_EQ(look.primitives.size(), 1u);
   EXPECT_EQ(look.primitives[0].vertex_count, input.vertex_count());
-  EXPECT_GT(input.vertex_count(), input_vertices);
+  // This file stores each triangle's corners apart: every input vertex on the cut has its
+  // faces on one side and moves with them, so no copy is needed.
+  EXPECT_EQ(input.vertex_count(), input_vertices);
   for (const GltfAppearance::Attribute& a : look.attributes)
     EXPECT_EQ(a.values.size(), size_t(a.components) * input.vertex_count()) << a.name;
   const MappedMesh mapped = map_prepared(prepared, {});
   const SphereAsset sphere = sphere_asset(input, mapped, {}, SphereLayout::kOriginal, 0, &look);
   EXPECT_TRUE(sphere.metrics["bijective"]);
   EXPECT_EQ(sphere.written.folds, 0u);
+}
+
+TEST(HandleClosing, InputVertexCopiesGoToTheEndOfTheirPrimitiveWithTheirAttributes) {
+  // Primitive 0: vertices 0-3 (two triangles), primitive 1: vertices 4-6. Face 1 uses a
+  // copy of vertex 2 (index 7, not yet in the mesh).
+  PolygonMesh input;
+  for (int v = 0; v < 7; ++v) input.positions.push_back({double(v), 0, 0});
+  input.add_face(std::vector<uint32_t>{0, 1, 2});
+  input.add_face(std::vector<uint32_t>{7, 3, 1});
+  input.add_face(std::vector<uint32_t>{4, 5, 6});
+  GltfAppearance look;
+  look.primitives.resize(2);
+  look.primitives[0].vertex_count = 4;
+  look.primitives[0].face_count = 2;
+  look.primitives[1].first_vertex = 4;
+  look.primitives[1].vertex_count = 3;
+  look.primitives[1].first_face = 2;
+  look.primitives[1].face_count = 1;
+  look.attributes.push_back({"TEXCOORD_0", 2, {0, 0, 1, 1, 2, 2, 3, 3, 4, 4, 5, 5, 6, 6}});
+  std::vector<uint32_t> to_welded = {0, 1, 2, 3, 4, 5, 6, 9};
+  insert_vertex_copies(input, &look, {2}, to_welded);
+  ASSERT_EQ(input.vertex_count(), 8u);
+  EXPECT_EQ(input.positions[4], input.positions[2]);  // the copy, at its primitive's end
+  EXPECT_EQ(input.indices, (std::vector<uint32_t>{0, 1, 2, 4, 3, 1, 5, 6, 7}));
+  EXPECT_EQ(to_welded, (std::vector<uint32_t>{0, 1, 2, 3, 9, 4, 5, 6}));
+  EXPECT_EQ(look.primitives[0].vertex_count, 5u);
+  EXPECT_EQ(look.primitives[1].first_vertex, 5u);
+  EXPECT_EQ(look.primitives[1].vertex_count, 3u);
+  EXPECT_EQ(look.attributes[0].values,
+            (std::vector<float>{0, 0, 1, 1, 2, 2, 3, 3, 2, 2, 4, 4, 5, 5, 6, 6}));
 }
 
 TEST(HandleClosing, AGenusZeroMeshIsUntouched) {
