@@ -17,6 +17,9 @@ namespace {
 // Bases rooted at this many vertices are tried each time (the first, then farthest ones):
 // the shortest cycle through one root may be long where another root lies on a short one.
 constexpr size_t kRoots = 3;
+// The shortest cycles tried for one cut (each costs a connectivity pass and two fills of up
+// to kMaxHoleCorners^3 / 6 steps): when none of them can be cut, the part is left.
+constexpr size_t kMaxTries = 8;
 
 uint64_t directed(uint32_t a, uint32_t b) {
   return (uint64_t{a} << 32) | b;
@@ -28,12 +31,17 @@ std::string number(double x) {
   return text;
 }
 
-// The corner before `v` in face `f`.
-uint32_t before(const PolygonMesh& mesh, uint32_t f, uint32_t v) {
-  const auto face = mesh.face(f);
-  for (size_t k = 0; k < face.size(); ++k)
-    if (face[k] == v) return face[(k + face.size() - 1) % face.size()];
-  return v;
+// The face of a corner (a slot in mesh.indices).
+uint32_t face_of_slot(const PolygonMesh& mesh, uint32_t slot) {
+  return static_cast<uint32_t>(std::upper_bound(mesh.offsets.begin(), mesh.offsets.end(), slot) -
+                               mesh.offsets.begin() - 1);
+}
+
+// The vertex of the corner before `slot` in its face (O(log faces), whatever the face's size).
+uint32_t before(const PolygonMesh& mesh, uint32_t slot) {
+  const uint32_t f = face_of_slot(mesh, slot);
+  const uint32_t size = mesh.offsets[f + 1] - mesh.offsets[f];
+  return mesh.indices[mesh.offsets[f] + (slot - mesh.offsets[f] + size - 1) % size];
 }
 
 // One part's faces as half-edges (a -> b: the face running a -> b), when they form a
@@ -41,40 +49,41 @@ uint32_t before(const PolygonMesh& mesh, uint32_t f, uint32_t v) {
 struct PartSurface {
   bool closable = false;
   long long genus = 0;
-  std::unordered_map<uint64_t, uint32_t> face_of;  // directed(a, b) -> face
+  std::unordered_map<uint64_t, uint32_t> corner_at;  // directed(a, b) -> the slot of a
 };
 
 PartSurface part_surface(const PolygonMesh& mesh, const std::vector<uint32_t>& faces,
                          const StopCheck* stop) {
   PartSurface s;
-  std::unordered_map<uint32_t, std::pair<uint32_t, uint32_t>> corners;  // v -> (count, a face)
+  std::unordered_map<uint32_t, std::pair<uint32_t, uint32_t>> corners;  // v -> (count, a slot)
   for (uint32_t f : faces) {
-    const auto face = mesh.face(f);
-    for (size_t k = 0; k < face.size(); ++k) {
-      const uint32_t a = face[k], b = face[(k + 1) % face.size()];
+    const uint32_t size = mesh.offsets[f + 1] - mesh.offsets[f];
+    for (uint32_t k = 0; k < size; ++k) {
+      const uint32_t slot = mesh.offsets[f] + k;
+      const uint32_t a = mesh.indices[slot], b = mesh.indices[mesh.offsets[f] + (k + 1) % size];
       // Twice the same way: inconsistent orientation, a non-manifold edge or a repeated
       // corner.
-      if (a == b || !s.face_of.emplace(directed(a, b), f).second) return s;
-      auto& [count, some_face] = corners.try_emplace(a, 0u, f).first->second;
+      if (a == b || !s.corner_at.emplace(directed(a, b), slot).second) return s;
+      auto& [count, some_slot] = corners.try_emplace(a, 0u, slot).first->second;
       ++count;
     }
   }
   if (stop) stop->check();
-  for (const auto& [key, f] : s.face_of)
-    if (!s.face_of.count(directed(static_cast<uint32_t>(key), static_cast<uint32_t>(key >> 32))))
+  for (const auto& [key, slot] : s.corner_at)
+    if (!s.corner_at.count(directed(static_cast<uint32_t>(key), static_cast<uint32_t>(key >> 32))))
       return s;  // a boundary edge
-  // Each vertex's faces form one fan: turning about it from one face meets them all.
-  for (const auto& [v, count_face] : corners) {
-    const auto [count, start] = count_face;
-    uint32_t f = start, steps = 0;
+  // Each vertex's faces form one fan: turning about it from one corner meets them all.
+  for (const auto& [v, count_slot] : corners) {
+    const auto [count, start] = count_slot;
+    uint32_t slot = start, steps = 0;
     do {
-      f = s.face_of.at(directed(v, before(mesh, f, v)));
+      slot = s.corner_at.at(directed(v, before(mesh, slot)));
       if (++steps > count) return s;
-    } while (f != start);
+    } while (slot != start);
     if (steps != count) return s;
   }
   const long long euler = static_cast<long long>(corners.size()) -
-                          static_cast<long long>(s.face_of.size() / 2) +
+                          static_cast<long long>(s.corner_at.size() / 2) +
                           static_cast<long long>(faces.size());
   if (euler > 2 || (2 - euler) % 2 != 0) return s;
   s.closable = true;
@@ -83,8 +92,8 @@ PartSurface part_surface(const PolygonMesh& mesh, const std::vector<uint32_t>& f
 }
 
 // Whether the part's faces stay connected across every edge but the cycle's.
-bool leaves_connected(const PartSurface& s, const std::vector<uint32_t>& faces,
-                      const std::vector<uint32_t>& cycle) {
+bool leaves_connected(const PolygonMesh& mesh, const PartSurface& s,
+                      const std::vector<uint32_t>& faces, const std::vector<uint32_t>& cycle) {
   std::unordered_map<uint32_t, uint32_t> local;
   for (uint32_t k = 0; k < faces.size(); ++k) local.emplace(faces[k], k);
   std::unordered_set<uint64_t> cut;
@@ -92,11 +101,11 @@ bool leaves_connected(const PartSurface& s, const std::vector<uint32_t>& faces,
     cut.insert(undirected_edge_key(cycle[k], cycle[(k + 1) % cycle.size()]));
   UnionFind sets(faces.size());
   size_t joined = 0;
-  for (const auto& [key, f] : s.face_of) {
+  for (const auto& [key, slot] : s.corner_at) {
     const uint32_t a = static_cast<uint32_t>(key >> 32), b = static_cast<uint32_t>(key);
     if (a > b || cut.count(undirected_edge_key(a, b))) continue;
-    const uint32_t x = sets.find(local.at(f)),
-                   y = sets.find(local.at(s.face_of.at(directed(b, a))));
+    const uint32_t x = sets.find(local.at(face_of_slot(mesh, slot))),
+                   y = sets.find(local.at(face_of_slot(mesh, s.corner_at.at(directed(b, a)))));
     if (x != y) sets.unite(x, y), ++joined;
   }
   return joined + 1 == faces.size();
@@ -118,16 +127,15 @@ size_t cut_and_fill(PolygonMesh& mesh, std::vector<uint32_t>& faces, const PartS
   std::vector<std::pair<uint32_t, uint32_t>> left;
   for (uint32_t i = 0; i < n; ++i) {
     const uint32_t v = cycle[i], next = cycle[(i + 1) % n], prev = cycle[(i + n - 1) % n];
-    const auto it = s.face_of.find(directed(v, next));
-    if (it == s.face_of.end()) return 0;
-    uint32_t f = it->second;
+    const auto it = s.corner_at.find(directed(v, next));
+    if (it == s.corner_at.end()) return 0;
+    uint32_t slot = it->second;
     for (size_t steps = 0;; ++steps) {
       if (steps > faces.size()) return 0;
-      for (uint32_t slot = mesh.offsets[f]; slot < mesh.offsets[f + 1]; ++slot)
-        if (mesh.indices[slot] == v) left.push_back({slot, i});
-      const uint32_t a = before(mesh, f, v);
+      left.push_back({slot, i});
+      const uint32_t a = before(mesh, slot);
       if (a == prev) break;
-      f = s.face_of.at(directed(v, a));
+      slot = s.corner_at.at(directed(v, a));
     }
   }
   const uint32_t first_copy = static_cast<uint32_t>(mesh.vertex_count());
@@ -215,12 +223,13 @@ std::string close_part(PolygonMesh& mesh, std::vector<uint32_t>& faces, long lon
                " of the part's bounding-box diagonal long, above max_handle_cycle " +
                number(max_cycle);
       }
+      if (tried == kMaxTries) break;
       ++tried;
       if (cycle.vertices.size() < 3 || cycle.vertices.size() > kMaxHoleCorners) {
         ++long_ones;
         continue;
       }
-      if (!leaves_connected(s, faces, cycle.vertices)) {
+      if (!leaves_connected(mesh, s, faces, cycle.vertices)) {
         ++separating;
         continue;
       }
@@ -237,7 +246,7 @@ std::string close_part(PolygonMesh& mesh, std::vector<uint32_t>& faces, long lon
       break;
     }
     if (!closed)
-      return "none of its " + std::to_string(tried) + " non-separating cycles within " +
+      return "none of its " + std::to_string(tried) + " shortest non-separating cycles within " +
              "max_handle_cycle " + number(max_cycle) + " could be cut and filled (" +
              std::to_string(long_ones) + " of more than " + std::to_string(kMaxHoleCorners) +
              " corners, " + std::to_string(separating) + " that would split the part, " +

@@ -51,7 +51,8 @@ struct HandleClosing {
 // `max_cycle` times the part's bounding-box diagonal long and the part's genus is at most
 // `max_genus` and kHandleWork / its faces; a cycle is cut only when it is simple, leaves the part
 // connected (non- separating) and both its sides can be filled without a non-manifold edge, a crack
-// triangle (kCrackArea) or more than kMaxHoleCorners corners. `stop` may be null.
+// triangle (kCrackArea) or more than kMaxHoleCorners corners (the 8 shortest cycles are
+// tried for each cut). `stop` may be null.
 HandleClosing close_handles(PolygonMesh& mesh, double max_cycle, const StopCheck* stop = nullptr,
                             size_t max_genus = kMaxHandles);
 
