@@ -525,6 +525,9 @@ async function finished(job) {
       [prepared.collapsed_faces_dropped, 'collapsed faces dropped'],
       [prepared.faces_shortened, 'polygons shortened'],
       [prepared.faces_flipped, 'faces flipped'],
+      [prepared.non_manifold_vertices_split, 'non-manifold vertices split'],
+      [prepared.holes_filled, 'holes filled'],
+      [prepared.handles_closed, 'handles closed'],
     ].filter(([count]) => count > 0).map(([count, what]) => `${count.toLocaleString()} ${what}`);
     rows.push([`preparation (${prepared.method})`, changes.length ? changes.join(', ') : 'none needed']);
   }
