@@ -146,6 +146,10 @@ JobOptions parse_job_options(const nlohmann::json& options) {
        [&](const Json& v, const std::string& k) {
          out.prepare.max_hole_fill = number(v, k, 0, 1);
        }},
+      {"max_handle_cycle",
+       [&](const Json& v, const std::string& k) {
+         out.prepare.max_handle_cycle = number(v, k, 0, 1000);
+       }},
       {"largest_component",
        [&](const Json& v, const std::string& k) { out.prepare.largest_component = boolean(v, k); }},
       {"draco", [&](const Json& v, const std::string& k) { draco = boolean(v, k); }},

@@ -26,6 +26,7 @@ const std::set<std::string> kMapValueOptions = {"method",
                                                 "weld-tolerance",
                                                 "prepare",
                                                 "max-hole-fill",
+                                                "max-handle-cycle",
                                                 "sweep",
                                                 "start-vertices",
                                                 "smooth-vertices",
@@ -92,13 +93,18 @@ const char* const kMapOptionsHelp = R"(Mapping options:
                             its part is; parts that cannot map are left out and listed with
                             their reasons in the metrics ("parts").
                             repair: drop faces the weld collapses and duplicate (double-sided)
-                            faces, make each part's orientation consistent; no vertex moves,
+                            faces, make each part's orientation consistent, split
+                            non-manifold vertices (one per fan); no vertex moves,
                             and a mesh that needs none of it is untouched; one part only.
                             exact: map the input as it is or refuse it
   --max-hole-fill F         repair and parts close each hole whose least-area fill is at most
                             F of the surface area (default 0.05; 0: none) with triangles over
                             its own corners (no vertex added or moved); the sphere in the
                             original layout leaves the fills out, the remesh keeps them
+  --max-handle-cycle L      repair and parts close each handle (genus > 0) of a closed part
+                            along a non-separating cycle of at most L times the part's
+                            bounding-box diagonal, shortest first (default 1.5; 0: none): the
+                            cut's vertices are copied and both sides filled like holes
 )";
 
 void read_map_options(const Arguments& args, PrepareOptions& prepare, MapOptions& options) {
@@ -161,6 +167,7 @@ void read_map_options(const Arguments& args, PrepareOptions& prepare, MapOptions
   prepare.weld_tolerance = args.number("weld-tolerance", 0, 0, 1);
   prepare.largest_component = args.flag("largest-component");
   prepare.max_hole_fill = args.number("max-hole-fill", prepare.max_hole_fill, 0, 1);
+  prepare.max_handle_cycle = args.number("max-handle-cycle", prepare.max_handle_cycle, 0, 1000);
   prepare.method = parse_prepare_method(args.text("prepare", "parts"));
 }
 

@@ -8,7 +8,8 @@ namespace spheremap::server {
 namespace {
 
 // '2': the requests carry the input's warnings (a worker of the other format refuses them).
-constexpr char kMagic[4] = {'S', 'M', 'W', '2'};
+// '3': and the handles closed in preparation.
+constexpr char kMagic[4] = {'S', 'M', 'W', '3'};
 
 static_assert(std::is_trivially_copyable_v<MapOptions>, "MapOptions travels as bytes");
 static_assert(std::is_trivially_copyable_v<Vec3>, "positions travel as bytes");
@@ -173,9 +174,12 @@ std::string encode_request(const JobSpec& spec, double time_limit_seconds, int t
   for (size_t count :
        {preparation.input_faces, preparation.collapsed_faces, preparation.shortened_faces,
         preparation.duplicate_faces, preparation.flipped_faces, preparation.reoriented_parts,
-        preparation.holes_filled, preparation.faces_added, preparation.holes_left})
+        preparation.holes_filled, preparation.faces_added, preparation.holes_left,
+        preparation.handles_closed, preparation.handles_left, preparation.vertices_split})
     w.put<uint64_t>(count);
   w.put<double>(preparation.largest_fill);
+  w.put<double>(preparation.largest_handle_cycle);
+  w.put_string(preparation.handles_stopped);
   w.put<uint64_t>(spec.prepared.parts.size());
   for (const PartReport& part : spec.prepared.parts) {
     w.put<uint64_t>(part.vertices);
@@ -226,9 +230,12 @@ WorkerRequest decode_request(const std::string& bytes) {
   for (size_t* count :
        {&preparation.input_faces, &preparation.collapsed_faces, &preparation.shortened_faces,
         &preparation.duplicate_faces, &preparation.flipped_faces, &preparation.reoriented_parts,
-        &preparation.holes_filled, &preparation.faces_added, &preparation.holes_left})
+        &preparation.holes_filled, &preparation.faces_added, &preparation.holes_left,
+        &preparation.handles_closed, &preparation.handles_left, &preparation.vertices_split})
     *count = r.get<uint64_t>();
   preparation.largest_fill = r.get<double>();
+  preparation.largest_handle_cycle = r.get<double>();
+  preparation.handles_stopped = r.get_string();
   // Each part has a face, and each failure is one of a dozen checks.
   const uint64_t parts = r.get<uint64_t>();
   if (parts > spec.input.face_count()) throw std::runtime_error("more parts than faces");

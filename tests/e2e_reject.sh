@@ -8,12 +8,15 @@ out=$(mktemp -d)
 trap 'rm -rf "$out"' EXIT
 # A mesh the default (--prepare parts) maps is refused under the method given:
 # "repair" (one part at a time: several parts refused, parts named as the fix) or
-# "repair-no-fill" (holes left open: --max-hole-fill 0).
+# "repair-no-fill" (holes left open: --max-hole-fill 0) or "no-handles" (handles left:
+# --max-handle-cycle 0) or "exact" (--prepare exact: non-manifold vertices not split).
 method=${4:-}
 refused_with=()
 case "$method" in
   repair) refused_with=(--prepare repair) ;;
   repair-no-fill) refused_with=(--prepare repair --max-hole-fill 0) ;;
+  no-handles) refused_with=(--max-handle-cycle 0) ;;
+  exact) refused_with=(--prepare exact) ;;
 esac
 err=$("$spheremap" map "$mesh" -o "$out/sphere.obj" --quiet "${refused_with[@]}" 2>&1 >/dev/null)
 code=$?
@@ -29,5 +32,6 @@ if [ -n "$method" ]; then
     { echo "expected the default to map it"; exit 1; }
   python3 -c 'import json,sys; m=json.load(open(sys.argv[1])); p=m["preparation"]
 assert m["bijective"] and m.get("parts_left_out", 0) == 0, m
-assert sys.argv[2] != "boundary" or p["holes_filled"] > 0, p' "$out/metrics.json" "$check" || exit 1
+assert sys.argv[2] != "boundary" or p["holes_filled"] > 0, p
+assert sys.argv[2] != "genus" or p["handles_closed"] > 0 and p["handles_left"] == 0, p' "$out/metrics.json" "$check" || exit 1
 fi

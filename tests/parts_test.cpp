@@ -100,7 +100,9 @@ TEST(PrepareParts, KeepsThePartsThatMapAndListsTheOthersWithTheirReasons) {
 
 TEST(PrepareParts, RefusesAnAssetNoPartOfWhichMapsAndSaysWhatTheyFail) {
   PolygonMesh input = assembled({{testing::dome(2), {}}, {testing::torus(12, 8), {5, 0, 0}}});
-  const PreparedMesh prepared = prepare_input(input, nullptr, {});
+  PrepareOptions no_handles;  // the torus's handle left
+  no_handles.max_handle_cycle = 0;
+  const PreparedMesh prepared = prepare_input(input, nullptr, no_handles);
   EXPECT_EQ(prepared.parts_left_out(), 2u);
   const auto failures = input_failures(prepared);
   const auto components = std::find_if(failures.begin(), failures.end(),

@@ -14,6 +14,7 @@
 #include <set>
 #include <sstream>
 #include <thread>
+#include <tuple>
 
 #include "api/client_address.h"
 #include "core/io/glb_writer.h"
@@ -918,16 +919,18 @@ TEST(JobIds, AreRandom128BitHex) {
 TEST(Service, InvalidMeshesGet422WithTheirCheck) {
   TestServer server(small_config());
   auto client = server.client();
-  const std::pair<PolygonMesh, std::string> cases[] = {
-      {testing::torus(12, 8), "genus"},
-      {testing::dome(2), "boundary"},  // a hole too large to close
+  // The tori's handles would be closed (each then maps), and the pinched vertex split
+  // (two parts that map): not here.
+  const std::tuple<PolygonMesh, std::string, std::string> cases[] = {
+      {testing::torus(12, 8), "genus", "?max_handle_cycle=0"},
+      {testing::dome(2), "boundary", ""},  // a hole too large to close
       // Two parts neither of which maps alone (each has genus 1).
       {testing::assembled({{testing::torus(12, 8), {}}, {testing::torus(12, 8), {5, 0, 0}}}),
-       "components"},
-      {testing::pinched_tetrahedra(), "non_manifold_vertex"},
+       "components", "?max_handle_cycle=0"},
+      {testing::pinched_tetrahedra(), "non_manifold_vertex", "?prepare=exact"},
   };
-  for (const auto& [mesh, check] : cases) {
-    auto result = post_glb(client, glb_of(mesh));
+  for (const auto& [mesh, check, query] : cases) {
+    auto result = post_glb(client, glb_of(mesh), "/v1/jobs" + query);
     expect_problem(result, 422, "not_mappable");
     EXPECT_EQ(json::parse(result->body)["check"], check) << result->body;
   }
@@ -1374,13 +1377,18 @@ TEST_F(ServiceCorpus, BadMeshesGet422WithTheirReason) {
       const std::string file = std::string("bad/") + mesh + form;
       // Five tetrahedra are five parts that each map (prepare=parts, the default); one
       // part at a time (repair) refuses them, naming parts as the fix that was checked.
-      // Its holes are small: they are closed unless max_hole_fill is 0.
+      // Its holes are small: they are closed unless max_hole_fill is 0; the handles too,
+      // unless max_handle_cycle is 0; the non-manifold vertex is split unless exact.
       const bool parts = std::string(check) == "components";
       const bool holes = std::string(check) == "boundary";
+      const bool handles = std::string(check) == "genus";
+      const bool pinched = std::string(check) == "non_manifold_vertex";
       auto result = post_glb(client, read_bytes(testing::corpus_path(file)),
-                             parts   ? "/v1/jobs?prepare=repair"
-                             : holes ? "/v1/jobs?max_hole_fill=0"
-                                     : "/v1/jobs");
+                             parts     ? "/v1/jobs?prepare=repair"
+                             : holes   ? "/v1/jobs?max_hole_fill=0"
+                             : handles ? "/v1/jobs?max_handle_cycle=0"
+                             : pinched ? "/v1/jobs?prepare=exact"
+                                       : "/v1/jobs");
       expect_problem(result, 422, "not_mappable");
       const json problem = json::parse(result->body);
       EXPECT_EQ(problem["check"], check) << file;
@@ -1404,6 +1412,13 @@ TEST_F(ServiceCorpus, BadMeshesGet422WithTheirReason) {
   const json done = wait_for(client, body_json(closed)["id"]);
   EXPECT_EQ(done["status"], "succeeded") << done.dump(2);
   EXPECT_EQ(done["metrics"]["preparation"]["holes_filled"], 5);
+  // The torus maps by default, through a worker, its handle closed.
+  auto ring = post_glb(client, read_bytes(testing::corpus_path("bad/torus.glb")));
+  ASSERT_EQ(ring->status, 202) << ring->body;
+  const json ring_done = wait_for(client, body_json(ring)["id"]);
+  EXPECT_EQ(ring_done["status"], "succeeded") << ring_done.dump(2);
+  EXPECT_EQ(ring_done["metrics"]["preparation"]["handles_closed"], 1);
+  EXPECT_EQ(ring_done["metrics"]["bijective"], true);
 }
 
 }  // namespace

@@ -538,7 +538,10 @@ async function finished(job, ticket) {
       [prepared.collapsed_faces_dropped, 'collapsed faces dropped'],
       [prepared.faces_shortened, 'polygons shortened'],
       [prepared.faces_flipped, 'faces flipped'],
-      [prepared.holes_filled, `holes filled (${prepared.faces_added} faces added)`],
+      [prepared.non_manifold_vertices_split, 'non-manifold vertices split'],
+      [prepared.holes_filled, 'holes filled'],
+      [prepared.handles_closed, 'handles closed'],
+      [prepared.faces_added, 'faces added by the fills'],
       [prepared.holes_left, 'holes left open'],
     ].filter(([count]) => count > 0).map(([count, what]) => `${count.toLocaleString()} ${what}`);
     rows.push([`preparation (${prepared.method})`, changes.length ? changes.join(', ') : 'none needed']);

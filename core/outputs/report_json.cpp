@@ -22,10 +22,14 @@ nlohmann::json preparation_json(const PreparationReport& p) {
           {"duplicate_faces_dropped", p.duplicate_faces},
           {"faces_flipped", p.flipped_faces},
           {"parts_reoriented", p.reoriented_parts},
+          {"non_manifold_vertices_split", p.vertices_split},
           {"holes_filled", p.holes_filled},
           {"faces_added", p.faces_added},
           {"holes_left", p.holes_left},
-          {"largest_fill", p.largest_fill}};
+          {"largest_fill", p.largest_fill},
+          {"handles_closed", p.handles_closed},
+          {"handles_left", p.handles_left},
+          {"largest_handle_cycle", p.largest_handle_cycle}};
 }
 
 nlohmann::json fix_json(const Fix& fix) {

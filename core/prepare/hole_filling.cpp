@@ -12,11 +12,8 @@
 namespace spheremap {
 namespace {
 
-// A fill triangle smaller than this share of its part's surface spans a crack.
-constexpr double kCrackArea = 1e-9;
-
 uint64_t edge_key(uint32_t a, uint32_t b) {
-  return (uint64_t{std::min(a, b)} << 32) | std::max(a, b);
+  return undirected_edge_key(a, b);
 }
 
 double triangle_area(const PolygonMesh& mesh, uint32_t a, uint32_t b, uint32_t c) {
@@ -75,11 +72,11 @@ std::vector<std::vector<uint32_t>> boundary_loops(const PolygonMesh& mesh, size_
   return loops;
 }
 
-// The triangles of least total area over the loop's corners (dynamic programming over
-// sub-polygons), none with an edge in `edges` but the loop's own; empty when there is none.
-std::vector<Triangle> least_area_fill(const PolygonMesh& mesh, const std::vector<uint32_t>& loop,
+}  // namespace
+
+std::vector<Triangle> least_area_fill(const PolygonMesh& mesh, std::span<const uint32_t> loop,
                                       const std::unordered_set<uint64_t>& edges, double& area,
-                                      const StopCheck* stop) {
+                                      const StopCheck* stop, double min_area) {
   const size_t n = loop.size();
   constexpr double kNone = std::numeric_limits<double>::infinity();
   std::vector<double> best(n * n, kNone);
@@ -94,7 +91,9 @@ std::vector<Triangle> least_area_fill(const PolygonMesh& mesh, const std::vector
       for (size_t j = i + 1; j < k; ++j) {
         const double a = best[i * n + j], b = best[j * n + k];
         if (a == kNone || b == kNone) continue;
-        const double total = a + b + triangle_area(mesh, loop[i], loop[j], loop[k]);
+        const double triangle = triangle_area(mesh, loop[i], loop[j], loop[k]);
+        if (!(triangle > min_area)) continue;
+        const double total = a + b + triangle;
         if (total < best[i * n + k]) {
           best[i * n + k] = total;
           split[i * n + k] = static_cast<uint32_t>(j);
@@ -118,8 +117,6 @@ std::vector<Triangle> least_area_fill(const PolygonMesh& mesh, const std::vector
   }
   return out;
 }
-
-}  // namespace
 
 HoleFilling fill_holes(PolygonMesh& mesh, double max_fill, const StopCheck* stop) {
   HoleFilling result;

@@ -8,6 +8,10 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
+#include <span>
+#include <unordered_set>
+#include <vector>
 
 #include "core/mesh/mesh.h"
 #include "core/mesh/stop_check.h"
@@ -32,5 +36,23 @@ struct HoleFilling {
 // triangle of next to no area (cracks, which a weld closes) are left. Fills run the way
 // the hole's faces do. `stop` may be null.
 HoleFilling fill_holes(PolygonMesh& mesh, double max_fill, const StopCheck* stop = nullptr);
+
+// The key of the undirected edge {a, b} in the `edges` sets below.
+inline uint64_t undirected_edge_key(uint32_t a, uint32_t b) {
+  return (uint64_t{a < b ? a : b} << 32) | (a < b ? b : a);
+}
+
+// A fill triangle smaller than this share of its part's surface spans a crack.
+inline constexpr double kCrackArea = 1e-9;
+
+// The triangles of least total area over a loop's corners (dynamic programming over
+// sub-polygons, corners^3 / 6 steps: callers bound `loop` by kMaxHoleCorners), none with an
+// edge in `edges` (undirected_edge_key) but the loop's own; empty when there is none.
+// `loop` runs the way the faces beside it do; the triangles run against it, so they close
+// the surface consistently oriented. `area` receives their total area. Triangles of at most
+// `min_area` are not used (a negative bound allows every one). `stop` may be null.
+std::vector<Triangle> least_area_fill(const PolygonMesh& mesh, std::span<const uint32_t> loop,
+                                      const std::unordered_set<uint64_t>& edges, double& area,
+                                      const StopCheck* stop, double min_area = -1);
 
 }  // namespace spheremap

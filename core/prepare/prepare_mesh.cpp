@@ -1,12 +1,16 @@
 #include "core/prepare/prepare_mesh.h"
 
 #include <algorithm>
+#include <unordered_map>
 
 #include "core/mesh/stop_check.h"
 #include "core/mesh/union_find.h"
 #include "core/prepare/connected_parts.h"
 #include "core/prepare/face_cleanup.h"
+#include "core/prepare/handle_closing.h"
 #include "core/prepare/hole_filling.h"
+#include "core/prepare/vertex_copies.h"
+#include "core/prepare/vertex_split.h"
 
 namespace spheremap {
 namespace {
@@ -77,6 +81,9 @@ std::vector<ValidationFailure> remaining_failures(const PreparedMesh& prepared) 
   const bool some_part_maps = prepared.parts_left_out() < prepared.parts.size();
   if (prepared.preparation.method == PrepareMethod::kParts && some_part_maps)
     std::erase_if(failures, [](const ValidationFailure& f) { return f.check == "components"; });
+  for (ValidationFailure& f : failures)
+    if (f.check == "genus" && !prepared.preparation.handles_stopped.empty())
+      f.message += "; closing its handles stopped: " + prepared.preparation.handles_stopped;
   return failures;
 }
 
@@ -125,6 +132,101 @@ void fill_small_holes(PreparedMesh& prepared, const PrepareOptions& options) {
   if (filled.faces_added > 0) prepared.topology = analyze_topology(prepared.welded.mesh, &stop);
 }
 
+// Whether the input's faces that reach the welded mesh are its first faces, in order,
+// corner for corner (fills come after): true unless a step reordered them.
+bool input_faces_lead(const PolygonMesh& input, const WeldResult& welded) {
+  size_t w = 0;
+  for (size_t f = 0; f < input.face_count(); ++f) {
+    if (welded.input_to_welded[input.face(f)[0]] == kUnreferenced) continue;
+    if (w >= welded.mesh.face_count() || welded.mesh.face_size(w) != input.face_size(f))
+      return false;
+    const auto face = input.face(f);
+    for (size_t k = 0; k < face.size(); ++k)
+      if (welded.input_to_welded[face[k]] != welded.mesh.face(w)[k]) return false;
+    ++w;
+  }
+  return true;
+}
+
+// After welded vertices were copied (a handle's cut, a split vertex): each input face
+// corner uses an input vertex whose welded vertex is the one its welded face has (faces as
+// input_faces_lead). An input vertex all of whose corners moved to one copy is moved with
+// them (an input seam already there needs no copy); the others get input copies.
+void copy_cut_input_vertices(PolygonMesh& input, GltfAppearance* look, WeldResult& welded) {
+  auto& to_welded = welded.input_to_welded;
+  const uint32_t n = static_cast<uint32_t>(input.vertex_count());
+  std::vector<char> keeps(n, 0), moved(n, 0);  // keeps: a corner of v stays where v welds
+  auto for_each_corner = [&](auto&& visit) {
+    size_t w = 0;
+    for (size_t f = 0; f < input.face_count(); ++f) {
+      if (to_welded[input.face(f)[0]] == kUnreferenced) continue;
+      const auto welded_face = welded.mesh.face(w++);
+      for (uint32_t slot = input.offsets[f]; slot < input.offsets[f + 1]; ++slot)
+        visit(slot, welded_face[slot - input.offsets[f]]);
+    }
+  };
+  for_each_corner([&](uint32_t slot, uint32_t target) {
+    const uint32_t v = input.indices[slot];
+    if (to_welded[v] == target) keeps[v] = 1;
+  });
+  std::unordered_map<uint64_t, uint32_t> copy_for;  // (input vertex, welded vertex) -> copy
+  std::vector<uint32_t> source;
+  for_each_corner([&](uint32_t slot, uint32_t target) {
+    const uint32_t v = input.indices[slot];
+    if (v >= n || to_welded[v] == target) return;
+    if (!keeps[v] && !moved[v]) {
+      to_welded[v] = target;
+      moved[v] = 1;
+      return;
+    }
+    const auto [it, added] =
+        copy_for.emplace((uint64_t{v} << 32) | target, n + static_cast<uint32_t>(source.size()));
+    if (added) {
+      source.push_back(v);
+      to_welded.push_back(target);
+    }
+    input.indices[slot] = it->second;
+  });
+  insert_vertex_copies(input, look, source, to_welded);
+}
+
+// Handles closed along short non-separating cycles (handle_closing.h): welded vertices on
+// each cut copied, fills appended; the input gets the same copies, so every output in its
+// layout has each side of the cut where the map put it.
+void close_short_handles(PreparedMesh& prepared, PolygonMesh& input, GltfAppearance* look,
+                         const PrepareOptions& options) {
+  if (options.max_handle_cycle <= 0) return;
+  StopCheck stop(&options.should_stop);
+  WeldResult& welded = prepared.welded;
+  if (!input_faces_lead(input, welded)) return;
+  const HandleClosing closed = close_handles(welded.mesh, options.max_handle_cycle, &stop);
+  PreparationReport& report = prepared.preparation;
+  report.handles_closed = closed.handles_closed;
+  report.handles_left = closed.handles_left;
+  report.largest_handle_cycle = closed.largest_cycle;
+  report.faces_added += closed.faces_added;
+  if (!closed.stopped.empty()) report.handles_stopped = closed.stopped.front().reason;
+  prepared.handle_stops = closed.stopped;
+  if (closed.handles_closed == 0) return;
+  copy_cut_input_vertices(input, look, welded);
+  prepared.topology = analyze_topology(welded.mesh, &stop);
+}
+
+// Non-manifold vertices split into one vertex per fan (vertex_split.h), on the welded mesh
+// (a weld would merge the copies again); the input's vertices there follow.
+void split_pinched_vertices(PreparedMesh& prepared, PolygonMesh& input, GltfAppearance* look,
+                            const PrepareOptions& options) {
+  if (prepared.topology.non_manifold_vertices == 0) return;
+  WeldResult& welded = prepared.welded;
+  if (!input_faces_lead(input, welded)) return;
+  StopCheck stop(&options.should_stop);
+  const VertexSplit split = split_non_manifold_vertices(welded.mesh, &stop);
+  prepared.preparation.vertices_split = split.vertices_split;
+  if (split.vertices_added == 0) return;
+  copy_cut_input_vertices(input, look, welded);
+  prepared.topology = analyze_topology(welded.mesh, &stop);
+}
+
 PreparedMesh prepare_once(PolygonMesh& input, GltfAppearance* look, const PrepareOptions& options) {
   PreparedMesh as_given = prepare_mesh(input, options);
   // A mesh that maps as it is has nothing to clean (a duplicate face, a collapsed one or a
@@ -152,7 +254,9 @@ PreparedMesh prepare_once(PolygonMesh& input, GltfAppearance* look, const Prepar
   report.duplicate_faces = cleanup.duplicate_faces;
   report.flipped_faces = cleanup.flipped_faces;
   report.reoriented_parts = cleanup.reoriented_parts;
+  split_pinched_vertices(prepared, input, look, options);
   fill_small_holes(prepared, options);
+  close_short_handles(prepared, input, look, options);
   return prepared;
 }
 
@@ -170,6 +274,12 @@ void keep_mappable_parts(PreparedMesh& prepared, const PrepareOptions& options) 
     report.vertices = parts[k].mesh.vertex_count();
     report.faces = parts[k].mesh.face_count();
     report.failures = mapping_failures(analyze_topology(parts[k].mesh, &stop));
+    for (ValidationFailure& f : report.failures)
+      if (f.check == "genus")
+        for (const HandleClosing::Stopped& stopped : prepared.handle_stops)
+          if (std::find(parts[k].vertex.begin(), parts[k].vertex.end(), stopped.vertex) !=
+              parts[k].vertex.end())
+            f.message += "; closing its handles stopped: " + stopped.reason;
     keep[k] = report.mappable();
     prepared.parts.push_back(std::move(report));
   }

@@ -11,6 +11,7 @@
 #include "core/mesh/mesh.h"
 #include "core/mesh/topology.h"
 #include "core/mesh/weld.h"
+#include "core/prepare/handle_closing.h"
 
 namespace spheremap {
 
@@ -31,6 +32,11 @@ struct PrepareOptions {
   // repair and parts: holes whose least-area fill is at most this share of the surface
   // area are closed (hole_filling.h); 0: none.
   double max_hole_fill = 0.05;
+  // repair and parts: handles of closed, manifold, oriented parts are closed along
+  // non-separating cycles of at most this length over the part's bounding-box diagonal,
+  // shortest first (handle_closing.h); 0: none. 1.5: the longest cycle the reach set's
+  // genus > 0 assets need is 1.39 (a printer bed), and every one of them maps certified.
+  double max_handle_cycle = 1.5;
   // Asked while cleaning, welding and checking: true stops with InputError("stopped")
   // (see StopCheck).
   std::function<bool()> should_stop;
@@ -42,8 +48,14 @@ struct PreparationReport {
   size_t input_faces = 0;
   size_t collapsed_faces = 0, shortened_faces = 0, duplicate_faces = 0, flipped_faces = 0;
   size_t reoriented_parts = 0;
-  size_t holes_filled = 0, faces_added = 0, holes_left = 0;
+  size_t vertices_split = 0;  // non-manifold vertices made one vertex per fan
+  size_t holes_filled = 0, holes_left = 0;
+  size_t faces_added = 0;   // by hole fills and handle closings together
   double largest_fill = 0;  // the largest fill's area over the surface area
+  size_t handles_closed = 0, handles_left = 0;
+  double largest_handle_cycle = 0;  // the longest cycle cut over its part's diagonal
+  // Why handles were left (the first part stopped, with the numbers); "" when none was.
+  std::string handles_stopped;
 };
 
 // One part (connected component) of an asset, checked alone.
@@ -71,6 +83,8 @@ struct PreparedMesh {
   // nothing); otherwise the whole as it is. Empty for one component.
   std::vector<PartReport> parts;
   size_t parts_left_out() const;
+  // Parts whose handles were left (a vertex of each, welded ids before the parts step).
+  std::vector<HandleClosing::Stopped> handle_stops;
 };
 
 // What stands between `prepared` and its map: mapping_failures of its topology, except that

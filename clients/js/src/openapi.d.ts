@@ -277,6 +277,11 @@ export interface components {
              */
             max_hole_fill: number;
             /**
+             * @description repair and parts close each handle (genus > 0) of a closed, manifold, oriented part along a non-separating cycle of at most this length over the part's bounding-box diagonal, shortest first (tree-cotree cycles, as Praun & Hoppe's MinCycles; at most 256 handles per part, fewer in parts of over 65,536 faces): the cycle's vertices are copied and both sides of the cut filled like holes; 0 closes none. metrics.preparation: handles_closed, handles_left, largest_handle_cycle (faces_added counts these fills too). The sphere in the original layout leaves the fills out (the input's vertices on a cut are copied, one per side); the remesh, UV and morph keep them. A part left of genus > 0 says which bound stopped it
+             * @default 1.5
+             */
+            max_handle_cycle: number;
+            /**
              * @description parts: repair, then map every part (connected component) that is closed genus 0 on a sphere of its own, each drawn where its part is; parts that cannot map are left out, and metrics.parts lists every part with its verdict or the reason it was left out. repair: drop faces the weld collapses and duplicate (double-sided) faces, and make each part's orientation consistent (no vertex moves; a mesh that needs none of it is untouched; metrics.preparation says what was done); one part only. exact: map the input as it is or refuse it.
              * @default parts
              * @enum {string}
@@ -339,7 +344,7 @@ export interface components {
                 parts?: number;
                 elapsed_seconds?: number;
             };
-            /** @description as metrics.json: bijective (the certified verdict: no fold and no degenerate triangle in double, float32 and as written), bijective_double, bijective_as_written, problem, quality, folds, distortion (area_distortion.mean_abs_log), stretch, seconds per stage, preparation (method, the faces dropped, shortened and flipped, and holes_filled, faces_added, holes_left, largest_fill); for an asset of several parts, parts (each part: mapped, or its check and reason), parts_mapped and parts_left_out; input_warnings when the input was read leniently (a glTF bufferView with byteStride 0 read as packed) */
+            /** @description as metrics.json: bijective (the certified verdict: no fold and no degenerate triangle in double, float32 and as written), bijective_double, bijective_as_written, problem, quality, folds, distortion (area_distortion.mean_abs_log), stretch, seconds per stage, preparation (method, the faces dropped, shortened and flipped, non_manifold_vertices_split, and holes_filled, faces_added, holes_left, largest_fill, handles_closed, handles_left, largest_handle_cycle); for an asset of several parts, parts (each part: mapped, or its check and reason), parts_mapped and parts_left_out; input_warnings when the input was read leniently (a glTF bufferView with byteStride 0 read as packed) */
             metrics?: Record<string, never>;
             artifacts?: {
                 [key: string]: {

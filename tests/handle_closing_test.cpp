@@ -1,0 +1,283 @@
+// Closing handles (core/prepare/handle_closing.h): parts of genus g > 0 are cut along short
+// non-separating cycles and both sides filled until genus 0, within the cycle and genus
+// bounds (the message says which one stopped it, with the numbers); the map is certified,
+// the sphere in the input's layout too (with the input vertices on the cut copied); meshes
+// of genus 0 are untouched.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <map>
+#include <string>
+#include <tuple>
+#include <vector>
+
+#include "core/io/gltf_reader.h"
+#include "core/io/mesh_file.h"
+#include "core/map/certification.h"
+#include "core/map/pipeline.h"
+#include "core/mesh/topology.h"
+#include "core/mesh/weld.h"
+#include "core/outputs/report_json.h"
+#include "core/outputs/sphere_asset.h"
+#include "core/prepare/handle_closing.h"
+#include "core/prepare/prepare_mesh.h"
+#include "core/prepare/vertex_copies.h"
+#include "tests/corpus.h"
+#include "tests/gltf_files.h"
+#include "tests/mesh_generators.h"
+
+namespace spheremap {
+namespace {
+
+// A plate of unit cells (cols x rows, one unit thick) with a through-hole at each cell of
+// `holes`: quads on top, bottom and the walls, outward. Genus: the number of holes.
+PolygonMesh plate_with_holes(int cols, int rows, const std::vector<std::pair<int, int>>& holes) {
+  auto solid = [&](int x, int y) {
+    if (x < 0 || y < 0 || x >= cols || y >= rows) return false;
+    return std::find(holes.begin(), holes.end(), std::pair{x, y}) == holes.end();
+  };
+  PolygonMesh m;
+  std::map<std::tuple<int, int, int>, uint32_t> id;
+  auto at = [&](int x, int y, int z) {
+    const auto [it, added] = id.emplace(std::tuple{x, y, z}, uint32_t(m.positions.size()));
+    if (added) m.positions.push_back({double(x), double(y), double(z)});
+    return it->second;
+  };
+  auto quad = [&](uint32_t a, uint32_t b, uint32_t c, uint32_t d) {
+    const uint32_t q[4] = {a, b, c, d};
+    m.add_face(q);
+  };
+  for (int y = 0; y < rows; ++y)
+    for (int x = 0; x < cols; ++x) {
+      if (!solid(x, y)) continue;
+      quad(at(x, y, 1), at(x + 1, y, 1), at(x + 1, y + 1, 1), at(x, y + 1, 1));  // top
+      quad(at(x, y + 1, 0), at(x + 1, y + 1, 0), at(x + 1, y, 0), at(x, y, 0));  // bottom
+      if (!solid(x, y - 1)) quad(at(x, y, 0), at(x + 1, y, 0), at(x + 1, y, 1), at(x, y, 1));
+      if (!solid(x, y + 1))
+        quad(at(x + 1, y + 1, 0), at(x, y + 1, 0), at(x, y + 1, 1), at(x + 1, y + 1, 1));
+      if (!solid(x - 1, y)) quad(at(x, y + 1, 0), at(x, y, 0), at(x, y, 1), at(x, y + 1, 1));
+      if (!solid(x + 1, y))
+        quad(at(x + 1, y, 0), at(x + 1, y + 1, 0), at(x + 1, y + 1, 1), at(x + 1, y, 1));
+    }
+  return m;
+}
+
+PrepareOptions repair() {
+  PrepareOptions options;
+  options.method = PrepareMethod::kRepair;
+  return options;
+}
+
+// Maps `input` under `options`, expecting every handle closed and the map certified, in
+// the welded layout and the input's own (which leaves the fills out).
+void expect_closed_and_certified(PolygonMesh input, size_t genus, const PrepareOptions& options) {
+  const size_t input_vertices = input.vertex_count();
+  const PreparedMesh prepared = prepare_input(input, nullptr, options);
+  EXPECT_EQ(prepared.preparation.handles_closed, genus);
+  EXPECT_EQ(prepared.preparation.handles_left, 0u);
+  EXPECT_GT(prepared.preparation.largest_handle_cycle, 0);
+  EXPECT_LE(prepared.preparation.largest_handle_cycle, options.max_handle_cycle);
+  EXPECT_EQ(analyze_topology(prepared.welded.mesh).genus(), 0);
+  // The input vertices on each cut got a copy for the other side.
+  EXPECT_GT(input.vertex_count(), input_vertices);
+  EXPECT_EQ(prepared.welded.input_to_welded.size(), input.vertex_count());
+  const std::vector<ValidationFailure> failures = input_failures(prepared);
+  ASSERT_TRUE(failures.empty()) << failures.front().message;
+  const MappedMesh mapped = map_prepared(prepared, {});
+  EXPECT_TRUE(certify(mapped, mapped.float32_check).certified);
+  const SphereAsset original = sphere_asset(input, mapped, {}, SphereLayout::kOriginal, 0);
+  EXPECT_TRUE(original.metrics["bijective"]);
+  EXPECT_EQ(original.written.folds, 0u);
+  EXPECT_EQ(original.written.triangles + prepared.preparation.faces_added,
+            mapped.map.check.triangles);
+  EXPECT_EQ(original.metrics["preparation"]["handles_closed"], genus);
+  const SphereAsset welded = sphere_asset(input, mapped, {}, SphereLayout::kWelded, 0);
+  EXPECT_TRUE(welded.metrics["bijective"]);
+}
+
+TEST(HandleClosing, ATorusIsClosedToGenusZeroAndMapsCertified) {
+  expect_closed_and_certified(testing::torus(12, 24), 1, repair());
+  expect_closed_and_certified(testing::torus(12, 24), 1, PrepareOptions{});  // parts
+}
+
+TEST(HandleClosing, PlatesWithThroughHolesAreClosedEveryOne) {
+  // Two holes: a double torus; three: a printer bed's plate.
+  expect_closed_and_certified(plate_with_holes(5, 3, {{1, 1}, {3, 1}}), 2, repair());
+  expect_closed_and_certified(plate_with_holes(7, 3, {{1, 1}, {3, 1}, {5, 1}}), 3, repair());
+  // A wide hole: every short cycle has collinear corners (as along CAD edges), which the
+  // fills go around instead of making triangles of no area.
+  expect_closed_and_certified(plate_with_holes(6, 6, {{2, 2}, {3, 2}, {2, 3}, {3, 3}}), 1,
+                              repair());
+}
+
+TEST(HandleClosing, TheCutsAreSimpleCyclesOfCopiedVerticesAndTheFillsCloseThem) {
+  PolygonMesh mesh = weld(plate_with_holes(7, 3, {{1, 1}, {3, 1}, {5, 1}}), 0).mesh;
+  const size_t vertices = mesh.vertex_count(), faces = mesh.face_count();
+  const HandleClosing closed = close_handles(mesh, 1.0);
+  EXPECT_EQ(closed.handles_closed, 3u);
+  EXPECT_EQ(mesh.vertex_count(), vertices + closed.copy_of.size());
+  EXPECT_EQ(mesh.face_count(), faces + closed.faces_added);
+  for (size_t k = 0; k < closed.copy_of.size(); ++k) {
+    ASSERT_LT(closed.copy_of[k], vertices);
+    EXPECT_EQ(mesh.positions[vertices + k], mesh.positions[closed.copy_of[k]]);
+  }
+  // Each hole's rim (4 corners) is the shortest cycle: 4 copies and 2 x 2 triangles each.
+  EXPECT_EQ(closed.copy_of.size(), 12u);
+  EXPECT_EQ(closed.faces_added, 12u);
+  EXPECT_DOUBLE_EQ(closed.largest_cycle, 4 / std::sqrt(49.0 + 9 + 1));
+  const TopologyReport topology = analyze_topology(mesh);
+  EXPECT_TRUE(topology.closed() && topology.manifold());
+  EXPECT_EQ(topology.inconsistent_edges, 0u);
+  EXPECT_EQ(topology.genus(), 0);
+}
+
+TEST(HandleClosing, TheBoundsStopItAndTheMessageSaysWhichWithTheNumbers) {
+  // A ring whose shortest non-separating cycle is 0.713 of its diagonal.
+  PolygonMesh ring = testing::torus(12, 24);
+  PrepareOptions tight = repair();
+  tight.max_handle_cycle = 0.25;
+  const PreparedMesh prepared = prepare_input(ring, nullptr, tight);
+  EXPECT_EQ(prepared.preparation.handles_closed, 0u);
+  EXPECT_EQ(prepared.preparation.handles_left, 1u);
+  const std::vector<ValidationFailure> failures = input_failures(prepared);
+  ASSERT_FALSE(failures.empty());
+  EXPECT_EQ(failures.front().check, "genus");
+  EXPECT_NE(failures.front().message.find("max_handle_cycle 0.25"), std::string::npos)
+      << failures.front().message;
+  EXPECT_NE(failures.front().message.find("is 0.713 of"), std::string::npos)
+      << failures.front().message;
+
+  // The genus cap: a plate of 3 holes with a cap of 2 is left as it is.
+  PolygonMesh plate = weld(plate_with_holes(7, 3, {{1, 1}, {3, 1}, {5, 1}}), 0).mesh;
+  const PolygonMesh before = plate;
+  const HandleClosing capped = close_handles(plate, 1.0, nullptr, 2);
+  EXPECT_EQ(capped.handles_closed, 0u);
+  EXPECT_EQ(capped.handles_left, 3u);
+  ASSERT_EQ(capped.stopped.size(), 1u);
+  EXPECT_EQ(capped.stopped[0].reason,
+            "its genus 3 is above the 2 handles closed in a part of 68 faces (at most 2, and "
+            "faces x handles at most 16777216)");
+  EXPECT_EQ(plate.indices, before.indices);
+
+  // Under parts, the part left out says it too.
+  PolygonMesh two = testing::assembled(
+      {{testing::torus(12, 24), {0, 0, 0}}, {testing::icosphere(2), {10, 0, 0}}});
+  PrepareOptions parts;
+  parts.max_handle_cycle = 0.25;
+  const PreparedMesh both = prepare_input(two, nullptr, parts);
+  ASSERT_EQ(both.parts.size(), 2u);
+  EXPECT_EQ(both.parts_left_out(), 1u);
+  bool said = false;
+  for (const PartReport& part : both.parts)
+    for (const ValidationFailure& f : part.failures)
+      said |= f.check == "genus" && f.message.find("max_handle_cycle 0.25") != std::string::npos;
+  EXPECT_TRUE(said);
+}
+
+TEST(HandleClosing, ExactStillRefusesAndZeroClosesNone) {
+  PolygonMesh ring = testing::torus(12, 24);
+  PrepareOptions exact;
+  exact.method = PrepareMethod::kExact;
+  const PreparedMesh refused = prepare_input(ring, nullptr, exact);
+  EXPECT_EQ(refused.preparation.handles_closed, 0u);
+  EXPECT_EQ(input_failures(refused).front().check, "genus");
+  PrepareOptions none = repair();
+  none.max_handle_cycle = 0;
+  EXPECT_EQ(input_failures(prepare_input(ring, nullptr, none)).front().check, "genus");
+  EXPECT_EQ(ring.vertex_count(), testing::torus(12, 24).vertex_count());
+}
+
+TEST(HandleClosing, AGlTFInputKeepsItsLookWithTheCutVerticesCopiedInItsPrimitive) {
+  const std::string file = testing::textured_glb(testing::torus(12, 24));
+  GltfAppearance look;
+  PolygonMesh input = read_gltf(testing::as_bytes(file), {}, nullptr, nullptr, &look);
+  const size_t input_vertices = input.vertex_count();
+  const PreparedMesh prepared = prepare_input(input, &look, repair());
+  ASSERT_EQ(prepared.preparation.handles_closed, 1u);
+  ASSERT_EQ(look.primitives.size(), 1u);
+  EXPECT_EQ(look.primitives[0].vertex_count, input.vertex_count());
+  // This file stores each triangle's corners apart: every input vertex on the cut has its
+  // faces on one side and moves with them, so no copy is needed.
+  EXPECT_EQ(input.vertex_count(), input_vertices);
+  for (const GltfAppearance::Attribute& a : look.attributes)
+    EXPECT_EQ(a.values.size(), size_t(a.components) * input.vertex_count()) << a.name;
+  const MappedMesh mapped = map_prepared(prepared, {});
+  const SphereAsset sphere = sphere_asset(input, mapped, {}, SphereLayout::kOriginal, 0, &look);
+  EXPECT_TRUE(sphere.metrics["bijective"]);
+  EXPECT_EQ(sphere.written.folds, 0u);
+}
+
+TEST(HandleClosing, InputVertexCopiesGoToTheEndOfTheirPrimitiveWithTheirAttributes) {
+  // Primitive 0: vertices 0-3 (two triangles), primitive 1: vertices 4-6. Face 1 uses a
+  // copy of vertex 2 (index 7, not yet in the mesh).
+  PolygonMesh input;
+  for (int v = 0; v < 7; ++v) input.positions.push_back({double(v), 0, 0});
+  input.add_face(std::vector<uint32_t>{0, 1, 2});
+  input.add_face(std::vector<uint32_t>{7, 3, 1});
+  input.add_face(std::vector<uint32_t>{4, 5, 6});
+  GltfAppearance look;
+  look.primitives.resize(2);
+  look.primitives[0].vertex_count = 4;
+  look.primitives[0].face_count = 2;
+  look.primitives[1].first_vertex = 4;
+  look.primitives[1].vertex_count = 3;
+  look.primitives[1].first_face = 2;
+  look.primitives[1].face_count = 1;
+  look.attributes.push_back({"TEXCOORD_0", 2, {0, 0, 1, 1, 2, 2, 3, 3, 4, 4, 5, 5, 6, 6}});
+  std::vector<uint32_t> to_welded = {0, 1, 2, 3, 4, 5, 6, 9};
+  insert_vertex_copies(input, &look, {2}, to_welded);
+  ASSERT_EQ(input.vertex_count(), 8u);
+  EXPECT_EQ(input.positions[4], input.positions[2]);  // the copy, at its primitive's end
+  EXPECT_EQ(input.indices, (std::vector<uint32_t>{0, 1, 2, 4, 3, 1, 5, 6, 7}));
+  EXPECT_EQ(to_welded, (std::vector<uint32_t>{0, 1, 2, 3, 9, 4, 5, 6}));
+  EXPECT_EQ(look.primitives[0].vertex_count, 5u);
+  EXPECT_EQ(look.primitives[1].first_vertex, 5u);
+  EXPECT_EQ(look.primitives[1].vertex_count, 3u);
+  EXPECT_EQ(look.attributes[0].values,
+            (std::vector<float>{0, 0, 1, 1, 2, 2, 3, 3, 2, 2, 4, 4, 5, 5, 6, 6}));
+}
+
+TEST(HandleClosing, AGenusZeroMeshIsUntouched) {
+  for (const PolygonMesh& shape :
+       {testing::icosphere(3), testing::horseshoe(), testing::quad_cube(4)}) {
+    PolygonMesh mesh = weld(shape, 0).mesh;
+    const PolygonMesh before = mesh;
+    const HandleClosing closed = close_handles(mesh, 1.0);
+    EXPECT_EQ(closed.handles_closed + closed.handles_left, 0u);
+    EXPECT_EQ(mesh.positions, before.positions);
+    EXPECT_EQ(mesh.indices, before.indices);
+  }
+  // An asset of two genus-0 parts goes through the closing (it fails the components
+  // check): its sphere is the same, byte for byte, as with the closing off.
+  auto sphere_of = [](double max_handle_cycle) {
+    PolygonMesh input = testing::assembled(
+        {{testing::icosphere(2), {0, 0, 0}}, {testing::horseshoe(), {10, 0, 0}}});
+    PrepareOptions parts;
+    parts.max_handle_cycle = max_handle_cycle;
+    const PreparedMesh prepared = prepare_input(input, nullptr, parts);
+    EXPECT_EQ(prepared.preparation.handles_closed + prepared.preparation.handles_left, 0u);
+    const MappedMesh mapped = map_prepared(prepared, {});
+    return sphere_asset(input, mapped, {}, SphereLayout::kOriginal, 0).glb;
+  };
+  EXPECT_EQ(sphere_of(1.0), sphere_of(0));
+}
+
+TEST(HandleClosing, TheCorpusMeshesOfGenusZeroAreUntouched) {
+  SKIP_WITHOUT_CORPUS("MANIFEST.md");
+  size_t meshes = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(testing::corpus_dir())) {
+    if (entry.path().extension() != ".obj") continue;
+    PolygonMesh mesh = weld(read_mesh_file(entry.path().string()), 0).mesh;
+    if (analyze_topology(mesh).genus() != 0) continue;
+    const PolygonMesh before = mesh;
+    const HandleClosing closed = close_handles(mesh, 1.0);
+    EXPECT_EQ(closed.handles_closed + closed.handles_left, 0u) << entry.path();
+    EXPECT_EQ(mesh.positions, before.positions) << entry.path();
+    EXPECT_EQ(mesh.indices, before.indices) << entry.path();
+    ++meshes;
+  }
+  EXPECT_GT(meshes, 10u);
+}
+
+}  // namespace
+}  // namespace spheremap
