@@ -17,7 +17,7 @@
 #include "core/outputs/sphere_alignment.h"
 #include "core/outputs/sphere_asset.h"
 #include "core/outputs/sphere_locator.h"
-#include "core/outputs/surface_distance.h"
+#include "core/mesh/surface_distance.h"
 #include "core/outputs/texcoords.h"
 #include "tests/mesh_generators.h"
 

@@ -16,7 +16,7 @@
 #include "core/outputs/remesh.h"
 #include "core/outputs/sphere_alignment.h"
 #include "core/outputs/sphere_asset.h"
-#include "core/outputs/surface_distance.h"
+#include "core/mesh/surface_distance.h"
 #include "core/outputs/texcoords.h"
 
 namespace spheremap {

@@ -1,0 +1,147 @@
+#include "core/prepare/envelope_reduce.h"
+
+#include <algorithm>
+#include <array>
+#include <queue>
+#include <vector>
+
+namespace spheremap {
+namespace {
+
+struct Candidate {
+  double length2;
+  uint32_t u, v, version_u, version_v;
+  bool operator>(const Candidate& o) const { return length2 > o.length2; }
+};
+
+class Reducer {
+ public:
+  explicit Reducer(const PolygonMesh& mesh)
+      : positions_(mesh.positions), around_(mesh.vertex_count()), version_(mesh.vertex_count(), 0) {
+    triangles_.resize(mesh.face_count());
+    for (size_t f = 0; f < mesh.face_count(); ++f) {
+      const auto c = mesh.face(f);
+      triangles_[f] = {c[0], c[1], c[2]};
+      for (uint32_t v : triangles_[f]) around_[v].push_back(uint32_t(f));
+    }
+    alive_.assign(triangles_.size(), 1);
+    faces_ = triangles_.size();
+    for (size_t f = 0; f < triangles_.size(); ++f)
+      for (int k = 0; k < 3; ++k) {
+        const uint32_t a = triangles_[f][size_t(k)], b = triangles_[f][size_t(k + 1) % 3];
+        if (a < b) push(a, b);
+      }
+  }
+
+  void run(size_t target, StopCheck& stop) {
+    while (faces_ > target && faces_ > 4 && !queue_.empty()) {
+      const Candidate c = queue_.top();
+      queue_.pop();
+      stop.tick();
+      if (c.version_u != version_[c.u] || c.version_v != version_[c.v]) continue;
+      collapse(c.u, c.v);
+    }
+  }
+
+  PolygonMesh result() const {
+    PolygonMesh out;
+    std::vector<uint32_t> id(positions_.size(), UINT32_MAX);
+    for (size_t f = 0; f < triangles_.size(); ++f) {
+      if (!alive_[f]) continue;
+      std::array<uint32_t, 3> corners{};
+      for (size_t k = 0; k < 3; ++k) {
+        uint32_t& n = id[triangles_[f][k]];
+        if (n == UINT32_MAX)
+          n = uint32_t(out.positions.size()), out.positions.push_back(positions_[triangles_[f][k]]);
+        corners[k] = n;
+      }
+      out.add_face(corners);
+    }
+    return out;
+  }
+
+ private:
+  void push(uint32_t a, uint32_t b) {
+    queue_.push({squared_norm(positions_[a] - positions_[b]), a, b, version_[a], version_[b]});
+  }
+
+  std::vector<uint32_t> neighbours(uint32_t v) const {
+    std::vector<uint32_t> out;
+    for (uint32_t f : around_[v])
+      for (uint32_t w : triangles_[f])
+        if (w != v) out.push_back(w);
+    std::sort(out.begin(), out.end());
+    out.erase(std::unique(out.begin(), out.end()), out.end());
+    return out;
+  }
+
+  // Whether the triangles of `v` not containing `other` keep their shape with v at p.
+  bool keeps_shape(uint32_t v, uint32_t other, const Vec3& p) const {
+    for (uint32_t f : around_[v]) {
+      const Triangle& t = triangles_[f];
+      if (t[0] == other || t[1] == other || t[2] == other) continue;
+      std::array<Vec3, 3> before{}, after{};
+      for (size_t k = 0; k < 3; ++k)
+        before[k] = positions_[t[k]], after[k] = t[k] == v ? p : before[k];
+      const Vec3 nb = cross(before[1] - before[0], before[2] - before[0]);
+      const Vec3 na = cross(after[1] - after[0], after[2] - after[0]);
+      const double longest =
+          std::max({squared_norm(after[1] - after[0]), squared_norm(after[2] - after[1]),
+                    squared_norm(after[0] - after[2])});
+      if (!(norm(na) > 1e-6 * longest) || !(dot(nb, na) > 0.5 * norm(nb) * norm(na))) return false;
+    }
+    return true;
+  }
+
+  void collapse(uint32_t u, uint32_t v) {
+    const std::vector<uint32_t> nu = neighbours(u), nv = neighbours(v);
+    if (!std::binary_search(nu.begin(), nu.end(), v)) return;
+    std::vector<uint32_t> common;
+    std::set_intersection(nu.begin(), nu.end(), nv.begin(), nv.end(), std::back_inserter(common));
+    // The link condition, and no neighbour of the two ends left with 2 neighbours.
+    if (common.size() != 2 || nu.size() + nv.size() - 4 < 3) return;
+    for (uint32_t w : common)
+      if (neighbours(w).size() <= 3) return;
+    const Vec3 p = (positions_[u] + positions_[v]) * 0.5;
+    if (!keeps_shape(u, v, p) || !keeps_shape(v, u, p)) return;
+    for (uint32_t f : around_[v]) {
+      Triangle& t = triangles_[f];
+      if (t[0] == u || t[1] == u || t[2] == u) {  // one of the two on the edge: gone
+        alive_[f] = 0, --faces_;
+        for (uint32_t w : t)
+          if (w != v) std::erase(around_[w], f);
+        continue;
+      }
+      for (uint32_t& w : t)
+        if (w == v) w = u;
+      around_[u].push_back(f);
+    }
+    around_[v].clear();
+    positions_[u] = p;
+    ++version_[u], ++version_[v];
+    for (uint32_t w : neighbours(u)) {
+      ++version_[w];  // its edges' lengths to u changed; the others are pushed again below
+    }
+    for (uint32_t w : neighbours(u))
+      for (uint32_t x : neighbours(w)) push(std::min(w, x), std::max(w, x));
+  }
+
+  std::vector<Vec3> positions_;
+  std::vector<Triangle> triangles_;
+  std::vector<uint8_t> alive_;
+  std::vector<std::vector<uint32_t>> around_;
+  std::vector<uint32_t> version_;
+  size_t faces_ = 0;
+  std::priority_queue<Candidate, std::vector<Candidate>, std::greater<>> queue_;
+};
+
+}  // namespace
+
+PolygonMesh reduce_surface(const PolygonMesh& mesh, size_t target_faces, StopCheck& stop) {
+  if (mesh.face_count() <= target_faces) return mesh;
+  Reducer reducer(mesh);
+  reducer.run(target_faces, stop);
+  return reducer.result();
+}
+
+}  // namespace spheremap
