@@ -9,30 +9,13 @@
 
 namespace spheremap::cli {
 
-const std::set<std::string> kMapValueOptions = {"method",
-                                                "alpha",
-                                                "offset",
-                                                "offset-placement",
-                                                "presmooth",
-                                                "max-iterations",
-                                                "min-iterations",
-                                                "level-iterations",
-                                                "repair-iterations",
-                                                "safe-steps",
-                                                "limit-weight",
-                                                "attempts",
-                                                "time-limit",
-                                                "threads",
-                                                "weld-tolerance",
-                                                "prepare",
-                                                "max-hole-fill",
-                                                "sweep",
-                                                "start-vertices",
-                                                "smooth-vertices",
-                                                "direct-iterations",
-                                                "quality",
-                                                "stretch-lambda",
-                                                "stretch-sweeps"};
+const std::set<std::string> kMapValueOptions = {
+    "method",         "alpha",          "offset",           "offset-placement",  "presmooth",
+    "max-iterations", "min-iterations", "level-iterations", "repair-iterations", "safe-steps",
+    "limit-weight",   "attempts",       "time-limit",       "threads",           "weld-tolerance",
+    "prepare",        "max-hole-fill",  "wrap-resolution",  "wrap-offset",       "wrap-faces",
+    "sweep",          "start-vertices", "smooth-vertices",  "direct-iterations", "quality",
+    "stretch-lambda", "stretch-sweeps"};
 const std::set<std::string> kMapFlags = {"no-centroid", "largest-component", "no-optimize"};
 
 const char* const kMapOptionsHelp = R"(Mapping options:
@@ -94,7 +77,19 @@ const char* const kMapOptionsHelp = R"(Mapping options:
                             repair: drop faces the weld collapses and duplicate (double-sided)
                             faces, make each part's orientation consistent; no vertex moves,
                             and a mesh that needs none of it is untouched; one part only.
-                            exact: map the input as it is or refuse it
+                            exact: map the input as it is or refuse it.
+                            wrap: map the envelope of the whole asset instead: a closed genus-0
+                            mesh around it at a small offset (any input: a soup, open,
+                            non-manifold, many parts, any genus; handles are cut or filled,
+                            whichever changes fewer voxels); every output shows the envelope
+                            (the sphere's "original" layout is the envelope's own), without
+                            the input's look. metrics.preparation says what changed and how
+                            far the envelope is from the input
+  --wrap-resolution R       wrap: voxels across the bounding-box diagonal (default 512)
+  --wrap-offset D           wrap: the envelope's offset, as a fraction of the bounding-box
+                            diagonal (default 1.5 voxels)
+  --wrap-faces N            wrap: the envelope's triangles at most (default the input's,
+                            within 2,000 and 200,000)
   --max-hole-fill F         repair and parts close each hole whose least-area fill is at most
                             F of the surface area (default 0.05; 0: none) with triangles over
                             its own corners (no vertex added or moved); the sphere in the
@@ -162,13 +157,18 @@ void read_map_options(const Arguments& args, PrepareOptions& prepare, MapOptions
   prepare.largest_component = args.flag("largest-component");
   prepare.max_hole_fill = args.number("max-hole-fill", prepare.max_hole_fill, 0, 1);
   prepare.method = parse_prepare_method(args.text("prepare", "parts"));
+  prepare.envelope.resolution =
+      args.number("wrap-resolution", prepare.envelope.resolution, 8, 4096);
+  prepare.envelope.offset_fraction = args.number("wrap-offset", 0, 0, 0.25);
+  prepare.envelope.target_faces = static_cast<size_t>(args.integer("wrap-faces", 0, 0, 10000000));
 }
 
 PrepareMethod parse_prepare_method(const std::string& name) {
   if (name == "exact") return PrepareMethod::kExact;
   if (name == "repair") return PrepareMethod::kRepair;
   if (name == "parts") return PrepareMethod::kParts;
-  throw UsageError("--prepare must be exact, repair or parts, got '" + name + "'");
+  if (name == "wrap") return PrepareMethod::kWrap;
+  throw UsageError("--prepare must be exact, repair, parts or wrap, got '" + name + "'");
 }
 
 // Progress lines on stderr once a run has taken a second, at most twice a second.

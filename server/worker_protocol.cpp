@@ -176,6 +176,16 @@ std::string encode_request(const JobSpec& spec, double time_limit_seconds, int t
         preparation.holes_filled, preparation.faces_added, preparation.holes_left})
     w.put<uint64_t>(count);
   w.put<double>(preparation.largest_fill);
+  const EnvelopeReport& envelope = preparation.envelope;
+  for (double x : {envelope.diagonal, envelope.voxel_size, envelope.offset, envelope.hausdorff,
+                   envelope.rms, envelope.envelope_to_original, envelope.original_to_envelope})
+    w.put<double>(x);
+  for (int n : envelope.grid) w.put<int32_t>(n);
+  for (size_t count : {envelope.solid_voxels, envelope.handles_cut, envelope.handles_filled,
+                       envelope.voxels_changed, envelope.largest_change_voxels,
+                       envelope.voxel_faces, envelope.faces})
+    w.put<uint64_t>(count);
+  w.put_string(envelope.rule);
   w.put<uint64_t>(spec.prepared.parts.size());
   for (const PartReport& part : spec.prepared.parts) {
     w.put<uint64_t>(part.vertices);
@@ -220,7 +230,8 @@ WorkerRequest decode_request(const std::string& bytes) {
   const int32_t method = r.get<int32_t>();
   if (method != static_cast<int32_t>(PrepareMethod::kExact) &&
       method != static_cast<int32_t>(PrepareMethod::kRepair) &&
-      method != static_cast<int32_t>(PrepareMethod::kParts))
+      method != static_cast<int32_t>(PrepareMethod::kParts) &&
+      method != static_cast<int32_t>(PrepareMethod::kWrap))
     throw std::runtime_error("unknown preparation method");
   preparation.method = static_cast<PrepareMethod>(method);
   for (size_t* count :
@@ -229,6 +240,17 @@ WorkerRequest decode_request(const std::string& bytes) {
         &preparation.holes_filled, &preparation.faces_added, &preparation.holes_left})
     *count = r.get<uint64_t>();
   preparation.largest_fill = r.get<double>();
+  EnvelopeReport& envelope = preparation.envelope;
+  for (double* x : {&envelope.diagonal, &envelope.voxel_size, &envelope.offset, &envelope.hausdorff,
+                    &envelope.rms, &envelope.envelope_to_original, &envelope.original_to_envelope})
+    *x = r.get<double>();
+  for (int& n : envelope.grid) n = r.get<int32_t>();
+  for (size_t* count : {&envelope.solid_voxels, &envelope.handles_cut, &envelope.handles_filled,
+                        &envelope.voxels_changed, &envelope.largest_change_voxels,
+                        &envelope.voxel_faces, &envelope.faces})
+    *count = r.get<uint64_t>();
+  envelope.rule = r.get_string();
+  if (envelope.rule.size() > 8) throw std::runtime_error("unknown envelope rule");
   // Each part has a face, and each failure is one of a dozen checks.
   const uint64_t parts = r.get<uint64_t>();
   if (parts > spec.input.face_count()) throw std::runtime_error("more parts than faces");

@@ -147,12 +147,13 @@ void expect_sphere_like(const Checked& c, const char* name) {
   const EnvelopeReport& r = c.envelope.report;
   EXPECT_GT(r.faces, 0u) << name;
   EXPECT_LE(r.faces, r.voxel_faces) << name;
-  std::printf("%s: rule %s, cut %zu, filled %zu, changed %zu, voxel faces %zu, faces %zu, "
-              "hausdorff %.4f (envelope->original %.4f, original->envelope %.4f), rms %.4f, "
-              "offset %.4f\n",
-              name, r.rule.c_str(), r.handles_cut, r.handles_filled, r.voxels_changed,
-              r.voxel_faces, r.faces, r.hausdorff, r.envelope_to_original,
-              r.original_to_envelope, r.rms, r.offset / r.diagonal);
+  std::printf(
+      "%s: rule %s, cut %zu, filled %zu, changed %zu, voxel faces %zu, faces %zu, "
+      "hausdorff %.4f (envelope->original %.4f, original->envelope %.4f), rms %.4f, "
+      "offset %.4f\n",
+      name, r.rule.c_str(), r.handles_cut, r.handles_filled, r.voxels_changed, r.voxel_faces,
+      r.faces, r.hausdorff, r.envelope_to_original, r.original_to_envelope, r.rms,
+      r.offset / r.diagonal);
   EXPECT_GT(r.hausdorff, 0) << name;
   EXPECT_LT(r.rms, r.hausdorff + 1e-12) << name;
   EXPECT_NEAR(r.hausdorff, std::max(r.envelope_to_original, r.original_to_envelope), 1e-12);

@@ -26,21 +26,34 @@ class Reducer {
     }
     alive_.assign(triangles_.size(), 1);
     faces_ = triangles_.size();
-    for (size_t f = 0; f < triangles_.size(); ++f)
-      for (int k = 0; k < 3; ++k) {
-        const uint32_t a = triangles_[f][size_t(k)], b = triangles_[f][size_t(k + 1) % 3];
-        if (a < b) push(a, b);
-      }
+    queue_all();
   }
 
+  // Edges refused once (link condition, shape) are not queued again when their
+  // neighbourhood changes; a further pass over every edge left takes them up.
   void run(size_t target, StopCheck& stop) {
-    while (faces_ > target && faces_ > 4 && !queue_.empty()) {
-      const Candidate c = queue_.top();
-      queue_.pop();
-      stop.tick();
-      if (c.version_u != version_[c.u] || c.version_v != version_[c.v]) continue;
-      collapse(c.u, c.v);
+    for (int pass = 0; pass < 4 && faces_ > target; ++pass) {
+      if (pass > 0) queue_all();
+      const size_t before = collapses_;
+      while (faces_ > target && faces_ > 4 && !queue_.empty()) {
+        const Candidate c = queue_.top();
+        queue_.pop();
+        stop.tick();
+        if (c.version_u != version_[c.u] || c.version_v != version_[c.v]) continue;
+        collapse(c.u, c.v);
+      }
+      if (collapses_ == before) break;
     }
+  }
+
+  void queue_all() {
+    queue_ = {};
+    for (size_t f = 0; f < triangles_.size(); ++f)
+      if (alive_[f])
+        for (size_t k = 0; k < 3; ++k) {
+          const uint32_t a = triangles_[f][k], b = triangles_[f][(k + 1) % 3];
+          if (a < b) push(a, b);
+        }
   }
 
   PolygonMesh result() const {
@@ -65,14 +78,18 @@ class Reducer {
     queue_.push({squared_norm(positions_[a] - positions_[b]), a, b, version_[a], version_[b]});
   }
 
-  std::vector<uint32_t> neighbours(uint32_t v) const {
-    std::vector<uint32_t> out;
+  // The vertices sharing a triangle with v, sorted, into `out`.
+  void neighbours(uint32_t v, std::vector<uint32_t>& out) const {
+    out.clear();
     for (uint32_t f : around_[v])
       for (uint32_t w : triangles_[f])
         if (w != v) out.push_back(w);
     std::sort(out.begin(), out.end());
     out.erase(std::unique(out.begin(), out.end()), out.end());
-    return out;
+  }
+  size_t degree(uint32_t v) {
+    neighbours(v, scratch_);
+    return scratch_.size();
   }
 
   // Whether the triangles of `v` not containing `other` keep their shape with v at p.
@@ -94,14 +111,16 @@ class Reducer {
   }
 
   void collapse(uint32_t u, uint32_t v) {
-    const std::vector<uint32_t> nu = neighbours(u), nv = neighbours(v);
-    if (!std::binary_search(nu.begin(), nu.end(), v)) return;
-    std::vector<uint32_t> common;
-    std::set_intersection(nu.begin(), nu.end(), nv.begin(), nv.end(), std::back_inserter(common));
+    neighbours(u, nu_);
+    neighbours(v, nv_);
+    if (!std::binary_search(nu_.begin(), nu_.end(), v)) return;
+    common_.clear();
+    std::set_intersection(nu_.begin(), nu_.end(), nv_.begin(), nv_.end(),
+                          std::back_inserter(common_));
     // The link condition, and no neighbour of the two ends left with 2 neighbours.
-    if (common.size() != 2 || nu.size() + nv.size() - 4 < 3) return;
-    for (uint32_t w : common)
-      if (neighbours(w).size() <= 3) return;
+    if (common_.size() != 2 || nu_.size() + nv_.size() - 4 < 3) return;
+    for (uint32_t w : common_)
+      if (degree(w) <= 3) return;
     const Vec3 p = (positions_[u] + positions_[v]) * 0.5;
     if (!keeps_shape(u, v, p) || !keeps_shape(v, u, p)) return;
     for (uint32_t f : around_[v]) {
@@ -118,12 +137,10 @@ class Reducer {
     }
     around_[v].clear();
     positions_[u] = p;
-    ++version_[u], ++version_[v];
-    for (uint32_t w : neighbours(u)) {
-      ++version_[w];  // its edges' lengths to u changed; the others are pushed again below
-    }
-    for (uint32_t w : neighbours(u))
-      for (uint32_t x : neighbours(w)) push(std::min(w, x), std::max(w, x));
+    ++version_[u], ++version_[v];  // their queued edges are stale; u's are queued again
+    ++collapses_;
+    neighbours(u, nu_);
+    for (uint32_t w : nu_) push(std::min(u, w), std::max(u, w));
   }
 
   std::vector<Vec3> positions_;
@@ -131,7 +148,8 @@ class Reducer {
   std::vector<uint8_t> alive_;
   std::vector<std::vector<uint32_t>> around_;
   std::vector<uint32_t> version_;
-  size_t faces_ = 0;
+  size_t faces_ = 0, collapses_ = 0;
+  std::vector<uint32_t> nu_, nv_, common_, scratch_;
   std::priority_queue<Candidate, std::vector<Candidate>, std::greater<>> queue_;
 };
 
