@@ -85,7 +85,7 @@ const char* const kMapOptionsHelp = R"(Mapping options:
                             (the sphere's "original" layout is the envelope's own), without
                             the input's look. metrics.preparation says what changed and how
                             far the envelope is from the input
-  --wrap-resolution R       wrap: voxels across the bounding-box diagonal (default 512)
+  --wrap-resolution R       wrap: voxels across the bounding-box diagonal (default 256)
   --wrap-offset D           wrap: the envelope's offset, as a fraction of the bounding-box
                             diagonal (default 1.5 voxels)
   --wrap-faces N            wrap: the envelope's triangles at most (default the input's,

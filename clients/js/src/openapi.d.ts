@@ -284,7 +284,7 @@ export interface components {
             prepare: "exact" | "repair" | "parts" | "wrap";
             /**
              * @description wrap: voxels across the bounding-box diagonal; a grid of more than 2^26 voxels is refused (envelope_size)
-             * @default 512
+             * @default 256
              */
             wrap_resolution: number;
             /**
