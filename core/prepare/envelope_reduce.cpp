@@ -2,16 +2,59 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <queue>
 #include <vector>
 
 namespace spheremap {
 namespace {
 
+// Garland and Heckbert's quadric: the sum of squared distances to a set of planes.
+struct Quadric {
+  double q[10] = {};  // xx xy xz xw yy yz yw zz zw ww
+  void add_plane(const Vec3& n, double d, double weight) {
+    const double a = n.x, b = n.y, c = n.z;
+    const double terms[10] = {a * a, a * b, a * c, a * d, b * b, b * c, b * d, c * c, c * d, d * d};
+    for (int k = 0; k < 10; ++k) q[k] += weight * terms[k];
+  }
+  Quadric operator+(const Quadric& o) const {
+    Quadric r;
+    for (int k = 0; k < 10; ++k) r.q[k] = q[k] + o.q[k];
+    return r;
+  }
+  double error(const Vec3& p) const {
+    const double x = p.x, y = p.y, z = p.z;
+    return q[0] * x * x + 2 * q[1] * x * y + 2 * q[2] * x * z + 2 * q[3] * x + q[4] * y * y +
+           2 * q[5] * y * z + 2 * q[6] * y + q[7] * z * z + 2 * q[8] * z + q[9];
+  }
+  // The point of least error when the system is well conditioned, else the best of a, b
+  // and their midpoint.
+  Vec3 best(const Vec3& a, const Vec3& b) const {
+    const double m00 = q[0], m01 = q[1], m02 = q[2], m11 = q[4], m12 = q[5], m22 = q[7];
+    const double c00 = m11 * m22 - m12 * m12, c01 = m02 * m12 - m01 * m22,
+                 c02 = m01 * m12 - m02 * m11;
+    const double det = m00 * c00 + m01 * c01 + m02 * c02;
+    const double scale = std::abs(m00) + std::abs(m11) + std::abs(m22);
+    if (std::abs(det) > 1e-9 * scale * scale * scale) {
+      const double c11 = m00 * m22 - m02 * m02, c12 = m01 * m02 - m00 * m12,
+                   c22 = m00 * m11 - m01 * m01;
+      const Vec3 r{-q[3], -q[6], -q[8]};
+      const Vec3 x{(c00 * r.x + c01 * r.y + c02 * r.z) / det,
+                   (c01 * r.x + c11 * r.y + c12 * r.z) / det,
+                   (c02 * r.x + c12 * r.y + c22 * r.z) / det};
+      // Only near the edge: far solutions come from nearly parallel planes.
+      if (squared_norm(x - (a + b) * 0.5) <= squared_norm(b - a)) return x;
+    }
+    const Vec3 m = (a + b) * 0.5;
+    const double ea = error(a), eb = error(b), em = error(m);
+    return em <= ea && em <= eb ? m : (ea <= eb ? a : b);
+  }
+};
+
 struct Candidate {
-  double length2;
+  double cost;
   uint32_t u, v, version_u, version_v;
-  bool operator>(const Candidate& o) const { return length2 > o.length2; }
+  bool operator>(const Candidate& o) const { return cost > o.cost; }
 };
 
 class Reducer {
@@ -26,6 +69,15 @@ class Reducer {
     }
     alive_.assign(triangles_.size(), 1);
     faces_ = triangles_.size();
+    quadric_.resize(positions_.size());
+    for (const Triangle& t : triangles_) {
+      const Vec3 n =
+          cross(positions_[t[1]] - positions_[t[0]], positions_[t[2]] - positions_[t[0]]);
+      const double area2 = norm(n);
+      if (!(area2 > 0)) continue;
+      const Vec3 unit = n * (1 / area2);
+      for (uint32_t v : t) quadric_[v].add_plane(unit, -dot(unit, positions_[t[0]]), area2);
+    }
     queue_all();
   }
 
@@ -74,8 +126,14 @@ class Reducer {
   }
 
  private:
+  // Cost: the quadric error at the collapse's point plus a little of the edge's length, so
+  // flat regions still collapse shortest first.
   void push(uint32_t a, uint32_t b) {
-    queue_.push({squared_norm(positions_[a] - positions_[b]), a, b, version_[a], version_[b]});
+    const Quadric q = quadric_[a] + quadric_[b];
+    const Vec3 p = q.best(positions_[a], positions_[b]);
+    const double cost =
+        std::max(0.0, q.error(p)) + 1e-3 * squared_norm(positions_[a] - positions_[b]);
+    queue_.push({cost, a, b, version_[a], version_[b]});
   }
 
   // The vertices sharing a triangle with v, sorted, into `out`.
@@ -121,7 +179,8 @@ class Reducer {
     if (common_.size() != 2 || nu_.size() + nv_.size() - 4 < 3) return;
     for (uint32_t w : common_)
       if (degree(w) <= 3) return;
-    const Vec3 p = (positions_[u] + positions_[v]) * 0.5;
+    const Quadric q = quadric_[u] + quadric_[v];
+    const Vec3 p = q.best(positions_[u], positions_[v]);
     if (!keeps_shape(u, v, p) || !keeps_shape(v, u, p)) return;
     for (uint32_t f : around_[v]) {
       Triangle& t = triangles_[f];
@@ -137,6 +196,7 @@ class Reducer {
     }
     around_[v].clear();
     positions_[u] = p;
+    quadric_[u] = q;
     ++version_[u], ++version_[v];  // their queued edges are stale; u's are queued again
     ++collapses_;
     neighbours(u, nu_);
@@ -148,6 +208,7 @@ class Reducer {
   std::vector<uint8_t> alive_;
   std::vector<std::vector<uint32_t>> around_;
   std::vector<uint32_t> version_;
+  std::vector<Quadric> quadric_;
   size_t faces_ = 0, collapses_ = 0;
   std::vector<uint32_t> nu_, nv_, common_, scratch_;
   std::priority_queue<Candidate, std::vector<Candidate>, std::greater<>> queue_;

@@ -1,9 +1,10 @@
-// The envelope's reduction (Reach II, step 3): shortest edge first, each collapsed to its
-// midpoint only when the link condition holds (the two ends share exactly the two
-// vertices opposite the edge, so the surface stays a 2-manifold of the same genus), no
-// vertex is left with fewer than 3 neighbours, and no triangle around it turns by more than
-// 60 degrees. meshoptimizer's simplifier was tried first: it does not test the link
-// condition and made non-manifold edges on most envelopes.
+// The envelope's reduction (Reach II, step 3): least quadric error first (Garland and
+// Heckbert: corners and creases of the offset surface stay where they are), each edge
+// collapsed to its point of least error only when the link condition holds (the two ends share
+// exactly the two vertices opposite the edge, so the surface stays a 2-manifold of the same genus),
+// no vertex is left with fewer than 3 neighbours, and no triangle around it turns by more than 60
+// degrees. meshoptimizer's simplifier was tried first: it does not test the link condition and made
+// non-manifold edges on most envelopes.
 #pragma once
 
 #include <cstddef>
