@@ -254,7 +254,7 @@ TEST(Envelope, OffsetAndTargetOptionsAreFollowed) {
   options.target_faces = 1500;
   const Envelope e = build_envelope(testing::torus(24, 48), options);
   EXPECT_NEAR(e.report.offset, 0.05 * e.report.diagonal, 1e-12);
-  EXPECT_LE(e.report.faces, 1500u * 4);
+  EXPECT_LE(e.report.faces, 1500u);  // the reduction reaches its target
   EXPECT_EQ(envelope_failures(e.mesh), "");
 }
 

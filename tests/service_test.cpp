@@ -758,7 +758,7 @@ TEST(Service, EveryPartOfAKitMapsAndThePartLeftOutIsListed) {
   EXPECT_FALSE(envelope["metrics"].contains("parts"));
   expect_problem(
       client.Post("/v1/jobs?prepare=wrap&wrap_resolution=0", glb_of(kit), "model/gltf-binary"), 400,
-      "invalid_option");
+      "invalid_options");
 }
 
 TEST(Service, SynchronousMap) {
