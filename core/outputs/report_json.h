@@ -12,7 +12,9 @@ namespace spheremap {
 // scene that draws one mesh several times is told to map that mesh alone).
 std::vector<ValidationFailure> input_failures(const PreparedMesh& prepared,
                                               const GltfReadStats* gltf = nullptr);
-// What preparation did (and holes_filled, faces_added, holes_left, largest_fill):
+// What preparation did (and holes_filled, faces_added, holes_left, largest_fill; under
+// prepare=wrap also the envelope's report: voxel_size, offset, handles_cut, handles_filled,
+// voxels_changed, envelope_hausdorff, envelope_rms, ... as docs/http-api.md lists):
 // {"method", "input_faces", "collapsed_faces_dropped",
 // "faces_shortened", "duplicate_faces_dropped", "faces_flipped", "parts_reoriented"}.
 nlohmann::json preparation_json(const PreparationReport& preparation);
