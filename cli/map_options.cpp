@@ -89,7 +89,7 @@ const char* const kMapOptionsHelp = R"(Mapping options:
   --wrap-offset D           wrap: the envelope's offset, as a fraction of the bounding-box
                             diagonal (default 1.5 voxels)
   --wrap-faces N            wrap: the envelope's triangles at most (default the input's,
-                            within 2,000 and 200,000)
+                            within 20,000 and 200,000)
   --max-hole-fill F         repair and parts close each hole whose least-area fill is at most
                             F of the surface area (default 0.05; 0: none) with triangles over
                             its own corners (no vertex added or moved); the sphere in the

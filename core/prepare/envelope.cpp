@@ -85,7 +85,7 @@ Envelope build_envelope(const PolygonMesh& input, const EnvelopeOptions& options
 
   const TriangleTree original(input.positions, triangles);
   const size_t target = options.target_faces ? options.target_faces
-                                             : std::clamp<size_t>(triangles.size(), 2000, 200000);
+                                             : std::clamp<size_t>(triangles.size(), 20000, 200000);
   // The reduction keeps the link condition, so its checks should pass; if they do not,
   // it is tried again less far, then not at all.
   for (const size_t tried : {target, 4 * target, voxels.face_count()}) {

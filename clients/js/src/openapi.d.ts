@@ -293,7 +293,7 @@ export interface components {
              */
             wrap_offset: number;
             /**
-             * @description wrap: the envelope's triangles at most; 0: the input's faces within 2,000 and 200,000
+             * @description wrap: the envelope's triangles at most; 0: the input's faces within 20,000 and 200,000
              * @default 0
              */
             wrap_faces: number;
