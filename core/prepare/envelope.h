@@ -1,11 +1,12 @@
 // The envelope of any asset (Reach II): from any triangles (a soup, open, non-manifold, many
 // parts, any genus), a closed 2-manifold genus-0 triangle mesh around them, at about the
-// offset d outside. Steps, each in its own file: the voxel grid, its narrow band and the
-// flood-filled solid (envelope_grid.h); a ball grown through simple points, inside the
-// solid (handles cut) and, as the dual, the outside grown inward (handles filled), keeping
-// whichever changes fewer voxels (envelope_topology.h); the ball's voxel surface
-// (envelope_surface.h); smoothing, reduction and fitting to the offset surface
-// (envelope_fit.h); the checks (envelope_check.h).
+// offset d outside. Steps, each in its own file: the voxel grid (dense, one byte per voxel,
+// capped; not a sparse narrow band), its band and the flood-filled solid
+// (envelope_grid.h); a ball grown through simple points, inside the solid (handles cut)
+// and, as the dual, the outside grown inward (handles filled), keeping whichever changes
+// fewer voxels over the whole asset, not per handle (envelope_topology.h); the ball's voxel
+// surface (envelope_surface.h); smoothing (envelope_fit.h), reduction (envelope_reduce.h),
+// fitting to the offset surface (envelope_fit.h); the checks (envelope_check.h).
 #pragma once
 
 #include <cstddef>
