@@ -137,10 +137,23 @@ JobOptions parse_job_options(const nlohmann::json& options) {
        }},
       {"prepare",
        [&](const Json& v, const std::string& k) {
-         const std::string method = text(v, k, {"exact", "repair", "parts"});
+         const std::string method = text(v, k, {"exact", "repair", "parts", "wrap"});
          out.prepare.method = method == "exact"    ? PrepareMethod::kExact
                               : method == "repair" ? PrepareMethod::kRepair
+                              : method == "wrap"   ? PrepareMethod::kWrap
                                                    : PrepareMethod::kParts;
+       }},
+      {"wrap_resolution",
+       [&](const Json& v, const std::string& k) {
+         out.prepare.envelope.resolution = number(v, k, 8, 4096);
+       }},
+      {"wrap_offset",
+       [&](const Json& v, const std::string& k) {
+         out.prepare.envelope.offset_fraction = number(v, k, 0, 0.25);
+       }},
+      {"wrap_faces",
+       [&](const Json& v, const std::string& k) {
+         out.prepare.envelope.target_faces = static_cast<size_t>(integer(v, k, 0, 10000000));
        }},
       {"max_hole_fill",
        [&](const Json& v, const std::string& k) {

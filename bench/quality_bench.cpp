@@ -27,8 +27,8 @@
 #include "core/mesh/parallel.h"
 #include "core/mesh/spatial_order.h"
 #include "core/mesh/sphere_geometry.h"
+#include "core/mesh/surface_distance.h"
 #include "core/outputs/remesh.h"
-#include "core/outputs/surface_distance.h"
 
 namespace {
 

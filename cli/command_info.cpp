@@ -15,7 +15,7 @@ int run_info(int argc, char** argv) {
   if (args.flag("help")) {
     std::cout
         << "Usage: spheremap info INPUT [--weld-tolerance T] [--mesh INDEX|NAME]\n"
-           "                      [--prepare exact|repair|parts]\n\n"
+           "                      [--prepare exact|repair|parts|wrap]\n\n"
            "Prints the topology report of INPUT (.obj, .off, .stl, .ply, .glb, .gltf) as JSON:\n"
            "vertices, edges, faces, face sizes, boundary, manifoldness, orientation,\n"
            "components, genus, and whether it can be mapped (with the failed checks and,\n"

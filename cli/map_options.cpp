@@ -27,6 +27,9 @@ const std::set<std::string> kMapValueOptions = {"method",
                                                 "prepare",
                                                 "max-hole-fill",
                                                 "max-handle-cycle",
+                                                "wrap-resolution",
+                                                "wrap-offset",
+                                                "wrap-faces",
                                                 "sweep",
                                                 "start-vertices",
                                                 "smooth-vertices",
@@ -96,7 +99,19 @@ const char* const kMapOptionsHelp = R"(Mapping options:
                             faces, make each part's orientation consistent, split
                             non-manifold vertices (one per fan); no vertex moves,
                             and a mesh that needs none of it is untouched; one part only.
-                            exact: map the input as it is or refuse it
+                            exact: map the input as it is or refuse it.
+                            wrap: map the envelope of the whole asset instead: a closed genus-0
+                            mesh around it at a small offset (any input: a soup, open,
+                            non-manifold, many parts, any genus; handles are cut or filled,
+                            whichever changes fewer voxels); every output shows the envelope
+                            (the sphere's "original" layout is the envelope's own), without
+                            the input's look. metrics.preparation says what changed and how
+                            far the envelope is from the input
+  --wrap-resolution R       wrap: voxels across the bounding-box diagonal (default 256)
+  --wrap-offset D           wrap: the envelope's offset, as a fraction of the bounding-box
+                            diagonal (default 1.5 voxels)
+  --wrap-faces N            wrap: the envelope's triangles at most (default the input's,
+                            within 20,000 and 200,000)
   --max-hole-fill F         repair and parts close each hole whose least-area fill is at most
                             F of the surface area (default 0.05; 0: none) with triangles over
                             its own corners (no vertex added or moved); the sphere in the
@@ -169,13 +184,18 @@ void read_map_options(const Arguments& args, PrepareOptions& prepare, MapOptions
   prepare.max_hole_fill = args.number("max-hole-fill", prepare.max_hole_fill, 0, 1);
   prepare.max_handle_cycle = args.number("max-handle-cycle", prepare.max_handle_cycle, 0, 1000);
   prepare.method = parse_prepare_method(args.text("prepare", "parts"));
+  prepare.envelope.resolution =
+      args.number("wrap-resolution", prepare.envelope.resolution, 8, 4096);
+  prepare.envelope.offset_fraction = args.number("wrap-offset", 0, 0, 0.25);
+  prepare.envelope.target_faces = static_cast<size_t>(args.integer("wrap-faces", 0, 0, 10000000));
 }
 
 PrepareMethod parse_prepare_method(const std::string& name) {
   if (name == "exact") return PrepareMethod::kExact;
   if (name == "repair") return PrepareMethod::kRepair;
   if (name == "parts") return PrepareMethod::kParts;
-  throw UsageError("--prepare must be exact, repair or parts, got '" + name + "'");
+  if (name == "wrap") return PrepareMethod::kWrap;
+  throw UsageError("--prepare must be exact, repair, parts or wrap, got '" + name + "'");
 }
 
 // Progress lines on stderr once a run has taken a second, at most twice a second.

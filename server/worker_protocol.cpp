@@ -9,7 +9,7 @@ namespace {
 
 // '2': the requests carry the input's warnings (a worker of the other format refuses them).
 // '3': and the handles closed in preparation.
-constexpr char kMagic[4] = {'S', 'M', 'W', '3'};
+constexpr char kMagic[4] = {'S', 'M', 'W', '4'};
 
 static_assert(std::is_trivially_copyable_v<MapOptions>, "MapOptions travels as bytes");
 static_assert(std::is_trivially_copyable_v<Vec3>, "positions travel as bytes");
@@ -180,6 +180,16 @@ std::string encode_request(const JobSpec& spec, double time_limit_seconds, int t
   w.put<double>(preparation.largest_fill);
   w.put<double>(preparation.largest_handle_cycle);
   w.put_string(preparation.handles_stopped);
+  const EnvelopeReport& envelope = preparation.envelope;
+  for (double x : {envelope.diagonal, envelope.voxel_size, envelope.offset, envelope.hausdorff,
+                   envelope.rms, envelope.envelope_to_original, envelope.original_to_envelope})
+    w.put<double>(x);
+  for (int n : envelope.grid) w.put<int32_t>(n);
+  for (size_t count : {envelope.solid_voxels, envelope.handles_cut, envelope.handles_filled,
+                       envelope.voxels_changed, envelope.largest_change_voxels,
+                       envelope.voxel_faces, envelope.faces})
+    w.put<uint64_t>(count);
+  w.put_string(envelope.rule);
   w.put<uint64_t>(spec.prepared.parts.size());
   for (const PartReport& part : spec.prepared.parts) {
     w.put<uint64_t>(part.vertices);
@@ -224,7 +234,8 @@ WorkerRequest decode_request(const std::string& bytes) {
   const int32_t method = r.get<int32_t>();
   if (method != static_cast<int32_t>(PrepareMethod::kExact) &&
       method != static_cast<int32_t>(PrepareMethod::kRepair) &&
-      method != static_cast<int32_t>(PrepareMethod::kParts))
+      method != static_cast<int32_t>(PrepareMethod::kParts) &&
+      method != static_cast<int32_t>(PrepareMethod::kWrap))
     throw std::runtime_error("unknown preparation method");
   preparation.method = static_cast<PrepareMethod>(method);
   for (size_t* count :
@@ -236,6 +247,17 @@ WorkerRequest decode_request(const std::string& bytes) {
   preparation.largest_fill = r.get<double>();
   preparation.largest_handle_cycle = r.get<double>();
   preparation.handles_stopped = r.get_string();
+  EnvelopeReport& envelope = preparation.envelope;
+  for (double* x : {&envelope.diagonal, &envelope.voxel_size, &envelope.offset, &envelope.hausdorff,
+                    &envelope.rms, &envelope.envelope_to_original, &envelope.original_to_envelope})
+    *x = r.get<double>();
+  for (int& n : envelope.grid) n = r.get<int32_t>();
+  for (size_t* count : {&envelope.solid_voxels, &envelope.handles_cut, &envelope.handles_filled,
+                        &envelope.voxels_changed, &envelope.largest_change_voxels,
+                        &envelope.voxel_faces, &envelope.faces})
+    *count = r.get<uint64_t>();
+  envelope.rule = r.get_string();
+  if (envelope.rule.size() > 8) throw std::runtime_error("unknown envelope rule");
   // Each part has a face, and each failure is one of a dozen checks.
   const uint64_t parts = r.get<uint64_t>();
   if (parts > spec.input.face_count()) throw std::runtime_error("more parts than faces");

@@ -11,6 +11,7 @@
 #include "core/map/certification.h"
 #include "core/map/map_check.h"
 #include "core/mesh/sphere_geometry.h"
+#include "core/mesh/surface_distance.h"
 #include "core/mesh/topology.h"
 #include "core/mesh/weld.h"
 #include "core/outputs/map_outputs.h"
@@ -19,7 +20,6 @@
 #include "core/outputs/sphere_alignment.h"
 #include "core/outputs/sphere_asset.h"
 #include "core/outputs/sphere_locator.h"
-#include "core/outputs/surface_distance.h"
 #include "core/outputs/texcoords.h"
 #include "tests/mesh_generators.h"
 

@@ -741,6 +741,25 @@ TEST(Service, EveryPartOfAKitMapsAndThePartLeftOutIsListed) {
   // prepare=repair keeps the one-part rule.
   expect_problem(client.Post("/v1/jobs?prepare=repair", glb_of(kit), "model/gltf-binary"), 422,
                  "not_mappable");
+
+  // prepare=wrap maps one envelope of the whole kit; its report crosses the worker protocol.
+  auto wrapped =
+      client.Post("/v1/jobs?prepare=wrap&wrap_resolution=64&outputs=remesh&resolution=16",
+                  glb_of(kit), "model/gltf-binary");
+  ASSERT_EQ(wrapped->status, 202) << wrapped->body;
+  const json envelope = wait_for(client, body_json(wrapped)["id"]);
+  ASSERT_EQ(envelope["status"], "succeeded") << envelope.dump(2);
+  const json& preparation = envelope["metrics"]["preparation"];
+  EXPECT_EQ(envelope["metrics"]["bijective"], true);
+  EXPECT_EQ(preparation["method"], "wrap");
+  EXPECT_GT(preparation["voxels_changed"].get<size_t>(), 0u);  // three parts made one
+  EXPECT_EQ(preparation["grid"].size(), 3u);
+  EXPECT_GT(preparation["envelope_hausdorff"].get<double>(), 0);
+  EXPECT_GT(preparation["envelope_faces"].get<size_t>(), 0u);
+  EXPECT_FALSE(envelope["metrics"].contains("parts"));
+  expect_problem(
+      client.Post("/v1/jobs?prepare=wrap&wrap_resolution=0", glb_of(kit), "model/gltf-binary"), 400,
+      "invalid_options");
 }
 
 TEST(Service, SynchronousMap) {

@@ -10,13 +10,13 @@
 #include "core/io/png_writer.h"
 #include "core/io/scene_glb.h"
 #include "core/mesh/stop_check.h"
+#include "core/mesh/surface_distance.h"
 #include "core/mesh/topology.h"
 #include "core/outputs/asset_builders.h"
 #include "core/outputs/base_color_bake.h"
 #include "core/outputs/remesh.h"
 #include "core/outputs/sphere_alignment.h"
 #include "core/outputs/sphere_asset.h"
-#include "core/outputs/surface_distance.h"
 #include "core/outputs/texcoords.h"
 
 namespace spheremap {

@@ -15,21 +15,42 @@ nlohmann::json summary_json(const DistortionSummary& s) {
 }  // namespace
 
 nlohmann::json preparation_json(const PreparationReport& p) {
-  return {{"method", prepare_method_name(p.method)},
-          {"input_faces", p.input_faces},
-          {"collapsed_faces_dropped", p.collapsed_faces},
-          {"faces_shortened", p.shortened_faces},
-          {"duplicate_faces_dropped", p.duplicate_faces},
-          {"faces_flipped", p.flipped_faces},
-          {"parts_reoriented", p.reoriented_parts},
-          {"non_manifold_vertices_split", p.vertices_split},
-          {"holes_filled", p.holes_filled},
-          {"faces_added", p.faces_added},
-          {"holes_left", p.holes_left},
-          {"largest_fill", p.largest_fill},
-          {"handles_closed", p.handles_closed},
-          {"handles_left", p.handles_left},
-          {"largest_handle_cycle", p.largest_handle_cycle}};
+  nlohmann::json out = {{"method", prepare_method_name(p.method)},
+                        {"input_faces", p.input_faces},
+                        {"collapsed_faces_dropped", p.collapsed_faces},
+                        {"faces_shortened", p.shortened_faces},
+                        {"duplicate_faces_dropped", p.duplicate_faces},
+                        {"faces_flipped", p.flipped_faces},
+                        {"parts_reoriented", p.reoriented_parts},
+                        {"non_manifold_vertices_split", p.vertices_split},
+                        {"holes_filled", p.holes_filled},
+                        {"faces_added", p.faces_added},
+                        {"holes_left", p.holes_left},
+                        {"largest_fill", p.largest_fill},
+                        {"handles_closed", p.handles_closed},
+                        {"handles_left", p.handles_left},
+                        {"largest_handle_cycle", p.largest_handle_cycle}};
+  if (p.method == PrepareMethod::kWrap) {
+    const EnvelopeReport& e = p.envelope;
+    // Lengths in model units and, for the distances, relative to the input's diagonal.
+    out["voxel_size"] = e.voxel_size;
+    out["offset"] = e.offset;
+    out["offset_relative"] = e.diagonal > 0 ? e.offset / e.diagonal : 0.0;
+    out["grid"] = {e.grid[0], e.grid[1], e.grid[2]};
+    out["solid_voxels"] = e.solid_voxels;
+    out["topology_rule"] = e.rule;
+    out["handles_cut"] = e.handles_cut;
+    out["handles_filled"] = e.handles_filled;
+    out["voxels_changed"] = e.voxels_changed;
+    out["largest_change_voxels"] = e.largest_change_voxels;
+    out["voxel_surface_faces"] = e.voxel_faces;
+    out["envelope_faces"] = e.faces;
+    out["envelope_hausdorff"] = e.hausdorff;
+    out["envelope_rms"] = e.rms;
+    out["envelope_to_original"] = e.envelope_to_original;
+    out["original_to_envelope"] = e.original_to_envelope;
+  }
+  return out;
 }
 
 nlohmann::json fix_json(const Fix& fix) {

@@ -65,6 +65,8 @@ const char* prepare_method_name(PrepareMethod method) {
       return "exact";
     case PrepareMethod::kRepair:
       return "repair";
+    case PrepareMethod::kWrap:
+      return "wrap";
     case PrepareMethod::kParts:
       break;
   }
@@ -338,6 +340,17 @@ double closing_weld_tolerance(const PolygonMesh& input, PrepareOptions options) 
 
 PreparedMesh prepare_input(PolygonMesh& input, GltfAppearance* look,
                            const PrepareOptions& options) {
+  if (options.method == PrepareMethod::kWrap) {
+    Envelope envelope = build_envelope(input, options.envelope, &options.should_stop);
+    const size_t input_faces = input.face_count();
+    input = std::move(envelope.mesh);
+    if (look) *look = GltfAppearance{};
+    PreparedMesh prepared = prepare_mesh(input, options);
+    prepared.preparation.method = PrepareMethod::kWrap;
+    prepared.preparation.input_faces = input_faces;
+    prepared.preparation.envelope = envelope.report;
+    return prepared;
+  }
   PreparedMesh prepared = prepare_parts(input, look, options);
   bool has_boundary = prepared.topology.boundary_edges > 0;
   for (const PartReport& part : prepared.parts)

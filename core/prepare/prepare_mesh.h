@@ -11,6 +11,7 @@
 #include "core/mesh/mesh.h"
 #include "core/mesh/topology.h"
 #include "core/mesh/weld.h"
+#include "core/prepare/envelope.h"
 #include "core/prepare/handle_closing.h"
 
 namespace spheremap {
@@ -19,9 +20,12 @@ namespace spheremap {
 // genus 0). kRepair: also the cleaning of face_cleanup.h (a mesh that needs none is
 // untouched, so its map is the same as under kExact). kParts (default): also, for an asset
 // of several parts (connected components), every part that is closed genus 0 maps on a
-// sphere of its own and the others are left out, each listed with its reason.
-enum class PrepareMethod { kExact, kRepair, kParts };
-const char* prepare_method_name(PrepareMethod method);  // "exact", "repair", "parts"
+// sphere of its own and the others are left out, each listed with its reason. kWrap: the
+// input is replaced by its envelope (envelope.h), a closed genus-0 mesh around all of it at
+// about the offset, which maps like any mesh; its outputs show the envelope (the sphere in
+// the "original" layout is the envelope's), and the input's look is not carried over.
+enum class PrepareMethod { kExact, kRepair, kParts, kWrap };
+const char* prepare_method_name(PrepareMethod method);  // "exact", "repair", "parts", "wrap"
 
 struct PrepareOptions {
   PrepareMethod method = PrepareMethod::kParts;
@@ -37,6 +41,7 @@ struct PrepareOptions {
   // shortest first (handle_closing.h); 0: none. 1.5: the longest cycle the reach set's
   // genus > 0 assets need is 1.39 (a printer bed), and every one of them maps certified.
   double max_handle_cycle = 1.5;
+  EnvelopeOptions envelope;  // kWrap only
   // Asked while cleaning, welding and checking: true stops with InputError("stopped")
   // (see StopCheck).
   std::function<bool()> should_stop;
@@ -56,6 +61,7 @@ struct PreparationReport {
   double largest_handle_cycle = 0;  // the longest cycle cut over its part's diagonal
   // Why handles were left (the first part stopped, with the numbers); "" when none was.
   std::string handles_stopped;
+  EnvelopeReport envelope;  // kWrap only
 };
 
 // One part (connected component) of an asset, checked alone.
@@ -96,7 +102,9 @@ PreparedMesh prepare_mesh(const PolygonMesh& input, const PrepareOptions& option
 
 // The same after cleaning `input` in place when options.method is kRepair: faces dropped,
 // shortened or reversed, and `look` (when given) has its primitives' face ranges moved to
-// match, so the input, its look and the prepared mesh agree for every output.
+// match, so the input, its look and the prepared mesh agree for every output. Under kWrap,
+// `input` becomes the envelope and `look` (when given) is emptied; InputError when the
+// envelope cannot be made (envelope.h).
 PreparedMesh prepare_input(PolygonMesh& input, GltfAppearance* look, const PrepareOptions& options);
 
 }  // namespace spheremap

@@ -282,11 +282,26 @@ export interface components {
              */
             max_handle_cycle: number;
             /**
-             * @description parts: repair, then map every part (connected component) that is closed genus 0 on a sphere of its own, each drawn where its part is; parts that cannot map are left out, and metrics.parts lists every part with its verdict or the reason it was left out. repair: drop faces the weld collapses and duplicate (double-sided) faces, and make each part's orientation consistent (no vertex moves; a mesh that needs none of it is untouched; metrics.preparation says what was done); one part only. exact: map the input as it is or refuse it.
+             * @description parts: repair, then map every part (connected component) that is closed genus 0 on a sphere of its own, each drawn where its part is; parts that cannot map are left out, and metrics.parts lists every part with its verdict or the reason it was left out. repair: drop faces the weld collapses and duplicate (double-sided) faces, and make each part's orientation consistent (no vertex moves; a mesh that needs none of it is untouched; metrics.preparation says what was done); one part only. exact: map the input as it is or refuse it. wrap: map the envelope of the whole asset instead, a closed genus-0 mesh around it at a small offset made from any triangles (soup, open, non-manifold, many parts, any genus; handles cut or filled, whichever changes fewer voxels); every output shows the envelope (the sphere in the original layout is the envelope's own) without the input's look; metrics.preparation: voxel_size, offset, offset_relative, grid, topology_rule, handles_cut, handles_filled, voxels_changed, largest_change_voxels, envelope_faces, envelope_hausdorff, envelope_rms, envelope_to_original, original_to_envelope (distances relative to the input's bounding-box diagonal).
              * @default parts
              * @enum {string}
              */
-            prepare: "exact" | "repair" | "parts";
+            prepare: "exact" | "repair" | "parts" | "wrap";
+            /**
+             * @description wrap: voxels across the bounding-box diagonal; a grid of more than 2^26 voxels is refused (envelope_size)
+             * @default 256
+             */
+            wrap_resolution: number;
+            /**
+             * @description wrap: the offset as a fraction of the bounding-box diagonal; 0: 1.5 voxels
+             * @default 0
+             */
+            wrap_offset: number;
+            /**
+             * @description wrap: the envelope's triangles at most; 0: the input's faces within 20,000 and 200,000
+             * @default 0
+             */
+            wrap_faces: number;
             /** @description map only this glTF mesh (index or name) */
             mesh?: number | string;
             /**

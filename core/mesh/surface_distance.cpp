@@ -1,0 +1,85 @@
+#include "core/mesh/surface_distance.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numeric>
+#include <vector>
+
+#include "core/mesh/parallel.h"
+#include "core/mesh/parallel_stop.h"
+#include "core/mesh/stop_check.h"
+#include "core/mesh/triangle_tree.h"
+
+namespace spheremap {
+namespace {
+
+// Samples of a surface: its vertices (used by a triangle) and its triangle centroids.
+std::vector<Vec3> samples_of(std::span<const Vec3> positions, std::span<const Triangle> triangles) {
+  std::vector<char> used(positions.size(), 0);
+  std::vector<Vec3> out;
+  for (const Triangle& t : triangles) {
+    for (uint32_t v : t) used[v] = 1;
+    out.push_back((positions[t[0]] + positions[t[1]] + positions[t[2]]) * (1.0 / 3));
+  }
+  for (size_t v = 0; v < positions.size(); ++v)
+    if (used[v]) out.push_back(positions[v]);
+  return out;
+}
+
+// {sum of squared distances, max distance} of the samples to the tree.
+std::pair<double, double> one_way(const std::vector<Vec3>& samples, const TriangleTree& tree,
+                                  int threads, const std::function<bool()>* should_stop) {
+  std::vector<double> d2(samples.size());
+  ParallelStop stop(should_stop, 4096);  // a few milliseconds of queries
+  parallel_for(samples.size(), resolve_threads(threads), [&](size_t i) {
+    if (!stop.skip(i)) d2[i] = tree.squared_distance(samples[i]);
+  });
+  stop.throw_if_stopped();
+  double sum = 0, max = 0;
+  for (double x : d2) sum += x, max = std::max(max, x);
+  return {sum, std::sqrt(max)};
+}
+
+}  // namespace
+
+SurfaceDistance surface_distance(std::span<const Vec3> a_positions,
+                                 std::span<const Triangle> a_triangles,
+                                 std::span<const Vec3> b_positions,
+                                 std::span<const Triangle> b_triangles, int threads,
+                                 const std::function<bool()>* should_stop) {
+  SurfaceDistance out;
+  // Both surfaces in a's unit frame: the figures are relative to a's diagonal, so a
+  // similarity does not change them, and a mesh at 1e-300 units no longer underflows to
+  // distance 0 (nor one at 1e200 overflows).
+  const UnitFrame frame = unit_frame(a_positions);
+  std::vector<Vec3> a_unit(a_positions.size()), b_unit(b_positions.size());
+  for (size_t k = 0; k < a_unit.size(); ++k) a_unit[k] = frame.apply(a_positions[k]);
+  for (size_t k = 0; k < b_unit.size(); ++k) b_unit[k] = frame.apply(b_positions[k]);
+  AxisBox box;
+  for (const Triangle& t : a_triangles)
+    for (uint32_t v : t) box.add(a_unit[v]);
+  const double d = a_triangles.empty() ? 0 : norm(box.hi - box.lo);
+  out.diagonal = frame.length_in_input_units(d);
+  if (!(d > 0) || b_triangles.empty()) return out;
+  const std::vector<Vec3> a_samples = samples_of(a_unit, a_triangles);
+  const std::vector<Vec3> b_samples = samples_of(b_unit, b_triangles);
+  // Asked before each tree too: building one over a million triangles takes a while.
+  const StopCheck stop(should_stop);
+  stop.check();
+  const auto [a_sum, a_max] =
+      one_way(a_samples, TriangleTree(b_unit, b_triangles), threads, should_stop);
+  stop.check();
+  const auto [b_sum, b_max] =
+      one_way(b_samples, TriangleTree(a_unit, a_triangles), threads, should_stop);
+  out.rms_a_to_b = std::sqrt(a_sum / a_samples.size()) / d;
+  out.max_a_to_b = a_max / d;
+  out.rms_b_to_a = std::sqrt(b_sum / b_samples.size()) / d;
+  out.max_b_to_a = b_max / d;
+  out.hausdorff = std::max(out.max_a_to_b, out.max_b_to_a);
+  out.samples = a_samples.size() + b_samples.size();
+  out.rms = std::sqrt((a_sum + b_sum) / out.samples) / d;
+  return out;
+}
+
+}  // namespace spheremap

@@ -1,0 +1,113 @@
+#include "core/prepare/envelope.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/mesh/input_error.h"
+#include "core/mesh/stop_check.h"
+#include "core/mesh/surface_distance.h"
+#include "core/mesh/triangle_tree.h"
+#include "core/prepare/envelope_check.h"
+#include "core/prepare/envelope_fit.h"
+#include "core/prepare/envelope_grid.h"
+#include "core/prepare/envelope_reduce.h"
+#include "core/prepare/envelope_surface.h"
+#include "core/prepare/envelope_topology.h"
+
+namespace spheremap {
+namespace {
+
+// Smoothing pairs on the voxel surface and fitting rounds on the reduced one: enough to
+// take the staircase out (each pair reaches a few voxels) and settle on the offset.
+constexpr int kSmoothing = 6, kFitting = 5;
+
+// The reduced surface fitted to the offset, or an empty mesh when its checks fail.
+PolygonMesh fitted(const PolygonMesh& voxels, size_t target, const TriangleTree& original, double d,
+                   StopCheck& stop) {
+  PolygonMesh mesh = reduce_surface(voxels, target, stop);
+  stop.check();
+  if (!envelope_failures(mesh).empty()) return {};
+  fit_to_offset(mesh, original, d, kFitting, stop);
+  if (!envelope_failures(mesh).empty()) return {};
+  return mesh;
+}
+
+}  // namespace
+
+Envelope build_envelope(const PolygonMesh& input, const EnvelopeOptions& options,
+                        const std::function<bool()>* should_stop) {
+  StopCheck stop(should_stop);
+  const FanTriangulation fan = fan_triangulate(input);
+  std::vector<Triangle> triangles;
+  AxisBox box;
+  for (const Triangle& t : fan.triangles) {
+    const Vec3 &a = input.positions[t[0]], &b = input.positions[t[1]], &c = input.positions[t[2]];
+    if (!is_finite(a) || !is_finite(b) || !is_finite(c)) continue;
+    triangles.push_back(t);
+    box.add(a), box.add(b), box.add(c);
+  }
+  if (triangles.empty()) throw InputError("envelope_empty", "there is no triangle to wrap");
+  Envelope out;
+  EnvelopeReport& report = out.report;
+  report.diagonal = norm(box.hi - box.lo);
+  if (!(report.diagonal > 0) || !std::isfinite(report.diagonal) || !(options.resolution >= 1))
+    throw InputError("envelope_size",
+                     "the envelope needs an input of some extent and a resolution of 1 or more");
+  const double h = report.diagonal / options.resolution;
+  const double d = options.offset > 0            ? options.offset
+                   : options.offset_fraction > 0 ? options.offset_fraction * report.diagonal
+                                                 : options.offset_voxels * h;
+  report.voxel_size = h, report.offset = d;
+  const VoxelGrid grid = layout_grid(box.lo, box.hi, h, d, options.max_voxels);
+  report.grid[0] = grid.nx, report.grid[1] = grid.ny, report.grid[2] = grid.nz;
+
+  const std::vector<uint8_t> solid = solid_voxels(grid, input.positions, triangles, d, stop);
+  report.solid_voxels = size_t(std::count(solid.begin(), solid.end(), uint8_t{1}));
+  if (report.solid_voxels == 0)
+    throw InputError("envelope_empty", "no voxel lies within the offset of the triangles");
+  // Both growths; the one that changes fewer voxels is kept (ties: the cut, which leaves the
+  // outside as it is).
+  BallGrowth ball = grow_ball_inside(grid, solid, stop);
+  BallGrowth filled = shrink_ball_outside(grid, solid, stop);
+  report.rule = filled.voxels_changed < ball.voxels_changed ? "fill" : "cut";
+  if (report.rule == "fill") std::swap(ball, filled);
+  filled = {};
+  (report.rule == "cut" ? report.handles_cut : report.handles_filled) = ball.changes;
+  report.voxels_changed = ball.voxels_changed;
+  report.largest_change_voxels = ball.largest_change;
+
+  PolygonMesh voxels = voxel_surface(grid, ball.ball, stop);
+  ball = {};
+  report.voxel_faces = voxels.face_count();
+  if (const std::string failures = envelope_failures(voxels); !failures.empty())
+    throw InputError("envelope_topology", "the envelope's voxel surface fails: " + failures);
+  smooth_surface(voxels, kSmoothing, stop);
+
+  const TriangleTree original(input.positions, triangles);
+  const size_t target = options.target_faces ? options.target_faces
+                                             : std::clamp<size_t>(triangles.size(), 20000, 200000);
+  // The reduction keeps the link condition, so its checks should pass; if they do not,
+  // it is tried again less far, then not at all.
+  for (const size_t tried : {target, 4 * target, voxels.face_count()}) {
+    out.mesh = fitted(voxels, tried, original, d, stop);
+    if (out.mesh.face_count() > 0) break;
+  }
+  if (out.mesh.face_count() == 0)
+    throw InputError("envelope_topology", "the envelope's fitted surface fails its checks");
+  report.faces = out.mesh.face_count();
+
+  std::vector<Triangle> envelope_triangles(out.mesh.face_count());
+  for (size_t f = 0; f < envelope_triangles.size(); ++f) {
+    const auto c = out.mesh.face(f);
+    envelope_triangles[f] = {c[0], c[1], c[2]};
+  }
+  const SurfaceDistance distance = surface_distance(input.positions, triangles, out.mesh.positions,
+                                                    envelope_triangles, 0, should_stop);
+  report.hausdorff = distance.hausdorff;
+  report.rms = distance.rms;
+  report.envelope_to_original = distance.max_b_to_a;
+  report.original_to_envelope = distance.max_a_to_b;
+  return out;
+}
+
+}  // namespace spheremap

@@ -1,0 +1,71 @@
+// The envelope of any asset (Reach II): from any triangles (a soup, open, non-manifold, many
+// parts, any genus), a closed 2-manifold genus-0 triangle mesh around them, at about the
+// offset d outside. Steps, each in its own file: the voxel grid (dense, one byte per voxel,
+// capped; not a sparse narrow band), its band and the flood-filled solid
+// (envelope_grid.h); a ball grown through simple points, inside the solid (handles cut)
+// and, as the dual, the outside grown inward (handles filled), keeping whichever changes
+// fewer voxels over the whole asset, not per handle (envelope_topology.h); the ball's voxel
+// surface (envelope_surface.h); smoothing (envelope_fit.h), reduction (envelope_reduce.h),
+// fitting to the offset surface (envelope_fit.h); the checks (envelope_check.h).
+#pragma once
+
+#include <cstddef>
+#include <functional>
+#include <string>
+
+#include "core/mesh/mesh.h"
+
+namespace spheremap {
+
+struct EnvelopeOptions {
+  // Voxels across the bounding-box diagonal (h = diagonal / this). 256, not the issue's
+  // 512: a 252-triangle coin took 4.5 s at 256 and 43 s at 512 on the shared 2-core
+  // machine (the growth and the reduction scale with the voxels: 8x, and the voxel surface
+  // 4x), so 512 is an option, not the default.
+  double resolution = 256;
+  // The offset d: in model units when > 0; else as a fraction of the diagonal when > 0;
+  // else offset_voxels * h.
+  double offset = 0;
+  double offset_fraction = 0;
+  double offset_voxels = 1.5;
+  // 0: the input's faces, within [20,000, 200,000]. The floor is 20,000, not less: at 2,000
+  // faces the reduced envelope of small game-kit tiles cut 3-4% of the diagonal off their
+  // corners (original->envelope), at 20,000 0.7%, for the same time (the map of 20,000
+  // faces takes well under a second).
+  size_t target_faces = 0;
+  // The grid's voxels at most (counted before allocating; about 12 bytes each at the peak).
+  size_t max_voxels = size_t{1} << 26;
+};
+
+struct EnvelopeReport {
+  double diagonal = 0;  // of the input's bounding box (finite positions)
+  double voxel_size = 0, offset = 0;
+  int grid[3] = {0, 0, 0};
+  size_t solid_voxels = 0;
+  // "cut" (the ball grown inside the solid) or "fill" (the outside grown inward): the one
+  // that changed fewer voxels.
+  std::string rule;
+  size_t handles_cut = 0, handles_filled = 0;  // 26-connected groups of voxels changed
+  size_t voxels_changed = 0, largest_change_voxels = 0;
+  size_t voxel_faces = 0, faces = 0;  // the voxel surface's triangles, the envelope's
+  // Two-sided distance envelope <-> original (vertices and centroids of both), relative
+  // to the original's diagonal; and each direction's largest. The envelope lies within
+  // about the offset of the original except where a handle was cut or filled; the original
+  // lies within about the offset of the envelope except its faces inside the solid
+  // (intersecting parts, inner shells), which the envelope does not follow.
+  double hausdorff = 0, rms = 0;
+  double envelope_to_original = 0, original_to_envelope = 0;
+};
+
+struct Envelope {
+  PolygonMesh mesh;  // triangles; closed, 2-manifold, one component, genus 0 (checked)
+  EnvelopeReport report;
+};
+
+// Throws InputError: "envelope_size" (grid over max_voxels or no finite extent),
+// "envelope_empty" (no triangle), "envelope_topology" (a check failed: should not happen),
+// "stopped" (should_stop said so; asked throughout).
+Envelope build_envelope(const PolygonMesh& input, const EnvelopeOptions& options,
+                        const std::function<bool()>* should_stop = nullptr);
+
+}  // namespace spheremap

@@ -1,0 +1,154 @@
+#include "core/prepare/envelope_grid.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <string>
+
+#include "core/mesh/input_error.h"
+#include "core/mesh/triangle_tree.h"
+
+namespace spheremap {
+
+VoxelGrid layout_grid(const Vec3& lo, const Vec3& hi, double h, double d, size_t max_voxels) {
+  if (!(h > 0) || !std::isfinite(h) || !(d >= 0) || !std::isfinite(d))
+    throw InputError("envelope_size", "the envelope's voxel size and offset must be positive");
+  VoxelGrid grid;
+  grid.h = h;
+  const double margin = d + kGridPadding * h;
+  grid.origin = lo - Vec3{margin, margin, margin};
+  std::array<double, 3> counts{};
+  for (int a = 0; a < 3; ++a) counts[a] = std::ceil((hi[a] - lo[a] + 2 * margin) / h) + 1;
+  const double voxels = counts[0] * counts[1] * counts[2];
+  if (!(voxels <= double(max_voxels)) || counts[0] > 65535 || counts[1] > 65535 ||
+      counts[2] > 65535)
+    throw InputError("envelope_size", "the envelope's grid would have " + std::to_string(voxels) +
+                                          " voxels, more than the cap of " +
+                                          std::to_string(max_voxels) +
+                                          ": use a lower envelope resolution");
+  grid.nx = int(counts[0]), grid.ny = int(counts[1]), grid.nz = int(counts[2]);
+  return grid;
+}
+
+namespace {
+
+// Marks the voxels whose centre is within d of triangle abc. Columns run along the axis
+// the triangle's normal is most aligned with, each limited to the slab |n.(p - a)| <= d.
+void mark_band(const VoxelGrid& g, const Vec3& a, const Vec3& b, const Vec3& c, double d,
+               std::vector<uint8_t>& band, StopCheck& stop) {
+  std::array<int, 3> lo{}, hi{};
+  const std::array<int, 3> n_of{g.nx, g.ny, g.nz};
+  for (int k = 0; k < 3; ++k) {
+    const double mn = std::min({a[k], b[k], c[k]}) - d, mx = std::max({a[k], b[k], c[k]}) + d;
+    lo[k] = std::max(0, int(std::floor((mn - g.origin[k]) / g.h - 0.5)));
+    hi[k] = std::min(n_of[k] - 1, int(std::ceil((mx - g.origin[k]) / g.h - 0.5)));
+    if (lo[k] > hi[k]) return;
+  }
+  Vec3 n = cross(b - a, c - a);
+  const double length = norm(n);
+  int w = 2;  // the column axis
+  if (length > 0) {
+    n = n * (1 / length);
+    const double ax = std::abs(n.x), ay = std::abs(n.y), az = std::abs(n.z);
+    w = ax >= ay && ax >= az ? 0 : (ay >= az ? 1 : 2);
+  }
+  const int u = (w + 1) % 3, v = (w + 2) % 3;
+  const double d2 = d * d;
+  std::array<int, 3> cell{};
+  for (cell[u] = lo[u]; cell[u] <= hi[u]; ++cell[u])
+    for (cell[v] = lo[v]; cell[v] <= hi[v]; ++cell[v]) {
+      int first = lo[w], last = hi[w];
+      if (length > 0 && std::abs(n[w]) > 1e-3) {
+        // n.(p - a) = 0 at p[w] = s; |n.(p - a)| <= d within d / |n[w]| of it.
+        const double pu = g.origin[u] + (cell[u] + 0.5) * g.h;
+        const double pv = g.origin[v] + (cell[v] + 0.5) * g.h;
+        const double s = a[w] - (n[u] * (pu - a[u]) + n[v] * (pv - a[v])) / n[w];
+        const double reach = d / std::abs(n[w]);
+        first = std::max(first, int(std::floor((s - reach - g.origin[w]) / g.h - 0.5)));
+        last = std::min(last, int(std::ceil((s + reach - g.origin[w]) / g.h - 0.5)));
+      }
+      for (cell[w] = first; cell[w] <= last; ++cell[w]) {
+        const size_t i = g.index(cell[0], cell[1], cell[2]);
+        stop.tick();
+        if (band[i]) continue;
+        const Vec3 p = g.center(cell[0], cell[1], cell[2]);
+        if (squared_norm(closest_on_triangle(p, a, b, c) - p) <= d2) band[i] = 1;
+      }
+    }
+}
+
+}  // namespace
+
+std::vector<uint8_t> solid_voxels(const VoxelGrid& g, std::span<const Vec3> positions,
+                                  std::span<const Triangle> triangles, double d, StopCheck& stop) {
+  std::vector<uint8_t> solid(g.size(), 0);
+  for (const Triangle& t : triangles) {
+    const Vec3 &a = positions[t[0]], &b = positions[t[1]], &c = positions[t[2]];
+    if (!is_finite(a) || !is_finite(b) || !is_finite(c)) continue;
+    mark_band(g, a, b, c, d, solid, stop);
+  }
+  // The outside: a 6-connected flood fill of the non-band voxels from the border.
+  std::vector<uint8_t> outside(g.size(), 0);
+  std::vector<uint32_t> stack;
+  const auto seed = [&](int x, int y, int z) {
+    const size_t i = g.index(x, y, z);
+    if (!solid[i] && !outside[i]) outside[i] = 1, stack.push_back(uint32_t(i));
+  };
+  for (int z = 0; z < g.nz; ++z)
+    for (int y = 0; y < g.ny; ++y)
+      for (int x = 0; x < g.nx; ++x)
+        if (x == 0 || y == 0 || z == 0 || x == g.nx - 1 || y == g.ny - 1 || z == g.nz - 1)
+          seed(x, y, z);
+  const size_t sx = 1, sy = size_t(g.nx), sz = size_t(g.nx) * size_t(g.ny);
+  while (!stack.empty()) {
+    const size_t i = stack.back();
+    stack.pop_back();
+    stop.tick();
+    const int x = int(i % sy), y = int((i / sy) % size_t(g.ny)), z = int(i / sz);
+    for (const auto& [ok, j] : {std::pair{x > 0, i - sx}, std::pair{x + 1 < g.nx, i + sx},
+                                std::pair{y > 0, i - sy}, std::pair{y + 1 < g.ny, i + sy},
+                                std::pair{z > 0, i - sz}, std::pair{z + 1 < g.nz, i + sz}})
+      if (ok && !solid[j] && !outside[j]) outside[j] = 1, stack.push_back(uint32_t(j));
+  }
+  for (size_t i = 0; i < solid.size(); ++i) solid[i] = !outside[i];
+  return solid;
+}
+
+std::vector<uint16_t> steps_to_other(const VoxelGrid& g, const std::vector<uint8_t>& inside,
+                                     uint8_t from, StopCheck& stop) {
+  std::vector<uint16_t> steps(g.size(), 0);
+  std::vector<uint32_t> front, next;
+  const size_t sx = 1, sy = size_t(g.nx), sz = size_t(g.nx) * size_t(g.ny);
+  // Step 1: the voxels of `from` with a face neighbour of the other kind.
+  for (int z = 1; z + 1 < g.nz; ++z)
+    for (int y = 1; y + 1 < g.ny; ++y)
+      for (int x = 1; x + 1 < g.nx; ++x) {
+        const size_t i = g.index(x, y, z);
+        stop.tick();
+        if (inside[i] != from) continue;
+        for (size_t j : {i - sx, i + sx, i - sy, i + sy, i - sz, i + sz})
+          if (inside[j] != from) {
+            steps[i] = 1, front.push_back(uint32_t(i));
+            break;
+          }
+      }
+  uint16_t level = 1;
+  while (!front.empty()) {
+    next.clear();
+    const uint16_t following = level == 65535 ? level : uint16_t(level + 1);
+    for (const uint32_t i : front) {
+      stop.tick();
+      const int x = int(i % sy), y = int((i / sy) % size_t(g.ny)), z = int(i / sz);
+      for (const auto& [ok, j] : {std::pair{x > 0, i - sx}, std::pair{x + 1 < g.nx, i + sx},
+                                  std::pair{y > 0, i - sy}, std::pair{y + 1 < g.ny, i + sy},
+                                  std::pair{z > 0, i - sz}, std::pair{z + 1 < g.nz, i + sz}})
+        if (ok && inside[j] == from && steps[j] == 0)
+          steps[j] = following, next.push_back(uint32_t(j));
+    }
+    front.swap(next);
+    level = following;
+  }
+  return steps;
+}
+
+}  // namespace spheremap

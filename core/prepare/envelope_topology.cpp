@@ -1,0 +1,216 @@
+#include "core/prepare/envelope_topology.h"
+
+#include <algorithm>
+#include <array>
+#include <bit>
+
+#include "core/mesh/input_error.h"
+
+namespace spheremap {
+namespace {
+
+struct Tables {
+  std::array<uint32_t, 27> adjacent26{}, adjacent6{};
+  uint32_t n18 = 0, faces = 0;
+  std::array<std::array<int, 8>, 8> block_bits{};  // per 2x2x2 cube around the centre
+  std::array<uint8_t, 256> critical{};             // per 2x2x2 configuration
+
+  Tables() {
+    const auto bit = [](int dx, int dy, int dz) { return (dx + 1) + 3 * (dy + 1) + 9 * (dz + 1); };
+    for (int k = 0; k < 27; ++k) {
+      const int kx = k % 3 - 1, ky = k / 3 % 3 - 1, kz = k / 9 - 1;
+      const int nonzero = (kx != 0) + (ky != 0) + (kz != 0);
+      if (k != kCentreBit && nonzero <= 2) n18 |= 1u << k;
+      if (nonzero == 1) faces |= 1u << k;
+      for (int j = 0; j < 27; ++j) {
+        if (j == k || j == kCentreBit || k == kCentreBit) continue;
+        const int dx = std::abs(j % 3 - 1 - kx), dy = std::abs(j / 3 % 3 - 1 - ky),
+                  dz = std::abs(j / 9 - 1 - kz);
+        if (std::max({dx, dy, dz}) == 1) adjacent26[k] |= 1u << j;
+        if (dx + dy + dz == 1) adjacent6[k] |= 1u << j;
+      }
+    }
+    for (int b = 0; b < 8; ++b) {
+      const int ox = b & 1, oy = (b >> 1) & 1, oz = (b >> 2) & 1;  // the cube spans ox-1..ox
+      for (int c = 0; c < 8; ++c)
+        block_bits[b][c] = bit(ox - 1 + (c & 1), oy - 1 + ((c >> 1) & 1), oz - 1 + ((c >> 2) & 1));
+    }
+    for (int m = 0; m < 256; ++m) {
+      const auto on = [&](int c) { return (m >> c) & 1; };
+      bool bad = false;
+      // The six faces of the cube, each as its corners a b / c d with a-d and b-c diagonal.
+      for (const auto& f : {std::array{0, 1, 2, 3}, std::array{4, 5, 6, 7}, std::array{0, 1, 4, 5},
+                            std::array{2, 3, 6, 7}, std::array{0, 2, 4, 6}, std::array{1, 3, 5, 7}})
+        bad |= on(f[0]) == on(f[3]) && on(f[1]) == on(f[2]) && on(f[0]) != on(f[1]);
+      const int count = std::popcount(unsigned(m));
+      const int odd = count == 2 ? m : (count == 6 ? (~m & 255) : 0);
+      for (int c = 0; c < 4; ++c) bad |= odd == ((1 << c) | (1 << (7 - c)));
+      critical[m] = bad;
+    }
+  }
+};
+
+const Tables& tables() {
+  static const Tables t;
+  return t;
+}
+
+// Connected groups of `set` under `adjacent`; with `touch` non-zero only those meeting it.
+int groups(uint32_t set, const std::array<uint32_t, 27>& adjacent, uint32_t touch) {
+  int count = 0;
+  while (set) {
+    uint32_t group = set & (~set + 1), front = group;
+    while (front) {
+      uint32_t grown = 0;
+      for (uint32_t f = front; f; f &= f - 1) grown |= adjacent[std::countr_zero(f)];
+      front = grown & set & ~group;
+      group |= front;
+    }
+    set &= ~group;
+    if (!touch || (group & touch)) ++count;
+  }
+  return count;
+}
+
+}  // namespace
+
+bool is_simple_point(uint32_t neighbourhood) {
+  const Tables& t = tables();
+  const uint32_t all = (1u << 27) - 1, set = neighbourhood & all & ~(1u << kCentreBit);
+  if (groups(set, t.adjacent26, 0) != 1) return false;
+  return groups(~neighbourhood & t.n18, t.adjacent6, t.faces) == 1;
+}
+
+bool stays_well_composed(uint32_t neighbourhood) {
+  const Tables& t = tables();
+  const uint32_t with_centre = neighbourhood | (1u << kCentreBit);
+  for (const auto& cube : t.block_bits) {
+    unsigned m = 0;
+    for (int c = 0; c < 8; ++c) m |= ((with_centre >> cube[c]) & 1u) << c;
+    if (t.critical[m]) return false;
+  }
+  return true;
+}
+
+namespace {
+
+// Per voxel: bit 1 in the region, bit 2 may join it, bit 4 queued.
+constexpr uint8_t kIn = 1, kAllowed = 2, kQueued = 4;
+
+struct Growth {
+  const VoxelGrid& g;
+  std::vector<uint8_t> state;
+  std::array<std::ptrdiff_t, 27> offset{};
+
+  explicit Growth(const VoxelGrid& grid) : g(grid), state(grid.size(), 0) {
+    for (int k = 0; k < 27; ++k)
+      offset[k] = (k % 3 - 1) + (k / 3 % 3 - 1) * std::ptrdiff_t(g.nx) +
+                  (k / 9 - 1) * std::ptrdiff_t(g.nx) * std::ptrdiff_t(g.ny);
+  }
+  // Only for voxels off the grid's border (candidates never lie on it).
+  uint32_t neighbourhood(size_t i) const {
+    uint32_t m = 0;
+    for (int k = 0; k < 27; ++k)
+      m |= uint32_t(state[size_t(std::ptrdiff_t(i) + offset[k])] & kIn) << k;
+    return m;
+  }
+  bool on_border(size_t i) const {
+    const int x = int(i % size_t(g.nx)), y = int(i / size_t(g.nx) % size_t(g.ny)),
+              z = int(i / (size_t(g.nx) * size_t(g.ny)));
+    return x == 0 || y == 0 || z == 0 || x == g.nx - 1 || y == g.ny - 1 || z == g.nz - 1;
+  }
+
+  // Grows from the voxels already in, highest priority first (a bucket queue).
+  void run(const std::vector<uint16_t>& priority, StopCheck& stop) {
+    std::vector<std::vector<uint32_t>> buckets(65536);
+    int top = -1;
+    const auto push = [&](size_t j) {
+      if ((state[j] & (kIn | kAllowed | kQueued)) != kAllowed || on_border(j)) return;
+      state[j] |= kQueued;
+      buckets[priority[j]].push_back(uint32_t(j));
+      top = std::max(top, int(priority[j]));
+    };
+    for (size_t i = 0; i < state.size(); ++i)
+      if ((state[i] & (kIn | kAllowed)) == kAllowed && !on_border(i) && neighbourhood(i) != 0)
+        push(i);
+    while (top >= 0) {
+      if (buckets[size_t(top)].empty()) {
+        --top;
+        continue;
+      }
+      const size_t i = buckets[size_t(top)].back();
+      buckets[size_t(top)].pop_back();
+      stop.tick();
+      state[i] &= uint8_t(~kQueued);
+      const uint32_t m = neighbourhood(i);
+      if (!is_simple_point(m) || !stays_well_composed(m)) continue;
+      state[i] |= kIn;
+      for (int k = 0; k < 27; ++k) push(size_t(std::ptrdiff_t(i) + offset[k]));
+    }
+  }
+};
+
+// Counts the changed voxels and their 26-connected groups.
+void count_changes(const VoxelGrid& g, const std::vector<uint8_t>& solid, BallGrowth& out,
+                   StopCheck& stop) {
+  std::vector<uint8_t> seen(g.size(), 0);
+  std::vector<uint32_t> stack;
+  for (size_t i = 0; i < g.size(); ++i) {
+    stop.tick();
+    if (seen[i] || solid[i] == out.ball[i]) continue;
+    size_t group = 0;
+    seen[i] = 1, stack.push_back(uint32_t(i));
+    while (!stack.empty()) {
+      const size_t v = stack.back();
+      stack.pop_back();
+      ++group;
+      const int x = int(v % size_t(g.nx)), y = int(v / size_t(g.nx) % size_t(g.ny)),
+                z = int(v / (size_t(g.nx) * size_t(g.ny)));
+      for (int dz = -1; dz <= 1; ++dz)
+        for (int dy = -1; dy <= 1; ++dy)
+          for (int dx = -1; dx <= 1; ++dx) {
+            const int a = x + dx, b = y + dy, c = z + dz;
+            if (a < 0 || b < 0 || c < 0 || a >= g.nx || b >= g.ny || c >= g.nz) continue;
+            const size_t j = g.index(a, b, c);
+            if (!seen[j] && solid[j] != out.ball[j]) seen[j] = 1, stack.push_back(uint32_t(j));
+          }
+    }
+    out.voxels_changed += group;
+    ++out.changes;
+    out.largest_change = std::max(out.largest_change, group);
+  }
+}
+
+}  // namespace
+
+BallGrowth grow_ball_inside(const VoxelGrid& grid, const std::vector<uint8_t>& solid,
+                            StopCheck& stop) {
+  const std::vector<uint16_t> depth = steps_to_other(grid, solid, 1, stop);
+  const size_t deepest = size_t(std::max_element(depth.begin(), depth.end()) - depth.begin());
+  if (!solid[deepest]) throw InputError("envelope_empty", "the envelope's solid is empty");
+  Growth growth(grid);
+  for (size_t i = 0; i < solid.size(); ++i) growth.state[i] = solid[i] ? kAllowed : 0;
+  growth.state[deepest] |= kIn;
+  growth.run(depth, stop);
+  BallGrowth out;
+  out.ball.resize(solid.size());
+  for (size_t i = 0; i < solid.size(); ++i) out.ball[i] = growth.state[i] & kIn;
+  count_changes(grid, solid, out, stop);
+  return out;
+}
+
+BallGrowth shrink_ball_outside(const VoxelGrid& grid, const std::vector<uint8_t>& solid,
+                               StopCheck& stop) {
+  const std::vector<uint16_t> distance = steps_to_other(grid, solid, 0, stop);
+  Growth growth(grid);
+  for (size_t i = 0; i < solid.size(); ++i)
+    growth.state[i] = growth.on_border(i) ? kIn : (solid[i] ? 0 : kAllowed);
+  growth.run(distance, stop);
+  BallGrowth out;
+  out.ball.resize(solid.size());
+  for (size_t i = 0; i < solid.size(); ++i) out.ball[i] = !(growth.state[i] & kIn);
+  count_changes(grid, solid, out, stop);
+  return out;
+}
+
+}  // namespace spheremap

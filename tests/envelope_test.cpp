@@ -1,0 +1,309 @@
+// The envelope (core/prepare/envelope*.h, Reach II): any triangles -> one closed,
+// 2-manifold, genus-0 mesh around them that maps certified; the simple-point test checked
+// against an independent count; sizes past the cap and the stop callback refused.
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <random>
+#include <set>
+#include <tuple>
+#include <vector>
+
+#include "core/map/certification.h"
+#include "core/map/pipeline.h"
+#include "core/mesh/input_error.h"
+#include "core/mesh/topology.h"
+#include "core/mesh/weld.h"
+#include "core/prepare/envelope.h"
+#include "core/prepare/envelope_check.h"
+#include "core/prepare/envelope_topology.h"
+#include "core/prepare/prepare_mesh.h"
+#include "tests/mesh_generators.h"
+
+namespace spheremap {
+namespace {
+
+// --- the simple-point test against an independent count ---------------------------------
+
+using Cube = std::array<int, 27>;  // 1 in the set; index x + 3y + 9z, centre 13
+
+// Components of the voxels of `cube` equal to `kind` among `cells`, by coordinate BFS.
+int components(const Cube& cube, int kind, const std::vector<int>& cells, bool six,
+               bool touch_centre) {
+  std::set<int> left(cells.begin(), cells.end());
+  std::erase_if(left, [&](int c) { return cube[size_t(c)] != kind; });
+  int count = 0;
+  while (!left.empty()) {
+    std::vector<int> stack = {*left.begin()};
+    left.erase(left.begin());
+    bool touches = false;
+    while (!stack.empty()) {
+      const int c = stack.back();
+      stack.pop_back();
+      const int cx = c % 3 - 1, cy = c / 3 % 3 - 1, cz = c / 9 - 1;
+      touches |= std::abs(cx) + std::abs(cy) + std::abs(cz) == 1;
+      for (auto it = left.begin(); it != left.end();) {
+        const int dx = std::abs(*it % 3 - 1 - cx), dy = std::abs(*it / 3 % 3 - 1 - cy),
+                  dz = std::abs(*it / 9 - 1 - cz);
+        const bool adjacent = six ? dx + dy + dz == 1 : std::max({dx, dy, dz}) == 1;
+        if (adjacent) {
+          stack.push_back(*it);
+          it = left.erase(it);
+        } else {
+          ++it;
+        }
+      }
+    }
+    if (!touch_centre || touches) ++count;
+  }
+  return count;
+}
+
+// Euler characteristic of the union of the closed unit cubes of the set.
+long euler_characteristic(const Cube& cube) {
+  std::set<std::array<int, 3>> v;
+  std::set<std::array<int, 4>> e, f;
+  long cubes = 0;
+  for (int c = 0; c < 27; ++c) {
+    if (!cube[size_t(c)]) continue;
+    ++cubes;
+    const int x = 2 * (c % 3), y = 2 * (c / 3 % 3), z = 2 * (c / 9);
+    // Cells by their doubled-coordinate centres: a cell's centre names it uniquely.
+    for (int dx = 0; dx <= 2; ++dx)
+      for (int dy = 0; dy <= 2; ++dy)
+        for (int dz = 0; dz <= 2; ++dz) {
+          const int odd = (dx == 1) + (dy == 1) + (dz == 1);
+          const std::array<int, 3> p{x + dx, y + dy, z + dz};
+          if (odd == 0) v.insert(p);
+          if (odd == 1) e.insert({p[0], p[1], p[2], 0});
+          if (odd == 2) f.insert({p[0], p[1], p[2], 0});
+        }
+  }
+  return long(v.size()) - long(e.size()) + long(f.size()) - cubes;
+}
+
+TEST(Envelope, SimplePointTestAgreesWithAnIndependentCount) {
+  std::mt19937 random(29);
+  std::vector<int> n26, n18;
+  for (int c = 0; c < 27; ++c) {
+    if (c == 13) continue;
+    n26.push_back(c);
+    const int odd = (c % 3 != 1) + (c / 3 % 3 != 1) + (c / 9 != 1);
+    if (odd <= 2) n18.push_back(c);
+  }
+  int simple = 0;
+  for (int trial = 0; trial < 20000; ++trial) {
+    Cube cube{};
+    const double density = (trial % 9 + 1) / 10.0;
+    uint32_t bits = 0;
+    for (int c = 0; c < 27; ++c) {
+      cube[size_t(c)] = c != 13 && std::uniform_real_distribution<>(0, 1)(random) < density;
+      bits |= uint32_t(cube[size_t(c)]) << c;
+    }
+    const bool expected =
+        components(cube, 1, n26, false, false) == 1 && components(cube, 0, n18, true, true) == 1;
+    ASSERT_EQ(is_simple_point(bits), expected) << "neighbourhood " << bits;
+    if (expected) {
+      ++simple;
+      // A simple point does not change the Euler characteristic.
+      Cube with = cube;
+      with[13] = 1;
+      EXPECT_EQ(euler_characteristic(with), euler_characteristic(cube)) << bits;
+    }
+  }
+  EXPECT_GT(simple, 1000);                                // the trials reach both answers
+  EXPECT_FALSE(is_simple_point(0));                       // an isolated voxel
+  EXPECT_TRUE(is_simple_point(1u << 4));                  // one face neighbour
+  EXPECT_FALSE(is_simple_point((1u << 4) | (1u << 22)));  // would join two
+  EXPECT_TRUE(stays_well_composed(1u << 4));              // face contact
+  EXPECT_FALSE(stays_well_composed(1u << 0));             // corner contact
+  EXPECT_FALSE(stays_well_composed(1u << 1));             // edge contact
+}
+
+// --- envelopes of meshes that do not map ---------------------------------------------
+
+struct Checked {
+  Envelope envelope;
+  TopologyReport topology;
+};
+
+Checked wrapped(const PolygonMesh& input, double resolution = 96) {
+  EnvelopeOptions options;
+  options.resolution = resolution;
+  Checked out{build_envelope(input, options), {}};
+  out.topology = analyze_topology(weld(out.envelope.mesh).mesh);
+  return out;
+}
+
+void expect_sphere_like(const Checked& c, const char* name) {
+  EXPECT_EQ(envelope_failures(c.envelope.mesh), "") << name;
+  EXPECT_TRUE(c.topology.closed()) << name;
+  EXPECT_TRUE(c.topology.manifold()) << name;
+  EXPECT_EQ(c.topology.component_vertices.size(), 1u) << name;
+  EXPECT_EQ(c.topology.genus(), 0) << name;
+  EXPECT_GT(c.topology.signed_volume, 0) << name;  // facing out
+  const EnvelopeReport& r = c.envelope.report;
+  EXPECT_GT(r.faces, 0u) << name;
+  EXPECT_LE(r.faces, r.voxel_faces) << name;
+  std::printf(
+      "%s: rule %s, cut %zu, filled %zu, changed %zu, voxel faces %zu, faces %zu, "
+      "hausdorff %.4f (envelope->original %.4f, original->envelope %.4f), rms %.4f, "
+      "offset %.4f\n",
+      name, r.rule.c_str(), r.handles_cut, r.handles_filled, r.voxels_changed, r.voxel_faces,
+      r.faces, r.hausdorff, r.envelope_to_original, r.original_to_envelope, r.rms,
+      r.offset / r.diagonal);
+  EXPECT_GT(r.hausdorff, 0) << name;
+  EXPECT_LT(r.rms, r.hausdorff + 1e-12) << name;
+  EXPECT_NEAR(r.hausdorff, std::max(r.envelope_to_original, r.original_to_envelope), 1e-12);
+  // Where nothing was cut or filled the envelope is within a few voxels of the original.
+  if (r.voxels_changed == 0) {
+    EXPECT_LT(r.envelope_to_original, 4.0 / 96) << name;
+  }
+}
+
+PolygonMesh box(const Vec3& lo, const Vec3& hi) {
+  PolygonMesh m = testing::quad_cube(2);
+  for (Vec3& p : m.positions) {
+    // quad_cube spans [-1, 1]^3.
+    p = {lo.x + (p.x + 1) / 2 * (hi.x - lo.x), lo.y + (p.y + 1) / 2 * (hi.y - lo.y),
+         lo.z + (p.z + 1) / 2 * (hi.z - lo.z)};
+  }
+  return m;
+}
+
+// Every triangle with corners of its own, in a random order: no two faces share a vertex.
+PolygonMesh soup(const PolygonMesh& mesh) {
+  const FanTriangulation fan = fan_triangulate(mesh);
+  std::vector<Triangle> order = fan.triangles;
+  std::shuffle(order.begin(), order.end(), std::mt19937(3));
+  PolygonMesh out;
+  for (const Triangle& t : order) {
+    const uint32_t first = uint32_t(out.positions.size());
+    for (uint32_t v : t) out.positions.push_back(mesh.positions[v]);
+    const std::array<uint32_t, 3> corners{first, first + 1, first + 2};
+    out.add_face(corners);
+  }
+  return out;
+}
+
+PolygonMesh plane(int n) {
+  PolygonMesh m;
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i)
+      m.positions.push_back({double(i) / n, double(j) / n, 0.1 * std::sin(3.0 * i / n)});
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      const uint32_t a = uint32_t(j * (n + 1) + i);
+      const std::array<uint32_t, 4> q{a, a + 1, a + uint32_t(n) + 2, a + uint32_t(n) + 1};
+      m.add_face(q);
+    }
+  return m;
+}
+
+TEST(Envelope, ATorusBecomesAClosedGenusZeroEnvelope) {
+  const Checked c = wrapped(testing::torus(48, 96));
+  expect_sphere_like(c, "torus");
+  const EnvelopeReport& r = c.envelope.report;
+  EXPECT_EQ(r.handles_cut + r.handles_filled, 1u);  // the one handle, cut or filled
+  EXPECT_GT(r.voxels_changed, 0u);
+  EXPECT_GT(r.solid_voxels, r.voxels_changed);
+  EXPECT_EQ(r.rule, r.handles_cut ? "cut" : "fill");
+}
+
+TEST(Envelope, AnythingBecomesOneClosedGenusZeroEnvelope) {
+  const PolygonMesh sphere = testing::icosphere(3);
+  expect_sphere_like(wrapped(soup(sphere)), "soup");
+  expect_sphere_like(
+      wrapped(testing::assembled({{box({0, 0, 0}, {2, 1, 1}), {0, 0, 0}},
+                                  {box({0.5, -0.5, 0.2}, {1.2, 1.5, 0.8}), {0, 0, 0}}})),
+      "two intersecting boxes");
+  expect_sphere_like(wrapped(plane(20)), "open plane");
+  expect_sphere_like(wrapped(testing::dome(3)), "dome");
+  // A thick ring: a sphere with a through-hole.
+  PolygonMesh ring = testing::torus(32, 64);
+  for (Vec3& p : ring.positions) p.z *= 1.5;
+  expect_sphere_like(wrapped(ring), "sphere with a through-hole");
+  // Disjoint parts: one envelope holds them all (the outside grown inward joins them).
+  const Checked parts = wrapped(testing::assembled(
+      {{sphere, {0, 0, 0}}, {sphere, {2.6, 0, 0}}, {testing::torus(16, 32), {0, 4.5, 0}}}));
+  expect_sphere_like(parts, "three disjoint parts");
+  EXPECT_EQ(parts.envelope.report.rule, "fill");
+}
+
+TEST(Envelope, ASpheresEnvelopeLiesAtTheOffset) {
+  const PolygonMesh sphere = testing::icosphere(4);
+  const Checked c = wrapped(sphere, 128);
+  expect_sphere_like(c, "sphere");
+  const EnvelopeReport& r = c.envelope.report;
+  EXPECT_EQ(r.voxels_changed, 0u);
+  EXPECT_EQ(r.handles_cut + r.handles_filled, 0u);
+  const double d = r.offset / r.diagonal;
+  EXPECT_NEAR(r.offset, 1.5 * r.voxel_size, 1e-12);
+  EXPECT_GT(r.hausdorff, 0.5 * d);
+  EXPECT_LT(r.hausdorff, 2.0 * d);
+  // Every envelope vertex is about d from the unit sphere.
+  for (const Vec3& p : c.envelope.mesh.positions) EXPECT_NEAR(norm(p) - 1, r.offset, r.offset);
+}
+
+TEST(Envelope, OffsetAndTargetOptionsAreFollowed) {
+  EnvelopeOptions options;
+  options.resolution = 64;
+  options.offset_fraction = 0.05;
+  options.target_faces = 1500;
+  const Envelope e = build_envelope(testing::torus(24, 48), options);
+  EXPECT_NEAR(e.report.offset, 0.05 * e.report.diagonal, 1e-12);
+  EXPECT_LE(e.report.faces, 1500u);  // the reduction reaches its target
+  EXPECT_EQ(envelope_failures(e.mesh), "");
+}
+
+TEST(Envelope, HostileSizesAreRefusedBeforeAllocating) {
+  EnvelopeOptions options;
+  options.resolution = 1e6;
+  try {
+    build_envelope(testing::icosphere(1), options);
+    FAIL() << "a grid of about 1e17 voxels was not refused";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.check(), "envelope_size");
+    EXPECT_NE(std::string(e.what()).find("cap"), std::string::npos) << e.what();
+  }
+  PolygonMesh flat;  // no extent
+  flat.positions = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}};
+  flat.add_face(std::array<uint32_t, 3>{0, 1, 2});
+  EXPECT_THROW(build_envelope(flat, {}), InputError);
+  EXPECT_THROW(build_envelope(PolygonMesh{}, {}), InputError);
+}
+
+TEST(Envelope, TheStopCallbackIsHonoured) {
+  int asked = 0;
+  const std::function<bool()> stop = [&] { return ++asked > 3; };
+  try {
+    build_envelope(testing::torus(48, 96), {}, &stop);
+    FAIL() << "not stopped";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.check(), "stopped");
+  }
+  EXPECT_EQ(asked, 4);
+}
+
+TEST(Envelope, AWrappedTorusMapsCertified) {
+  PolygonMesh input = testing::torus(32, 64);
+  const size_t input_faces = input.face_count();
+  PrepareOptions options;
+  options.method = PrepareMethod::kWrap;
+  options.envelope.resolution = 96;
+  options.envelope.target_faces = 3000;
+  const PreparedMesh prepared = prepare_input(input, nullptr, options);
+  EXPECT_EQ(prepared.preparation.method, PrepareMethod::kWrap);
+  EXPECT_EQ(prepared.preparation.input_faces, input_faces);
+  EXPECT_EQ(
+      prepared.preparation.envelope.handles_cut + prepared.preparation.envelope.handles_filled, 1u);
+  EXPECT_EQ(input.face_count(), prepared.welded.mesh.face_count());  // the input is the envelope
+  ASSERT_TRUE(remaining_failures(prepared).empty());
+  const MappedMesh mapped = map_prepared(prepared, {});
+  EXPECT_TRUE(certify(mapped, mapped.float32_check).certified);
+}
+
+}  // namespace
+}  // namespace spheremap
