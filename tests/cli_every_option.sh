@@ -19,7 +19,7 @@ declare -A value=(
   [output]=OUTPUT [presmooth]=2 [quality]=fast [repair-iterations]=100 [safe-steps]=10
   [smooth-vertices]=10 [start-vertices]=100 [stretch-lambda]=0.5 [stretch-sweeps]=5
   [sweep]=gauss-seidel [threads]=1 [time-limit]=60 [weld-tolerance]=0.001 [resolution]=8
-  [prepare]=exact [max-hole-fill]=0.1 [max-handle-cycle]=0.5 [seconds]=2 [host]=127.0.0.1 [port]=0 [timeout]=1 [config]=$tmp/config.json
+  [prepare]=exact [max-hole-fill]=0.1 [max-handle-cycle]=0.5 [wrap-resolution]=64 [wrap-offset]=0.01 [wrap-faces]=3000 [seconds]=2 [host]=127.0.0.1 [port]=0 [timeout]=1 [config]=$tmp/config.json
   [http-threads]=4 [job-time-limit-seconds]=60 [keep-alive-timeout-seconds]=2
   [max-body-bytes]=1000000 [max-faces]=1000 [max-jobs-kept]=10 [max-vertices]=1000
   [max-resource-bytes]=2000000 [max-image-pixels]=1000000
