@@ -137,10 +137,11 @@ JobOptions parse_job_options(const nlohmann::json& options) {
        }},
       {"prepare",
        [&](const Json& v, const std::string& k) {
-         const std::string method = text(v, k, {"exact", "repair", "parts", "wrap"});
+         const std::string method = text(v, k, {"exact", "repair", "parts", "wrap", "auto"});
          out.prepare.method = method == "exact"    ? PrepareMethod::kExact
                               : method == "repair" ? PrepareMethod::kRepair
                               : method == "wrap"   ? PrepareMethod::kWrap
+                              : method == "auto"   ? PrepareMethod::kAuto
                                                    : PrepareMethod::kParts;
        }},
       {"wrap_resolution",

@@ -106,7 +106,14 @@ const char* const kMapOptionsHelp = R"(Mapping options:
                             whichever changes fewer voxels); every output shows the envelope
                             (the sphere's "original" layout is the envelope's own), without
                             the input's look. metrics.preparation says what changed and how
-                            far the envelope is from the input
+                            far the envelope is from the input.
+                            auto: every part served, exactly where it can be: as parts, then
+                            each part that still cannot map is replaced by its own envelope
+                            (same voxel size and offset for all parts; "wrapped" in its
+                            metrics.parts entry, with the reason and its distances); a mesh
+                            of one part that cannot map is wrapped whole.
+                            metrics.preparation.decided: exact, repair, parts, parts+wrap
+                            or wrap
   --wrap-resolution R       wrap: voxels across the bounding-box diagonal (default 256)
   --wrap-offset D           wrap: the envelope's offset, as a fraction of the bounding-box
                             diagonal (default 1.5 voxels)
@@ -195,7 +202,8 @@ PrepareMethod parse_prepare_method(const std::string& name) {
   if (name == "repair") return PrepareMethod::kRepair;
   if (name == "parts") return PrepareMethod::kParts;
   if (name == "wrap") return PrepareMethod::kWrap;
-  throw UsageError("--prepare must be exact, repair, parts or wrap, got '" + name + "'");
+  if (name == "auto") return PrepareMethod::kAuto;
+  throw UsageError("--prepare must be exact, repair, parts, wrap or auto, got '" + name + "'");
 }
 
 // Progress lines on stderr once a run has taken a second, at most twice a second.

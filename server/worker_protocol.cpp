@@ -148,6 +148,53 @@ class Reader {
   size_t at_ = 0;
 };
 
+void put_envelope(Writer& w, const EnvelopeReport& envelope) {
+  for (double x : {envelope.diagonal, envelope.voxel_size, envelope.offset, envelope.hausdorff,
+                   envelope.rms, envelope.envelope_to_original, envelope.original_to_envelope})
+    w.put<double>(x);
+  for (int n : envelope.grid) w.put<int32_t>(n);
+  for (size_t count : {envelope.solid_voxels, envelope.handles_cut, envelope.handles_filled,
+                       envelope.voxels_changed, envelope.largest_change_voxels,
+                       envelope.voxel_faces, envelope.faces})
+    w.put<uint64_t>(count);
+  w.put_string(envelope.rule);
+}
+
+EnvelopeReport get_envelope(Reader& r) {
+  EnvelopeReport envelope;
+  for (double* x : {&envelope.diagonal, &envelope.voxel_size, &envelope.offset, &envelope.hausdorff,
+                    &envelope.rms, &envelope.envelope_to_original, &envelope.original_to_envelope})
+    *x = r.get<double>();
+  for (int& n : envelope.grid) n = r.get<int32_t>();
+  for (size_t* count : {&envelope.solid_voxels, &envelope.handles_cut, &envelope.handles_filled,
+                        &envelope.voxels_changed, &envelope.largest_change_voxels,
+                        &envelope.voxel_faces, &envelope.faces})
+    *count = r.get<uint64_t>();
+  envelope.rule = r.get_string();
+  if (envelope.rule.size() > 8) throw std::runtime_error("unknown envelope rule");
+  return envelope;
+}
+
+void put_failures(Writer& w, const std::vector<ValidationFailure>& failures) {
+  w.put<uint64_t>(failures.size());
+  for (const ValidationFailure& f : failures) {
+    w.put_string(f.check);
+    w.put_string(f.message);
+  }
+}
+
+// Each failure is one of a dozen checks.
+std::vector<ValidationFailure> get_failures(Reader& r) {
+  const uint64_t count = r.get<uint64_t>();
+  if (count > 16) throw std::runtime_error("too many failures of a part");
+  std::vector<ValidationFailure> failures;
+  for (uint64_t i = 0; i < count; ++i) {
+    std::string check = r.get_string();
+    failures.emplace_back(std::move(check), r.get_string());
+  }
+  return failures;
+}
+
 }  // namespace
 
 std::string encode_request(const JobSpec& spec, double time_limit_seconds, int threads) {
@@ -180,24 +227,18 @@ std::string encode_request(const JobSpec& spec, double time_limit_seconds, int t
   w.put<double>(preparation.largest_fill);
   w.put<double>(preparation.largest_handle_cycle);
   w.put_string(preparation.handles_stopped);
-  const EnvelopeReport& envelope = preparation.envelope;
-  for (double x : {envelope.diagonal, envelope.voxel_size, envelope.offset, envelope.hausdorff,
-                   envelope.rms, envelope.envelope_to_original, envelope.original_to_envelope})
-    w.put<double>(x);
-  for (int n : envelope.grid) w.put<int32_t>(n);
-  for (size_t count : {envelope.solid_voxels, envelope.handles_cut, envelope.handles_filled,
-                       envelope.voxels_changed, envelope.largest_change_voxels,
-                       envelope.voxel_faces, envelope.faces})
-    w.put<uint64_t>(count);
-  w.put_string(envelope.rule);
+  put_envelope(w, preparation.envelope);
+  w.put_string(preparation.decided);
   w.put<uint64_t>(spec.prepared.parts.size());
   for (const PartReport& part : spec.prepared.parts) {
     w.put<uint64_t>(part.vertices);
     w.put<uint64_t>(part.faces);
-    w.put<uint64_t>(part.failures.size());
-    for (const ValidationFailure& f : part.failures) {
-      w.put_string(f.check);
-      w.put_string(f.message);
+    put_failures(w, part.failures);
+    w.put<uint32_t>(part.welded_vertex);
+    w.put<uint8_t>(part.wrapped ? 1 : 0);
+    if (part.wrapped) {
+      put_failures(w, part.wrap_reasons);
+      put_envelope(w, part.envelope);
     }
   }
   return w.take();
@@ -235,7 +276,8 @@ WorkerRequest decode_request(const std::string& bytes) {
   if (method != static_cast<int32_t>(PrepareMethod::kExact) &&
       method != static_cast<int32_t>(PrepareMethod::kRepair) &&
       method != static_cast<int32_t>(PrepareMethod::kParts) &&
-      method != static_cast<int32_t>(PrepareMethod::kWrap))
+      method != static_cast<int32_t>(PrepareMethod::kWrap) &&
+      method != static_cast<int32_t>(PrepareMethod::kAuto))
     throw std::runtime_error("unknown preparation method");
   preparation.method = static_cast<PrepareMethod>(method);
   for (size_t* count :
@@ -247,29 +289,22 @@ WorkerRequest decode_request(const std::string& bytes) {
   preparation.largest_fill = r.get<double>();
   preparation.largest_handle_cycle = r.get<double>();
   preparation.handles_stopped = r.get_string();
-  EnvelopeReport& envelope = preparation.envelope;
-  for (double* x : {&envelope.diagonal, &envelope.voxel_size, &envelope.offset, &envelope.hausdorff,
-                    &envelope.rms, &envelope.envelope_to_original, &envelope.original_to_envelope})
-    *x = r.get<double>();
-  for (int& n : envelope.grid) n = r.get<int32_t>();
-  for (size_t* count : {&envelope.solid_voxels, &envelope.handles_cut, &envelope.handles_filled,
-                        &envelope.voxels_changed, &envelope.largest_change_voxels,
-                        &envelope.voxel_faces, &envelope.faces})
-    *count = r.get<uint64_t>();
-  envelope.rule = r.get_string();
-  if (envelope.rule.size() > 8) throw std::runtime_error("unknown envelope rule");
-  // Each part has a face, and each failure is one of a dozen checks.
+  preparation.envelope = get_envelope(r);
+  preparation.decided = r.get_string();
+  if (preparation.decided.size() > 16) throw std::runtime_error("unknown preparation decision");
+  // Each part has a face.
   const uint64_t parts = r.get<uint64_t>();
   if (parts > spec.input.face_count()) throw std::runtime_error("more parts than faces");
   for (uint64_t k = 0; k < parts; ++k) {
     PartReport part;
     part.vertices = r.get<uint64_t>();
     part.faces = r.get<uint64_t>();
-    const uint64_t failures = r.get<uint64_t>();
-    if (failures > 16) throw std::runtime_error("too many failures of a part");
-    for (uint64_t i = 0; i < failures; ++i) {
-      std::string check = r.get_string();
-      part.failures.emplace_back(std::move(check), r.get_string());
+    part.failures = get_failures(r);
+    part.welded_vertex = r.get<uint32_t>();
+    part.wrapped = r.get<uint8_t>() != 0;
+    if (part.wrapped) {
+      part.wrap_reasons = get_failures(r);
+      part.envelope = get_envelope(r);
     }
     spec.prepared.parts.push_back(std::move(part));
   }

@@ -550,7 +550,9 @@ async function finished(job, ticket) {
     const left = metrics.parts.filter((part) => !part.mapped);
     const reasons = left.slice(0, 3).map((part) => `part ${part.part} (${part.faces.toLocaleString()} faces): ${part.check}`);
     if (left.length > 3) reasons.push(`${left.length - 3} more`);
+    const wrapped = metrics.parts.filter((part) => part.wrapped).length;
     rows.push(['parts mapped', `${metrics.parts_mapped} of ${metrics.parts.length}` +
+      (wrapped ? ` (${wrapped} as envelopes)` : '') +
       (left.length ? `; left out: ${reasons.join(', ')}` : '')]);
   }
   if (metrics.remesh?.distance?.hausdorff !== undefined)

@@ -170,6 +170,29 @@ void leave_out_uncertified(MappedMesh& whole) {
   whole.parts = std::move(parts);
 }
 
+// The parts of `split` in the order of their reports (PartReport::welded_vertex), so that
+// reports and maps pair up by order even where an envelope changed a part's size; as split
+// when the reports do not name every part.
+void order_as_reported(std::vector<MeshPart>& split, const std::vector<PartReport>& reports,
+                       size_t vertex_count) {
+  std::vector<uint32_t> part_of(vertex_count, kUnreferenced);
+  for (size_t k = 0; k < split.size(); ++k)
+    for (uint32_t v : split[k].vertex) part_of[v] = static_cast<uint32_t>(k);
+  std::vector<uint32_t> order;
+  std::vector<char> taken(split.size(), 0);
+  for (const PartReport& report : reports) {
+    if (!report.mappable() || report.welded_vertex >= vertex_count) continue;
+    const uint32_t k = part_of[report.welded_vertex];
+    if (k == kUnreferenced || taken[k]) return;
+    taken[k] = 1;
+    order.push_back(k);
+  }
+  if (order.size() != split.size()) return;
+  std::vector<MeshPart> ordered;
+  for (uint32_t k : order) ordered.push_back(std::move(split[k]));
+  split = std::move(ordered);
+}
+
 }  // namespace
 
 MappedMesh map_parts(PreparedMesh prepared, const MapOptions& options, const MapControl& control) {
@@ -177,6 +200,7 @@ MappedMesh map_parts(PreparedMesh prepared, const MapOptions& options, const Map
   MappedMesh whole;
   whole.prepared = std::move(prepared);
   std::vector<MeshPart> split = connected_parts(whole.prepared.welded.mesh);
+  order_as_reported(split, whole.prepared.parts, whole.prepared.welded.mesh.vertex_count());
   for (MeshPart& piece : split) {
     MappedPart part;
     part.whole_vertex = std::move(piece.vertex);

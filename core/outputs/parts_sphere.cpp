@@ -20,7 +20,8 @@ PolygonMesh part_sphere(const PolygonMesh& input, const MappedMesh& mapped, size
                         SphereLayout layout, const PartIndex& index,
                         const std::vector<uint32_t>& faces, std::vector<uint32_t>& local) {
   const MappedPart& part = mapped.parts[k];
-  if (layout == SphereLayout::kWelded) {
+  // A wrapped part (prepare auto) has no input faces: its envelope is what it shows.
+  if (layout == SphereLayout::kWelded || faces.empty()) {
     PolygonMesh out = part.mapped.prepared.welded.mesh;
     out.positions = part.mapped.map.sphere;
     return out;

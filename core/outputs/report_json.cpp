@@ -14,6 +14,31 @@ nlohmann::json summary_json(const DistortionSummary& s) {
 
 }  // namespace
 
+namespace {
+
+// An envelope's figures: lengths in model units and, for the distances, relative to the
+// diagonal of what it wraps.
+void add_envelope(nlohmann::json& out, const EnvelopeReport& e) {
+  out["voxel_size"] = e.voxel_size;
+  out["offset"] = e.offset;
+  out["offset_relative"] = e.diagonal > 0 ? e.offset / e.diagonal : 0.0;
+  out["grid"] = {e.grid[0], e.grid[1], e.grid[2]};
+  out["solid_voxels"] = e.solid_voxels;
+  out["topology_rule"] = e.rule;
+  out["handles_cut"] = e.handles_cut;
+  out["handles_filled"] = e.handles_filled;
+  out["voxels_changed"] = e.voxels_changed;
+  out["largest_change_voxels"] = e.largest_change_voxels;
+  out["voxel_surface_faces"] = e.voxel_faces;
+  out["envelope_faces"] = e.faces;
+  out["envelope_hausdorff"] = e.hausdorff;
+  out["envelope_rms"] = e.rms;
+  out["envelope_to_original"] = e.envelope_to_original;
+  out["original_to_envelope"] = e.original_to_envelope;
+}
+
+}  // namespace
+
 nlohmann::json preparation_json(const PreparationReport& p) {
   nlohmann::json out = {{"method", prepare_method_name(p.method)},
                         {"input_faces", p.input_faces},
@@ -30,26 +55,8 @@ nlohmann::json preparation_json(const PreparationReport& p) {
                         {"handles_closed", p.handles_closed},
                         {"handles_left", p.handles_left},
                         {"largest_handle_cycle", p.largest_handle_cycle}};
-  if (p.method == PrepareMethod::kWrap) {
-    const EnvelopeReport& e = p.envelope;
-    // Lengths in model units and, for the distances, relative to the input's diagonal.
-    out["voxel_size"] = e.voxel_size;
-    out["offset"] = e.offset;
-    out["offset_relative"] = e.diagonal > 0 ? e.offset / e.diagonal : 0.0;
-    out["grid"] = {e.grid[0], e.grid[1], e.grid[2]};
-    out["solid_voxels"] = e.solid_voxels;
-    out["topology_rule"] = e.rule;
-    out["handles_cut"] = e.handles_cut;
-    out["handles_filled"] = e.handles_filled;
-    out["voxels_changed"] = e.voxels_changed;
-    out["largest_change_voxels"] = e.largest_change_voxels;
-    out["voxel_surface_faces"] = e.voxel_faces;
-    out["envelope_faces"] = e.faces;
-    out["envelope_hausdorff"] = e.hausdorff;
-    out["envelope_rms"] = e.rms;
-    out["envelope_to_original"] = e.envelope_to_original;
-    out["original_to_envelope"] = e.original_to_envelope;
-  }
+  if (p.method == PrepareMethod::kAuto) out["decided"] = p.decided;
+  if (p.method == PrepareMethod::kWrap || p.decided == "wrap") add_envelope(out, p.envelope);
   return out;
 }
 
@@ -77,7 +84,7 @@ std::vector<ValidationFailure> input_failures(const PreparedMesh& prepared,
       }
   // Under exact or repair: prepare=parts where two parts or more map alone (each checked).
   const size_t parts_that_map = prepared.parts.size() - prepared.parts_left_out();
-  if (prepared.preparation.method != PrepareMethod::kParts && parts_that_map >= 2)
+  if (!maps_by_parts(prepared.preparation.method) && parts_that_map >= 2)
     for (ValidationFailure& f : failures)
       if (f.check == "components")
         f.fix = {"prepare", "\"parts\"",
@@ -167,6 +174,15 @@ nlohmann::json parts_json(const PreparedMesh& prepared, const MappedMesh* mapped
       part["reason"] = reason;
     } else {
       part["mapped"] = true;
+      if (report.wrapped) {  // kAuto: the part's envelope mapped in its place
+        nlohmann::json envelope = {{"check", report.wrap_reasons.front().check}};
+        std::string reason = report.wrap_reasons.front().message;
+        for (size_t i = 1; i < report.wrap_reasons.size(); ++i)
+          reason += "; also " + report.wrap_reasons[i].message;
+        envelope["reason"] = reason;
+        add_envelope(envelope, report.envelope);
+        part["wrapped"] = std::move(envelope);
+      }
       if (mapped && mapped_index < mapped->parts.size()) {
         const MappedPart& p = mapped->parts[mapped_index];
         const MapResult& m = p.mapped.map;

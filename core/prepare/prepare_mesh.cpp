@@ -1,8 +1,10 @@
 #include "core/prepare/prepare_mesh.h"
 
 #include <algorithm>
+#include <optional>
 #include <unordered_map>
 
+#include "core/mesh/input_error.h"
 #include "core/mesh/stop_check.h"
 #include "core/mesh/union_find.h"
 #include "core/prepare/connected_parts.h"
@@ -67,6 +69,8 @@ const char* prepare_method_name(PrepareMethod method) {
       return "repair";
     case PrepareMethod::kWrap:
       return "wrap";
+    case PrepareMethod::kAuto:
+      return "auto";
     case PrepareMethod::kParts:
       break;
   }
@@ -81,7 +85,7 @@ size_t PreparedMesh::parts_left_out() const {
 std::vector<ValidationFailure> remaining_failures(const PreparedMesh& prepared) {
   std::vector<ValidationFailure> failures = mapping_failures(prepared.topology);
   const bool some_part_maps = prepared.parts_left_out() < prepared.parts.size();
-  if (prepared.preparation.method == PrepareMethod::kParts && some_part_maps)
+  if (maps_by_parts(prepared.preparation.method) && some_part_maps)
     std::erase_if(failures, [](const ValidationFailure& f) { return f.check == "components"; });
   for (ValidationFailure& f : failures)
     if (f.check == "genus" && !prepared.preparation.handles_stopped.empty())
@@ -262,9 +266,57 @@ PreparedMesh prepare_once(PolygonMesh& input, GltfAppearance* look, const Prepar
   return prepared;
 }
 
+// The envelope of one part of an asset under kAuto: the asset's voxel size and offset (so a
+// small part gets a small grid, and every part the same offset), at least 16 voxels across
+// the part, and about twice the part's faces (256 to 20,000). Nothing when it cannot be
+// made (a part of no extent, a grid over the cap): the part is then left out as it was.
+std::optional<Envelope> part_envelope(const PolygonMesh& part, double asset_diagonal,
+                                      const PrepareOptions& options) {
+  EnvelopeOptions wrap = options.envelope;
+  Vec3 low = part.positions.front(), high = low;
+  for (const Vec3& p : part.positions) {
+    low = {std::min(low.x, p.x), std::min(low.y, p.y), std::min(low.z, p.z)};
+    high = {std::max(high.x, p.x), std::max(high.y, p.y), std::max(high.z, p.z)};
+  }
+  const double diagonal = norm(high - low);
+  if (!(diagonal > 0) || !(asset_diagonal > 0)) return std::nullopt;
+  const double voxel = asset_diagonal / wrap.resolution;
+  if (wrap.offset <= 0)
+    wrap.offset = wrap.offset_fraction > 0 ? wrap.offset_fraction * asset_diagonal
+                                           : wrap.offset_voxels * voxel;
+  wrap.resolution = std::max(16.0, diagonal / voxel);
+  if (wrap.target_faces == 0)
+    wrap.target_faces = std::clamp<size_t>(2 * part.face_count(), 256, 20000);
+  try {
+    Envelope envelope = build_envelope(part, wrap, &options.should_stop);
+    // Distances relative to the asset's diagonal, as every other figure of the asset.
+    EnvelopeReport& r = envelope.report;
+    const double scale = r.diagonal / asset_diagonal;
+    for (double* relative :
+         {&r.hausdorff, &r.rms, &r.envelope_to_original, &r.original_to_envelope})
+      *relative *= scale;
+    r.diagonal = asset_diagonal;
+    return envelope;
+  } catch (const InputError& e) {
+    if (e.check() == "stopped") throw;
+    return std::nullopt;
+  }
+}
+
+double diagonal_of(const PolygonMesh& mesh) {
+  if (mesh.positions.empty()) return 0;
+  Vec3 low = mesh.positions.front(), high = low;
+  for (const Vec3& p : mesh.positions) {
+    low = {std::min(low.x, p.x), std::min(low.y, p.y), std::min(low.z, p.z)};
+    high = {std::max(high.x, p.x), std::max(high.y, p.y), std::max(high.z, p.z)};
+  }
+  return norm(high - low);
+}
+
 // An asset of several parts: each part checked alone (under any method, so a refusal can
 // say what "parts" would do), and under kParts `welded` cut down to the parts that map when
-// some do (the others' input vertices then weld to nothing).
+// some do (the others' input vertices then weld to nothing). Under kAuto each part that
+// does not map is replaced by its envelope instead of being left out.
 void keep_mappable_parts(PreparedMesh& prepared, const PrepareOptions& options) {
   if (options.largest_component || prepared.topology.component_vertices.size() < 2) return;
   StopCheck stop(&options.should_stop);
@@ -285,9 +337,29 @@ void keep_mappable_parts(PreparedMesh& prepared, const PrepareOptions& options) 
     keep[k] = report.mappable();
     prepared.parts.push_back(std::move(report));
   }
-  if (options.method != PrepareMethod::kParts || prepared.parts_left_out() == 0 ||
-      prepared.parts_left_out() == parts.size())
-    return;
+  if (options.method == PrepareMethod::kAuto) {
+    const double asset_diagonal = diagonal_of(welded.mesh);
+    for (size_t k = 0; k < parts.size(); ++k) {
+      if (keep[k]) continue;
+      std::optional<Envelope> envelope = part_envelope(parts[k].mesh, asset_diagonal, options);
+      if (!envelope) continue;
+      PartReport& report = prepared.parts[k];
+      report.wrapped = true;
+      report.wrap_reasons = std::move(report.failures);
+      report.failures.clear();
+      report.envelope = envelope->report;
+      parts[k].mesh = std::move(envelope->mesh);
+      parts[k].vertex.assign(parts[k].mesh.vertex_count(), kUnreferenced);  // no input vertex
+      keep[k] = true;
+    }
+  }
+  if (!maps_by_parts(options.method) || prepared.parts_left_out() == parts.size()) return;
+  const bool wrapped = std::any_of(prepared.parts.begin(), prepared.parts.end(),
+                                   [](const PartReport& p) { return p.wrapped; });
+  if (prepared.parts_left_out() == 0 && !wrapped) {
+    for (size_t k = 0; k < parts.size(); ++k) prepared.parts[k].welded_vertex = parts[k].vertex[0];
+    return;  // nothing to drop: `welded` stays as it is
+  }
   // The kept parts one after the other, in the order of the parts (largest first).
   PolygonMesh kept;
   std::vector<uint32_t> new_id(welded.mesh.vertex_count(), kUnreferenced);
@@ -296,8 +368,10 @@ void keep_mappable_parts(PreparedMesh& prepared, const PrepareOptions& options) 
     if (!keep[k]) continue;
     const MeshPart& part = parts[k];
     const uint32_t first = static_cast<uint32_t>(kept.positions.size());
+    prepared.parts[k].welded_vertex = first;
     for (size_t v = 0; v < part.vertex.size(); ++v) {
-      new_id[part.vertex[v]] = first + static_cast<uint32_t>(v);
+      if (part.vertex[v] != kUnreferenced)
+        new_id[part.vertex[v]] = first + static_cast<uint32_t>(v);
       kept.positions.push_back(part.mesh.positions[v]);
     }
     for (size_t f = 0; f < part.mesh.face_count(); ++f) {
@@ -336,10 +410,47 @@ double closing_weld_tolerance(const PolygonMesh& input, PrepareOptions options) 
   return 0;
 }
 
+// What kAuto did, for preparation.decided.
+std::string decided(const PreparedMesh& prepared) {
+  if (std::any_of(prepared.parts.begin(), prepared.parts.end(),
+                  [](const PartReport& p) { return p.wrapped; }))
+    return "parts+wrap";
+  if (!prepared.parts.empty()) return "parts";
+  const PreparationReport& r = prepared.preparation;
+  const bool changed = r.collapsed_faces || r.shortened_faces || r.duplicate_faces ||
+                       r.flipped_faces || r.faces_added;
+  return changed ? "repair" : "exact";
+}
+
 }  // namespace
 
 PreparedMesh prepare_input(PolygonMesh& input, GltfAppearance* look,
                            const PrepareOptions& options) {
+  if (options.method == PrepareMethod::kAuto) {
+    // Every part that maps as it is (after the safe cleaning), each other part wrapped.
+    PreparedMesh prepared = prepare_parts(input, look, options);
+    if (maps_entirely(prepared) || options.largest_component) {
+      prepared.preparation.decided = decided(prepared);
+      return prepared;
+    }
+    // One part that does not map (or parts no envelope could be made of): the whole
+    // asset's envelope. When even that cannot be made, the refusal says what the parts fail.
+    PrepareOptions whole = options;
+    whole.method = PrepareMethod::kWrap;
+    PolygonMesh wrapped_input = input;
+    GltfAppearance wrapped_look;
+    try {
+      PreparedMesh wrapped = prepare_input(wrapped_input, look ? &wrapped_look : nullptr, whole);
+      input = std::move(wrapped_input);
+      if (look) *look = std::move(wrapped_look);
+      wrapped.preparation.method = PrepareMethod::kAuto;
+      wrapped.preparation.decided = "wrap";
+      return wrapped;
+    } catch (const InputError& e) {
+      if (e.check() == "stopped") throw;
+      return prepared;
+    }
+  }
   if (options.method == PrepareMethod::kWrap) {
     Envelope envelope = build_envelope(input, options.envelope, &options.should_stop);
     const size_t input_faces = input.face_count();

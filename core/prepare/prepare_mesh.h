@@ -24,8 +24,16 @@ namespace spheremap {
 // input is replaced by its envelope (envelope.h), a closed genus-0 mesh around all of it at
 // about the offset, which maps like any mesh; its outputs show the envelope (the sphere in
 // the "original" layout is the envelope's), and the input's look is not carried over.
-enum class PrepareMethod { kExact, kRepair, kParts, kWrap };
-const char* prepare_method_name(PrepareMethod method);  // "exact", "repair", "parts", "wrap"
+// kAuto: the least change that maps every part: as kParts, and then each part that still
+// cannot map is replaced by its own envelope (one mesh of one part: the whole is wrapped),
+// so every part is served, exactly where it can be. preparation.decided says what was done.
+enum class PrepareMethod { kExact, kRepair, kParts, kWrap, kAuto };
+// "exact", "repair", "parts", "wrap", "auto"
+const char* prepare_method_name(PrepareMethod method);
+// Whether `method` maps every part that maps on its own (kParts, kAuto).
+inline bool maps_by_parts(PrepareMethod method) {
+  return method == PrepareMethod::kParts || method == PrepareMethod::kAuto;
+}
 
 struct PrepareOptions {
   PrepareMethod method = PrepareMethod::kParts;
@@ -61,7 +69,11 @@ struct PreparationReport {
   double largest_handle_cycle = 0;  // the longest cycle cut over its part's diagonal
   // Why handles were left (the first part stopped, with the numbers); "" when none was.
   std::string handles_stopped;
-  EnvelopeReport envelope;  // kWrap only
+  EnvelopeReport envelope;  // kWrap, or kAuto when it wrapped the whole input
+  // kAuto: what it took: "exact" (nothing to change), "repair" (cleaned, or holes or
+  // handles closed), "parts" (several parts, each maps), "parts+wrap" (some parts wrapped),
+  // "wrap" (the whole wrapped). Empty under the other methods.
+  std::string decided;
 };
 
 // One part (connected component) of an asset, checked alone.
@@ -69,6 +81,14 @@ struct PartReport {
   size_t vertices = 0, faces = 0;
   std::vector<ValidationFailure> failures;  // empty: the part maps alone
   bool mappable() const { return failures.empty(); }
+  // kAuto: the part did not map alone (`wrap_reasons` say why) and was replaced by its
+  // envelope, which maps in its place; its input vertices then weld to nothing.
+  bool wrapped = false;
+  std::vector<ValidationFailure> wrap_reasons;
+  EnvelopeReport envelope;
+  // Under kParts and kAuto, a vertex of the part in `welded` when the part is kept,
+  // kUnreferenced when left out: ties the part to its map (map_parts orders parts anew).
+  uint32_t welded_vertex = kUnreferenced;
 };
 
 struct PreparedMesh {

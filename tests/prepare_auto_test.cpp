@@ -1,0 +1,138 @@
+// prepare=auto (prepare_mesh.h): every part served, exactly where it can be. Parts that map
+// alone are mapped as they are; each other part is replaced by its own envelope; a mesh of
+// one part that cannot map is wrapped whole; a mesh that maps is untouched.
+#include <gtest/gtest.h>
+
+#include "core/io/gltf_reader.h"
+#include "core/map/certification.h"
+#include "core/map/map_parts.h"
+#include "core/map/pipeline.h"
+#include "core/outputs/asset_builders.h"
+#include "core/outputs/report_json.h"
+#include "core/prepare/prepare_mesh.h"
+#include "server/worker_protocol.h"
+#include "tests/mesh_generators.h"
+
+namespace spheremap {
+namespace {
+
+using testing::assembled;
+
+PrepareOptions automatic() {
+  PrepareOptions options;
+  options.method = PrepareMethod::kAuto;
+  options.envelope.resolution = 96;  // a coarse grid: the test is about the plumbing
+  return options;
+}
+
+// A sphere (maps), a torus (maps once its handle is closed) and an open dome (its hole too
+// large to fill: wrapped).
+PolygonMesh kit() {
+  return assembled({{testing::icosphere(2), {0, 0, 0}},
+                    {testing::torus(24, 12), {6, 0, 0}},
+                    {testing::dome(2), {0, 0, 6}}});
+}
+
+TEST(PrepareAuto, MapsThePartsThatMapAndWrapsEachOther) {
+  PolygonMesh input = kit();
+  const PreparedMesh prepared = prepare_input(input, nullptr, automatic());
+  EXPECT_EQ(prepared.preparation.method, PrepareMethod::kAuto);
+  EXPECT_EQ(prepared.preparation.decided, "parts+wrap");
+  ASSERT_EQ(prepared.parts.size(), 3u);
+  EXPECT_EQ(prepared.parts_left_out(), 0u);
+  size_t wrapped = 0;
+  for (const PartReport& part : prepared.parts) {
+    EXPECT_NE(part.welded_vertex, kUnreferenced);
+    if (!part.wrapped) continue;
+    ++wrapped;
+    ASSERT_FALSE(part.wrap_reasons.empty());
+    EXPECT_TRUE(part.wrap_reasons.front().check == "genus" ||
+                part.wrap_reasons.front().check == "boundary")
+        << part.wrap_reasons.front().check;
+    EXPECT_GT(part.envelope.faces, 0u);
+    // Relative to the whole asset's diagonal: the envelope is near its part.
+    EXPECT_GT(part.envelope.hausdorff, 0);
+    EXPECT_LT(part.envelope.hausdorff, 0.1);
+  }
+  EXPECT_EQ(wrapped, 1u);  // the dome; the sphere as it is, the torus with its handle closed
+  // The exact parts' input vertices (the torus's with the copies its cut made) still weld to
+  // their parts; the wrapped dome's to nothing.
+  size_t referenced = 0;
+  for (uint32_t w : prepared.welded.input_to_welded) referenced += w != kUnreferenced;
+  EXPECT_EQ(referenced, input.vertex_count() - testing::dome(2).vertex_count());
+
+  const MappedMesh mapped = map_prepared(prepared, {});
+  ASSERT_EQ(mapped.parts.size(), 3u);
+  EXPECT_TRUE(certify(mapped, mapped.float32_check).certified);
+  for (const MappedPart& part : mapped.parts)
+    EXPECT_TRUE(certify(part.mapped, part.mapped.float32_check).certified);
+  // Reports and maps pair up: the wrapped report is the dome's.
+  const nlohmann::json parts = metrics_json(mapped, {})["parts"];
+  ASSERT_EQ(parts.size(), 3u);
+  for (const nlohmann::json& part : parts) {
+    EXPECT_TRUE(part["mapped"].get<bool>());
+    EXPECT_TRUE(part["bijective"].get<bool>());
+    EXPECT_EQ(part.contains("wrapped"), part["faces"] == testing::dome(2).face_count())
+        << part.dump();
+  }
+  // The sphere in the original layout: the input's faces for the exact part, the envelope
+  // for the others; written and checked as written.
+  const SphereAsset sphere = parts_sphere_asset(input, mapped, {}, SphereLayout::kOriginal, 0);
+  EXPECT_TRUE(sphere.metrics["bijective"].get<bool>()) << sphere.metrics.dump();
+}
+
+// The same kit under parts (the dome left out): the torus's handle closed, and the sphere in
+// the original layout written and checked as written part by part.
+TEST(PrepareAuto, TheKitUnderPartsWritesItsOriginalLayoutSphere) {
+  PolygonMesh input = kit();
+  PrepareOptions options;
+  const PreparedMesh prepared = prepare_input(input, nullptr, options);
+  EXPECT_EQ(prepared.parts_left_out(), 1u);
+  const MappedMesh mapped = map_prepared(prepared, {});
+  ASSERT_EQ(mapped.parts.size(), 2u);
+  EXPECT_TRUE(certify(mapped, mapped.float32_check).certified);
+  const SphereAsset sphere = parts_sphere_asset(input, mapped, {}, SphereLayout::kOriginal, 0);
+  EXPECT_TRUE(sphere.metrics["bijective"].get<bool>()) << sphere.metrics.dump();
+}
+
+TEST(PrepareAuto, OnePartThatCannotMapIsWrappedWhole) {
+  PolygonMesh input = testing::dome(2);  // its hole is too large to fill
+  const PreparedMesh prepared = prepare_input(input, nullptr, automatic());
+  EXPECT_EQ(prepared.preparation.decided, "wrap");
+  EXPECT_TRUE(remaining_failures(prepared).empty());
+  EXPECT_GT(prepared.preparation.envelope.faces, 0u);
+  EXPECT_EQ(input.face_count(), prepared.welded.mesh.face_count());  // the input is the envelope
+  const MappedMesh mapped = map_prepared(prepared, {});
+  EXPECT_TRUE(certify(mapped, mapped.float32_check).certified);
+  EXPECT_EQ(metrics_json(mapped, {})["preparation"]["decided"], "wrap");
+}
+
+TEST(PrepareAuto, AMeshThatMapsIsUntouched) {
+  PolygonMesh input = testing::icosphere(3), same = input;
+  const PreparedMesh automatic_prepared = prepare_input(input, nullptr, automatic());
+  EXPECT_EQ(automatic_prepared.preparation.decided, "exact");
+  const PreparedMesh parts = prepare_input(same, nullptr, {});
+  const MappedMesh a = map_prepared(automatic_prepared, {}), b = map_prepared(parts, {});
+  EXPECT_EQ(a.map.sphere, b.map.sphere);
+}
+
+// The wrapped parts' reports cross the worker pipe whole.
+TEST(PrepareAuto, WrappedPartsCrossTheWorkerProtocol) {
+  api::JobSpec spec;
+  spec.input = kit();
+  spec.prepared = prepare_input(spec.input, nullptr, automatic());
+  const server::WorkerRequest back = server::decode_request(server::encode_request(spec, 10, 1));
+  const PreparedMesh& got = back.spec.prepared;
+  EXPECT_EQ(got.preparation.decided, "parts+wrap");
+  ASSERT_EQ(got.parts.size(), spec.prepared.parts.size());
+  for (size_t k = 0; k < got.parts.size(); ++k) {
+    EXPECT_EQ(got.parts[k].wrapped, spec.prepared.parts[k].wrapped);
+    EXPECT_EQ(got.parts[k].welded_vertex, spec.prepared.parts[k].welded_vertex);
+    EXPECT_EQ(got.parts[k].envelope.faces, spec.prepared.parts[k].envelope.faces);
+    EXPECT_EQ(got.parts[k].envelope.hausdorff, spec.prepared.parts[k].envelope.hausdorff);
+    EXPECT_EQ(got.parts[k].wrap_reasons.size(), spec.prepared.parts[k].wrap_reasons.size());
+  }
+}
+
+}  // namespace
+}  // namespace spheremap
