@@ -26,8 +26,9 @@ struct ApiSettings {
   size_t max_body_bytes = 64u << 20;
   size_t max_vertices = 2'000'000;
   size_t max_faces = 4'000'000;
-  size_t max_resource_bytes = 256u << 20;     // glTF buffers and images held per submission
-  size_t max_image_pixels = size_t{1} << 26;  // base-colour pixels a remesh decodes
+  size_t max_envelope_voxels = size_t{1} << 24;  // one envelope grid's voxels (wrap, auto)
+  size_t max_resource_bytes = 256u << 20;        // glTF buffers and images held per submission
+  size_t max_image_pixels = size_t{1} << 26;     // base-colour pixels a remesh decodes
   double sync_timeout_seconds = 30;
   double keep_alive_timeout_seconds = 5;
   double read_timeout_seconds = 30;

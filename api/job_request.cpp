@@ -200,11 +200,19 @@ std::unique_ptr<JobSpec> read_job_request(const httplib::Request& request,
   }
   deadline.check(gltf ? "reading the glTF" : "reading the mesh");
   options.prepare.should_stop = options.gltf.should_stop;
+  // The envelope's grid is built here, in the server: its size is the server's to bound.
+  options.prepare.envelope.max_voxels =
+      std::min(options.prepare.envelope.max_voxels, config.max_envelope_voxels);
   try {
     spec->prepared = prepare_input(spec->input, &spec->look, options.prepare);
   } catch (const InputError& e) {
-    if (e.check() == "stopped") deadline.check("part of the weld");
-    throw;
+    if (e.check() == "stopped") {
+      deadline.check("preparing the mesh");
+      throw;
+    }
+    // What preparation itself refuses: an envelope it cannot make (prepare wrap: a grid
+    // over max_envelope_voxels, no triangle to wrap).
+    throw Problem(422, "not_mappable", "Mesh cannot be mapped", e.what(), {{"check", e.check()}});
   }
   deadline.check("welding and the topology checks");
   // An STL has three vertices per triangle until welded: its vertex cap is on the welded.

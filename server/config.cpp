@@ -44,6 +44,7 @@ const std::vector<Setting>& settings() {
       {"max_body_bytes", &ServerConfig::max_body_bytes, 1024, 4e9},
       {"max_vertices", &ServerConfig::max_vertices, 4, 1e8},
       {"max_faces", &ServerConfig::max_faces, 4, 2e8},
+      {"max_envelope_voxels", &ServerConfig::max_envelope_voxels, 4096, 1e9},
       {"max_resource_bytes", &ServerConfig::max_resource_bytes, 1024, 1e11},
       {"max_image_pixels", &ServerConfig::max_image_pixels, 1, 67108864},
       {"job_time_limit_seconds", &ServerConfig::job_time_limit_seconds, 0.01, 86400},

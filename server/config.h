@@ -36,6 +36,10 @@ struct ServerConfig {
   size_t max_body_bytes = 64u << 20;   // queued inputs stay under queue_capacity x this
   size_t max_vertices = 2'000'000;     // of the mesh as sent (before welding; STL: after)
   size_t max_faces = 4'000'000;        // triangles of the mesh as sent (an n-gon is n - 2)
+  // The voxels of one envelope grid (prepare wrap and auto), built while a submission is
+  // prepared: about 10 bytes each at the peak, so 2^24 is about 170 MB per intake thread.
+  // The default wrap_resolution (256) needs at most 3.5 million; larger grids get 422.
+  size_t max_envelope_voxels = size_t{1} << 24;
   // Bytes of glTF buffers and images held while one submission is read (each distinct
   // source once); 413 beyond. At most twice the body is ever needed, so the cap in use is
   // the lower of this and 2 x the request's body.

@@ -47,6 +47,7 @@ ApiSettings api_settings(const ServerConfig& c) {
   s.max_body_bytes = c.max_body_bytes;
   s.max_vertices = c.max_vertices;
   s.max_faces = c.max_faces;
+  s.max_envelope_voxels = c.max_envelope_voxels;
   s.max_resource_bytes = c.max_resource_bytes;
   s.max_image_pixels = c.max_image_pixels;
   s.sync_timeout_seconds = c.sync_timeout_seconds;

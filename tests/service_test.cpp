@@ -760,6 +760,35 @@ TEST(Service, EveryPartOfAKitMapsAndThePartLeftOutIsListed) {
   expect_problem(
       client.Post("/v1/jobs?prepare=wrap&wrap_resolution=0", glb_of(kit), "model/gltf-binary"), 400,
       "invalid_options");
+
+  // prepare=auto: the sphere and the horseshoe as they are, the open dome as its envelope;
+  // the wrapped part's report crosses the worker protocol.
+  auto automatic = client.Post(
+      "/v1/jobs?prepare=auto&wrap_resolution=64&outputs=remesh,uv,morph"
+      "&resolution=16",
+      glb_of(kit), "model/gltf-binary");
+  ASSERT_EQ(automatic->status, 202) << automatic->body;
+  const json every = wait_for(client, body_json(automatic)["id"]);
+  ASSERT_EQ(every["status"], "succeeded") << every.dump(2);
+  EXPECT_EQ(every["metrics"]["preparation"]["decided"], "parts+wrap");
+  EXPECT_EQ(every["metrics"]["parts_mapped"], 3);
+  EXPECT_EQ(every["metrics"]["parts_left_out"], 0);
+  EXPECT_EQ(every["metrics"]["parts"][2]["wrapped"]["check"], "boundary");
+  EXPECT_EQ(every["metrics"]["remesh"]["parts"].size(), 3u);
+}
+
+// The envelope's grid is built in the server while a submission is prepared: the server's
+// max_envelope_voxels bounds it, whatever resolution the job asks for.
+TEST(Service, TheServerBoundsTheEnvelopeGrid) {
+  server::ServerConfig config = small_config();
+  config.max_envelope_voxels = 4096;
+  TestServer server(config);
+  auto client = server.client();
+  auto refused = client.Post("/v1/jobs?prepare=wrap&wrap_resolution=512",
+                             glb_of(testing::torus(24, 12)), "model/gltf-binary");
+  ASSERT_TRUE(refused);
+  EXPECT_EQ(refused->status, 422) << refused->body;
+  EXPECT_NE(refused->body.find("envelope_size"), std::string::npos) << refused->body;
 }
 
 TEST(Service, SynchronousMap) {
