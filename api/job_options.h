@@ -10,8 +10,16 @@
 
 namespace spheremap::api {
 
-struct JobOptions {
+// The service's default preparation is auto (every part served: exactly where it can be,
+// as an envelope where it cannot); the library's PrepareOptions default stays parts.
+inline PrepareOptions service_prepare_defaults() {
   PrepareOptions prepare;
+  prepare.method = PrepareMethod::kAuto;
+  return prepare;
+}
+
+struct JobOptions {
+  PrepareOptions prepare = service_prepare_defaults();
   GltfReadOptions gltf;
   MapOptions map;
   SphereLayout layout = SphereLayout::kOriginal;

@@ -28,7 +28,7 @@ int run_info(int argc, char** argv) {
   if (args.positional().size() != 1) throw UsageError("info takes exactly one INPUT file");
   PrepareOptions prepare;
   prepare.weld_tolerance = args.number("weld-tolerance", 0, 0, 1);
-  prepare.method = parse_prepare_method(args.text("prepare", "parts"));
+  prepare.method = parse_prepare_method(args.text("prepare", "auto"));
   GltfReadStats stats;
   PolygonMesh input;
   try {

@@ -91,7 +91,14 @@ const char* const kMapOptionsHelp = R"(Mapping options:
                             only exactly equal positions)
   --largest-component       keep only the connected part with the most faces (default: several
                             parts are an error that lists their sizes)
-  --prepare M               parts (default): repair, then map every part (connected component)
+  --prepare M               auto (default): every part served, exactly where it can be: as
+                            parts, then each part that still cannot map is replaced by its
+                            own envelope (as wrap; same voxel size and offset for all parts;
+                            "wrapped" in its metrics.parts entry, with the reason and its
+                            distances); a mesh of one part that cannot map is wrapped whole.
+                            metrics.preparation.decided: exact, repair, parts, parts+wrap
+                            or wrap.
+                            parts: repair, then map every part (connected component)
                             that is closed genus 0 on a sphere of its own, each drawn where
                             its part is; parts that cannot map are left out and listed with
                             their reasons in the metrics ("parts").
@@ -106,14 +113,7 @@ const char* const kMapOptionsHelp = R"(Mapping options:
                             whichever changes fewer voxels); every output shows the envelope
                             (the sphere's "original" layout is the envelope's own), without
                             the input's look. metrics.preparation says what changed and how
-                            far the envelope is from the input.
-                            auto: every part served, exactly where it can be: as parts, then
-                            each part that still cannot map is replaced by its own envelope
-                            (same voxel size and offset for all parts; "wrapped" in its
-                            metrics.parts entry, with the reason and its distances); a mesh
-                            of one part that cannot map is wrapped whole.
-                            metrics.preparation.decided: exact, repair, parts, parts+wrap
-                            or wrap
+                            far the envelope is from the input
   --wrap-resolution R       wrap: voxels across the bounding-box diagonal (default 256)
   --wrap-offset D           wrap: the envelope's offset, as a fraction of the bounding-box
                             diagonal (default 1.5 voxels)
@@ -190,7 +190,7 @@ void read_map_options(const Arguments& args, PrepareOptions& prepare, MapOptions
   prepare.largest_component = args.flag("largest-component");
   prepare.max_hole_fill = args.number("max-hole-fill", prepare.max_hole_fill, 0, 1);
   prepare.max_handle_cycle = args.number("max-handle-cycle", prepare.max_handle_cycle, 0, 1000);
-  prepare.method = parse_prepare_method(args.text("prepare", "parts"));
+  prepare.method = parse_prepare_method(args.text("prepare", "auto"));
   prepare.envelope.resolution =
       args.number("wrap-resolution", prepare.envelope.resolution, 8, 4096);
   prepare.envelope.offset_fraction = args.number("wrap-offset", 0, 0, 0.25);

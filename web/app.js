@@ -404,7 +404,7 @@ function options() {
   for (const name of ['remesh', 'morph', 'uv']) if ($(`out-${name}`).checked) outputs.push(name);
   const chosen = { quality: $('quality').value, outputs, ...state.extraOptions };
   if ($('largest').checked) chosen.largest_component = true;
-  if ($('prepare').value !== 'parts') chosen.prepare = $('prepare').value;
+  if ($('prepare').value !== 'auto') chosen.prepare = $('prepare').value;
   return chosen;
 }
 
