@@ -35,8 +35,11 @@ printf '1 1 1\n1 -1 -1\n-1 1 -1\n-1 -1 1\n3 0 1 2\n3 0 3 1\n3 0 2 3\n3 1 3 2\n' 
 msg=$("$spheremap" info "$tmp/tet.3ds" 2>&1); [ $? -eq 2 ] || fail "unknown extension exit 2"
 [[ "$msg" == *"'.stl', '.ply'"* ]] || fail "unknown extension lists the formats: $msg"
 printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n' > "$tmp/tri.obj"
-"$spheremap" info "$tmp/tri.obj" > /dev/null; [ $? -eq 2 ] || fail "info on open mesh exit 2"
-# Two tetrahedra: both mapped by default (--prepare parts); one part at a time (--prepare
+"$spheremap" info "$tmp/tri.obj" --prepare parts > /dev/null; [ $? -eq 2 ] || fail "info on open mesh exit 2"
+# The default (auto) serves it as its envelope, and says so.
+msg=$("$spheremap" info "$tmp/tri.obj") || fail "info on open mesh under auto exit 0"
+[[ "$msg" == *'"decided": "wrap"'* ]] || fail "info under auto says it wraps: $msg"
+# Two tetrahedra: both mapped by default (--prepare auto, as parts); one part at a time (--prepare
 # repair) an error naming the components and parts as the fix; the larger with
 # --largest-component.
 printf 'v 1 1 1\nv 1 -1 -1\nv -1 1 -1\nv -1 -1 1\nv 11 1 1\nv 11 -1 -1\nv 9 1 -1\nv 9 -1 1\nv 10 0 5\n' > "$tmp/two.obj"

@@ -6,7 +6,7 @@ spheremap=$1 mesh=$2 check=$3
 [ -f "$mesh" ] || { echo "corpus mesh $mesh not found: skipped"; exit 77; }
 out=$(mktemp -d)
 trap 'rm -rf "$out"' EXIT
-# A mesh the default (--prepare parts) maps is refused under the method given:
+# A mesh the default (--prepare auto) maps as it is or repaired is refused under the method given:
 # "repair" (one part at a time: several parts refused, parts named as the fix) or
 # "repair-no-fill" (holes left open: --max-hole-fill 0) or "no-handles" (handles left:
 # --max-handle-cycle 0) or "exact" (--prepare exact: non-manifold vertices not split).
@@ -15,7 +15,7 @@ refused_with=()
 case "$method" in
   repair) refused_with=(--prepare repair) ;;
   repair-no-fill) refused_with=(--prepare repair --max-hole-fill 0) ;;
-  no-handles) refused_with=(--max-handle-cycle 0) ;;
+  no-handles) refused_with=(--prepare parts --max-handle-cycle 0) ;;
   exact) refused_with=(--prepare exact) ;;
 esac
 err=$("$spheremap" map "$mesh" -o "$out/sphere.obj" --quiet "${refused_with[@]}" 2>&1 >/dev/null)

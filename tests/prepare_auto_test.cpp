@@ -116,6 +116,20 @@ TEST(PrepareAuto, AMeshThatMapsIsUntouched) {
   EXPECT_EQ(a.map.sphere, b.map.sphere);
 }
 
+// A scatter of many fragments (here 100 separate triangles) is wrapped as one envelope,
+// not part by part.
+TEST(PrepareAuto, ManyFragmentsAreWrappedAsOne) {
+  std::vector<std::pair<PolygonMesh, Vec3>> pieces;
+  PolygonMesh triangle;
+  triangle.positions = {{0, 0, 0}, {0.3, 0, 0}, {0, 0.3, 0}};
+  triangle.add_face(std::vector<uint32_t>{0, 1, 2});
+  for (int k = 0; k < 100; ++k) pieces.push_back({triangle, {double(k % 10), double(k / 10), 0}});
+  PolygonMesh input = assembled(pieces);
+  const PreparedMesh prepared = prepare_input(input, nullptr, automatic());
+  EXPECT_EQ(prepared.preparation.decided, "wrap");
+  EXPECT_TRUE(remaining_failures(prepared).empty());
+}
+
 // The wrapped parts' reports cross the worker pipe whole.
 TEST(PrepareAuto, WrappedPartsCrossTheWorkerProtocol) {
   api::JobSpec spec;

@@ -341,8 +341,10 @@ TEST(Service, BrokenObjStlAndPlyGet400MalformedMesh) {
   auto mislabelled = client.Post("/v1/jobs", format_obj(sphere), "model/gltf-binary");
   expect_problem(mislabelled, 400, "malformed_gltf");
   EXPECT_NE(mislabelled->body.find("look like obj"), std::string::npos) << mislabelled->body;
-  // Closed meshes only: an open STL (a hole too large to close) is 422 like any other format.
-  auto open = client.Post("/v1/jobs", testing::binary_stl(testing::dome(2)), "model/stl");
+  // Under parts, closed meshes only: an open STL (a hole too large to close) is 422 like any
+  // other format (the default, auto, would wrap it).
+  auto open =
+      client.Post("/v1/jobs?prepare=parts", testing::binary_stl(testing::dome(2)), "model/stl");
   expect_problem(open, 422, "not_mappable");
   // text/plain that is none of the text formats stays 415.
   expect_problem(client.Post("/v1/jobs", "hello", "text/plain"), 415, "unsupported_media_type");
@@ -723,8 +725,8 @@ TEST(Service, EveryPartOfAKitMapsAndThePartLeftOutIsListed) {
   const PolygonMesh kit = testing::assembled({{testing::icosphere(2), {}},
                                               {testing::horseshoe(), {10, 0, 0}},
                                               {testing::dome(2), {0, 10, 0}}});
-  auto submitted = client.Post("/v1/jobs?outputs=remesh,uv,morph&resolution=16", glb_of(kit),
-                               "model/gltf-binary");
+  auto submitted = client.Post("/v1/jobs?prepare=parts&outputs=remesh,uv,morph&resolution=16",
+                               glb_of(kit), "model/gltf-binary");
   ASSERT_EQ(submitted->status, 202) << submitted->body;
   const json done = wait_for(client, body_json(submitted)["id"]);
   ASSERT_EQ(done["status"], "succeeded") << done.dump(2);
@@ -967,14 +969,15 @@ TEST(JobIds, AreRandom128BitHex) {
 TEST(Service, InvalidMeshesGet422WithTheirCheck) {
   TestServer server(small_config());
   auto client = server.client();
-  // The tori's handles would be closed (each then maps), and the pinched vertex split
+  // Under the default (auto) each would be served, wrapped where it cannot map; under
+  // parts the tori's handles would be closed (each then maps), and the pinched vertex split
   // (two parts that map): not here.
   const std::tuple<PolygonMesh, std::string, std::string> cases[] = {
-      {testing::torus(12, 8), "genus", "?max_handle_cycle=0"},
-      {testing::dome(2), "boundary", ""},  // a hole too large to close
+      {testing::torus(12, 8), "genus", "?prepare=parts&max_handle_cycle=0"},
+      {testing::dome(2), "boundary", "?prepare=parts"},  // a hole too large to close
       // Two parts neither of which maps alone (each has genus 1).
       {testing::assembled({{testing::torus(12, 8), {}}, {testing::torus(12, 8), {5, 0, 0}}}),
-       "components", "?max_handle_cycle=0"},
+       "components", "?prepare=parts&max_handle_cycle=0"},
       {testing::pinched_tetrahedra(), "non_manifold_vertex", "?prepare=exact"},
   };
   for (const auto& [mesh, check, query] : cases) {
@@ -987,8 +990,8 @@ TEST(Service, InvalidMeshesGet422WithTheirCheck) {
 }
 
 // A double-sided export (every face stored twice, once each way) maps under the default
-// prepare=parts (repair is its first step), through a worker process, and says what was dropped;
-// prepare=exact refuses it as before.
+// prepare=auto (repair is its first step: nothing is wrapped), through a worker process, and says
+// what was dropped; prepare=exact refuses it as before.
 TEST(Service, DoubleSidedExportsAreRepairedAndSaySo) {
   TestServer server(small_config());
   auto client = server.client();
@@ -1001,7 +1004,8 @@ TEST(Service, DoubleSidedExportsAreRepairedAndSaySo) {
   const json done = wait_for(client, body_json(submitted)["id"]);
   ASSERT_EQ(done["status"], "succeeded") << done.dump(2);
   EXPECT_TRUE(done["metrics"]["bijective_as_written"]);
-  EXPECT_EQ(done["metrics"]["preparation"]["method"], "parts");
+  EXPECT_EQ(done["metrics"]["preparation"]["method"], "auto");
+  EXPECT_EQ(done["metrics"]["preparation"]["decided"], "repair");
   EXPECT_EQ(done["metrics"]["preparation"]["duplicate_faces_dropped"], sphere.face_count());
   auto glb = client.Get(done["artifacts"]["sphere.glb"]["href"].get<std::string>().c_str());
   ASSERT_EQ(glb->status, 200);

@@ -266,6 +266,8 @@ PreparedMesh prepare_once(PolygonMesh& input, GltfAppearance* look, const Prepar
   return prepared;
 }
 
+constexpr size_t kMaxWrappedParts = 64;
+
 // The envelope of one part of an asset under kAuto: the asset's voxel size and offset (so a
 // small part gets a small grid, and every part the same offset), at least 16 voxels across
 // the part, and about twice the part's faces (256 to 20,000). Nothing when it cannot be
@@ -337,7 +339,10 @@ void keep_mappable_parts(PreparedMesh& prepared, const PrepareOptions& options) 
     keep[k] = report.mappable();
     prepared.parts.push_back(std::move(report));
   }
-  if (options.method == PrepareMethod::kAuto) {
+  // Past kMaxWrappedParts the parts are wrapped as one (prepare_input): a soup or a
+  // scatter of fragments is one envelope, not thousands (trimesh's 100-triangle soup.stl
+  // took 35 s part by part, 8 s whole; game-kit models wrap at most 60 parts).
+  if (options.method == PrepareMethod::kAuto && prepared.parts_left_out() <= kMaxWrappedParts) {
     const double asset_diagonal = diagonal_of(welded.mesh);
     for (size_t k = 0; k < parts.size(); ++k) {
       if (keep[k]) continue;
