@@ -55,7 +55,8 @@ int main(int argc, char** argv) {
   write("icosphere2", testing::icosphere(2));  // 320 triangles
   write("icosphere4", testing::icosphere(4));  // 5,120 triangles
   write("horseshoe", testing::horseshoe());    // 744 triangles, the paper's loop never unfolds it
-  write("torus", testing::torus(16, 12));      // genus 1: 422 with max_handle_cycle=0
+  write("torus",
+        testing::torus(16, 12));  // genus 1: 422 under prepare=parts with max_handle_cycle=0
   // Elongated, 1 x 1 x 5 along z (depth from the front): the page must frame it side-on.
   write("ellipsoid", testing::scaled(testing::icosphere(3), {1.0, 1.0, 5.0}));
   // Seams on every edge, TEXCOORD_0 and an embedded texture: outputs must keep them.

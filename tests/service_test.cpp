@@ -1427,18 +1427,19 @@ TEST_F(ServiceCorpus, BadMeshesGet422WithTheirReason) {
   for (const auto& [mesh, check] : cases)
     for (const char* form : {".glb", ".draco.glb"}) {
       const std::string file = std::string("bad/") + mesh + form;
-      // Five tetrahedra are five parts that each map (prepare=parts, the default); one
-      // part at a time (repair) refuses them, naming parts as the fix that was checked.
-      // Its holes are small: they are closed unless max_hole_fill is 0; the handles too,
-      // unless max_handle_cycle is 0; the non-manifold vertex is split unless exact.
+      // Five tetrahedra are five parts that each map (prepare=parts, and auto, the
+      // default); one part at a time (repair) refuses them, naming parts as the fix that
+      // was checked. Under parts, its holes are small: they are closed unless max_hole_fill
+      // is 0; the handles too, unless max_handle_cycle is 0; the non-manifold vertex is
+      // split unless exact. (Auto would serve each, wrapping what is left.)
       const bool parts = std::string(check) == "components";
       const bool holes = std::string(check) == "boundary";
       const bool handles = std::string(check) == "genus";
       const bool pinched = std::string(check) == "non_manifold_vertex";
       auto result = post_glb(client, read_bytes(testing::corpus_path(file)),
                              parts     ? "/v1/jobs?prepare=repair"
-                             : holes   ? "/v1/jobs?max_hole_fill=0"
-                             : handles ? "/v1/jobs?max_handle_cycle=0"
+                             : holes   ? "/v1/jobs?prepare=parts&max_hole_fill=0"
+                             : handles ? "/v1/jobs?prepare=parts&max_handle_cycle=0"
                              : pinched ? "/v1/jobs?prepare=exact"
                                        : "/v1/jobs");
       expect_problem(result, 422, "not_mappable");
@@ -1455,7 +1456,7 @@ TEST_F(ServiceCorpus, BadMeshesGet422WithTheirReason) {
       }
     }
   auto holes = post_glb(client, read_bytes(testing::corpus_path("bad/bunny_holes.glb")),
-                        "/v1/jobs?max_hole_fill=0");
+                        "/v1/jobs?prepare=parts&max_hole_fill=0");
   EXPECT_NE(json::parse(holes->body)["detail"].get<std::string>().find(
                 "5 boundary loops (223 boundary edges)"),
             std::string::npos);

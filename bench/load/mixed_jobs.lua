@@ -18,7 +18,7 @@ function request()
   local glb = {["Content-Type"] = "model/gltf-binary"}
   if k == 0 then return wrk.format("POST", "/v1/jobs", glb, files[1]) end
   if k == 1 then return wrk.format("POST", "/v1/map", glb, files[2]) end
-  if k == 2 then return wrk.format("POST", "/v1/jobs?max_handle_cycle=0", glb, files[3]) end -- 422 (handle kept)
+  if k == 2 then return wrk.format("POST", "/v1/jobs?prepare=parts&max_handle_cycle=0", glb, files[3]) end -- 422 (handle kept)
   if k == 3 then return wrk.format("POST", "/v1/jobs", glb, files[1]:sub(1, 3000)) end  -- 400
   if k == 4 then return wrk.format("POST", "/v1/jobs", glb, string.rep("\255", 512)) end -- 400
   if k == 5 then return wrk.format("POST", "/v1/jobs", {["Content-Type"] = "text/plain"}, "x") end
