@@ -268,6 +268,17 @@ PreparedMesh prepare_once(PolygonMesh& input, GltfAppearance* look, const Prepar
 
 constexpr size_t kMaxWrappedParts = 64;
 
+// The bounding-box diagonal of `mesh` (0 when it has no vertex).
+double diagonal_of(const PolygonMesh& mesh) {
+  if (mesh.positions.empty()) return 0;
+  Vec3 low = mesh.positions.front(), high = low;
+  for (const Vec3& p : mesh.positions) {
+    low = {std::min(low.x, p.x), std::min(low.y, p.y), std::min(low.z, p.z)};
+    high = {std::max(high.x, p.x), std::max(high.y, p.y), std::max(high.z, p.z)};
+  }
+  return norm(high - low);
+}
+
 // The envelope of one part of an asset under kAuto: the asset's voxel size and offset (so a
 // small part gets a small grid, and every part the same offset), at least 16 voxels across
 // the part, and about twice the part's faces (256 to 20,000). Nothing when it cannot be
@@ -275,12 +286,7 @@ constexpr size_t kMaxWrappedParts = 64;
 std::optional<Envelope> part_envelope(const PolygonMesh& part, double asset_diagonal,
                                       const PrepareOptions& options) {
   EnvelopeOptions wrap = options.envelope;
-  Vec3 low = part.positions.front(), high = low;
-  for (const Vec3& p : part.positions) {
-    low = {std::min(low.x, p.x), std::min(low.y, p.y), std::min(low.z, p.z)};
-    high = {std::max(high.x, p.x), std::max(high.y, p.y), std::max(high.z, p.z)};
-  }
-  const double diagonal = norm(high - low);
+  const double diagonal = diagonal_of(part);
   if (!(diagonal > 0) || !(asset_diagonal > 0)) return std::nullopt;
   const double voxel = asset_diagonal / wrap.resolution;
   if (wrap.offset <= 0)
@@ -303,16 +309,6 @@ std::optional<Envelope> part_envelope(const PolygonMesh& part, double asset_diag
     if (e.check() == "stopped") throw;
     return std::nullopt;
   }
-}
-
-double diagonal_of(const PolygonMesh& mesh) {
-  if (mesh.positions.empty()) return 0;
-  Vec3 low = mesh.positions.front(), high = low;
-  for (const Vec3& p : mesh.positions) {
-    low = {std::min(low.x, p.x), std::min(low.y, p.y), std::min(low.z, p.z)};
-    high = {std::max(high.x, p.x), std::max(high.y, p.y), std::max(high.z, p.z)};
-  }
-  return norm(high - low);
 }
 
 // An asset of several parts: each part checked alone (under any method, so a refusal can
