@@ -4,6 +4,7 @@
 # service alone is the target `spheremap`). Ninja prints its progress ([n/N]).
 set -euo pipefail
 cd "$(dirname "$0")/.."
+source scripts/compiler-cache.sh
 if [ ! -f web/node_modules/three/build/three.module.js ]; then
   # Configuring runs it too, silently; said here so a first run does not look stuck.
   echo "installing three.js for the page (npm ci in web/)"

@@ -4,6 +4,8 @@
 set -euo pipefail
 packages=(build-essential cmake ninja-build pkg-config nlohmann-json3-dev libgtest-dev libdraco-dev
   libcpp-httplib-dev libhiredis-dev redis-server libmeshoptimizer-dev libeigen3-dev zlib1g-dev libpng-dev libturbojpeg0-dev clang-format curl
+  # a compiler cache: rebuilds of unchanged sources (scripts/compiler-cache.sh)
+  ccache
   # headless Chromium drives the web page in the tests (with npm playwright-core)
   chromium
   # the libFuzzer targets (tests/fuzz) build with clang and its fuzzer runtime

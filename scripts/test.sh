@@ -9,6 +9,7 @@
 # what was skipped and why, and the counts.
 set -euo pipefail
 cd "$(dirname "$0")/.."
+source scripts/compiler-cache.sh
 ran=() skipped=() passed=0 failed=0 skipped_tests=0
 logs=$(mktemp -d)
 trap 'rm -rf "$logs"' EXIT

@@ -9,6 +9,7 @@
 # Usage: tests/fuzz/run.sh [SECONDS] [TARGET] [CORPUS_DIR]
 set -euo pipefail
 cd "$(dirname "$0")/../.."
+source scripts/compiler-cache.sh
 seconds=${1:-60}
 target=${2:-gltf_fuzzer}
 corpus=${3:-../shared/meshes}
