@@ -60,6 +60,9 @@ int main(int argc, char** argv) {
   } catch (const UsageError& e) {
     std::fprintf(stderr, "spheremap: %s (see spheremap --help)\n", e.what());
     return kExitUsage;
+  } catch (const TimeLimitError& e) {
+    std::fprintf(stderr, "spheremap: time_limit: %s\n", e.what());
+    return kExitNotBijective;
   } catch (const spheremap::InputError& e) {
     std::fprintf(stderr, "spheremap: invalid input [%s]: %s\n", e.check().c_str(), e.what());
     if (!e.fix().empty()) std::fprintf(stderr, "  fix: %s\n", fix_hint(e.fix()).c_str());

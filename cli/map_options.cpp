@@ -4,7 +4,9 @@
 #include <chrono>
 #include <cstdio>
 
+#include "cli/commands.h"
 #include "core/io/mesh_file.h"
+#include "core/mesh/input_error.h"
 #include "core/outputs/report_json.h"
 
 namespace spheremap::cli {
@@ -237,7 +239,26 @@ MappedInput map_input(const Arguments& args, const PrepareOptions& prepare,
   // Prepared once; the refusal carries what the glTF scene says (which meshes it draws,
   // which option maps one), which map_mesh alone could not know.
   const auto start = std::chrono::steady_clock::now();
-  PreparedMesh prepared = prepare_input(out.input, &out.look, prepare);
+  // The limit stops an envelope (it has no partial result to write), not the exact path.
+  PrepareOptions timed_prepare = prepare;
+  const double limit = options.time_limit_seconds;
+  const auto clock_start = *timed.clock_start;
+  if (limit > 0)
+    timed_prepare.envelope_should_stop = [limit, clock_start] {
+      return std::chrono::steady_clock::now() - clock_start >= std::chrono::duration<double>(limit);
+    };
+  PreparedMesh prepared;
+  try {
+    prepared = prepare_input(out.input, &out.look, timed_prepare);
+  } catch (const InputError& e) {
+    if (e.check() != "stopped" || limit <= 0) throw;
+    char message[160];
+    std::snprintf(message, sizeof message,
+                  "the time limit (%g s) passed while an envelope was being built "
+                  "(preparation); nothing was mapped",
+                  limit);
+    throw TimeLimitError(message);
+  }
   const double prepare_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   require_none(input_failures(prepared, &stats));

@@ -19,4 +19,19 @@ echo "$err"
 grep -q '"stop_reason": "time_limit"' "$out/m.json" || { echo "expected stop_reason time_limit"; exit 1; }
 grep -q '"stopped_in": "hierarchy"' "$out/m.json" || { echo "expected stopped_in hierarchy"; exit 1; }
 [ "$(grep -c '^v ' "$out/sphere.obj")" -eq 2562 ] || { echo "expected all 2562 vertices written"; exit 1; }
+
+# The limit stops an envelope too (it has no partial map to write): a torus wrapped at
+# 512 voxels across takes tens of seconds; with a limit of 0.5 s the command ends with
+# exit 3 and the time_limit verdict naming the envelope, long before the envelope would.
+start=$(date +%s)
+err=$("$spheremap" map "$out/torus.glb" -o "$out/wrapped.obj" --prepare wrap \
+  --wrap-resolution 512 --time-limit 0.5 --quiet 2>&1 >/dev/null)
+code=$?
+elapsed=$(($(date +%s) - start))
+echo "$err (after ${elapsed} s)"
+[ "$code" -eq 3 ] || { echo "expected exit code 3 for the envelope, got $code"; exit 1; }
+[[ "$err" == *"time_limit: the time limit (0.5 s) passed while an envelope was being built"* ]] ||
+  { echo "expected the time_limit verdict naming the envelope"; exit 1; }
+[ "$elapsed" -lt 20 ] || { echo "the envelope was not stopped (${elapsed} s)"; exit 1; }
+[ ! -e "$out/wrapped.obj" ] || { echo "expected nothing written"; exit 1; }
 echo "ok"

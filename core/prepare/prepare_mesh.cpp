@@ -59,6 +59,14 @@ void move_face_ranges(GltfAppearance& look, const std::vector<uint32_t>& source_
   }
 }
 
+// What build_envelope asks: should_stop or envelope_should_stop.
+std::function<bool()> envelope_stop(const PrepareOptions& options) {
+  return [&options] {
+    return (options.should_stop && options.should_stop()) ||
+           (options.envelope_should_stop && options.envelope_should_stop());
+  };
+}
+
 }  // namespace
 
 const char* prepare_method_name(PrepareMethod method) {
@@ -296,7 +304,8 @@ std::optional<Envelope> part_envelope(const PolygonMesh& part, double asset_diag
   if (wrap.target_faces == 0)
     wrap.target_faces = std::clamp<size_t>(2 * part.face_count(), 256, 20000);
   try {
-    Envelope envelope = build_envelope(part, wrap, &options.should_stop);
+    const std::function<bool()> stop = envelope_stop(options);
+    Envelope envelope = build_envelope(part, wrap, &stop);
     // Distances relative to the asset's diagonal, as every other figure of the asset.
     EnvelopeReport& r = envelope.report;
     const double scale = r.diagonal / asset_diagonal;
@@ -453,7 +462,8 @@ PreparedMesh prepare_input(PolygonMesh& input, GltfAppearance* look,
     }
   }
   if (options.method == PrepareMethod::kWrap) {
-    Envelope envelope = build_envelope(input, options.envelope, &options.should_stop);
+    const std::function<bool()> stop = envelope_stop(options);
+    Envelope envelope = build_envelope(input, options.envelope, &stop);
     const size_t input_faces = input.face_count();
     input = std::move(envelope.mesh);
     if (look) *look = GltfAppearance{};

@@ -53,6 +53,10 @@ struct PrepareOptions {
   // Asked while cleaning, welding and checking: true stops with InputError("stopped")
   // (see StopCheck).
   std::function<bool()> should_stop;
+  // Asked, besides should_stop, only while envelopes are built (kWrap, kAuto): the CLI's
+  // --time-limit, which must not stop the exact path (a limit that passed there still
+  // writes the map reached) but must stop an envelope that would take longer.
+  std::function<bool()> envelope_should_stop;
 };
 
 // What preparation did to the input, for the metrics ("preparation").
