@@ -18,6 +18,7 @@
 #include "core/mesh/weld.h"
 #include "core/prepare/envelope.h"
 #include "core/prepare/envelope_check.h"
+#include "core/prepare/envelope_grid.h"
 #include "core/prepare/envelope_topology.h"
 #include "core/prepare/prepare_mesh.h"
 #include "tests/mesh_generators.h"
@@ -229,7 +230,56 @@ TEST(Envelope, AnythingBecomesOneClosedGenusZeroEnvelope) {
   const Checked parts = wrapped(testing::assembled(
       {{sphere, {0, 0, 0}}, {sphere, {2.6, 0, 0}}, {testing::torus(16, 32), {0, 4.5, 0}}}));
   expect_sphere_like(parts, "three disjoint parts");
-  EXPECT_EQ(parts.envelope.report.rule, "fill");
+  EXPECT_NE(parts.envelope.report.rule, "cut");  // cutting would drop two of the parts
+}
+
+// A ring of major radius `major` and tube radius `tube` in the xy plane around `centre`.
+PolygonMesh ring(double major, double tube, const Vec3& centre) {
+  PolygonMesh m = testing::torus(24, 48);  // major 2, tube 1
+  for (Vec3& p : m.positions) {
+    const double rho = std::hypot(p.x, p.y), scale = (major + (rho - 2) * tube) / rho;
+    p = {centre.x + p.x * scale, centre.y + p.y * scale, centre.z + p.z * tube};
+  }
+  return m;
+}
+
+// Two handles, one cheap to cut (a thin ring: a small cross-section, a wide hole) and one
+// cheap to fill (a fat ring: a small hole, a wide cross-section), in one solid: the mixed
+// rule cuts the one and fills the other, fewer voxels than either rule alone, and its
+// region is still a ball (its voxel surface a closed genus-0 surface).
+TEST(Envelope, EachHandleGetsItsSmallerChange) {
+  const PolygonMesh input = testing::assembled(
+      {{ring(2, 0.25, {0, 0, 0}), {0, 0, 0}}, {ring(1.5, 1, {3.6, 0, 0}), {0, 0, 0}}});
+  EnvelopeOptions options;
+  options.resolution = 96;
+  const Checked c = wrapped(input, options.resolution);
+  expect_sphere_like(c, "thin and fat rings");
+  const EnvelopeReport& r = c.envelope.report;
+  EXPECT_EQ(r.rule, "mixed");
+  EXPECT_GE(r.handles_cut, 1u);
+  EXPECT_GE(r.handles_filled, 1u);
+  // The three rules side by side on the same solid.
+  const FanTriangulation fan = fan_triangulate(input);
+  const double h = r.voxel_size;
+  Vec3 lo = input.positions[0], hi = lo;
+  for (const Vec3& p : input.positions) {
+    lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
+    hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
+  }
+  const VoxelGrid grid = layout_grid(lo, hi, h, r.offset, options.max_voxels);
+  StopCheck stop(nullptr);
+  const std::vector<uint8_t> solid =
+      solid_voxels(grid, input.positions, fan.triangles, r.offset, stop);
+  const BallGrowth cut = grow_ball_inside(grid, solid, stop);
+  const BallGrowth fill = shrink_ball_outside(grid, solid, stop);
+  size_t kept = 0;
+  const BallGrowth mixed = grow_ball_mixed(grid, solid, cut, fill, &kept, stop);
+  std::printf("changed voxels: cut %zu (%zu groups), fill %zu (%zu), mixed %zu (%zu, %zu fills)\n",
+              cut.voxels_changed, cut.changes, fill.voxels_changed, fill.changes,
+              mixed.voxels_changed, mixed.changes, kept);
+  EXPECT_LT(mixed.voxels_changed, std::min(cut.voxels_changed, fill.voxels_changed));
+  EXPECT_EQ(mixed.voxels_changed, r.voxels_changed);
+  EXPECT_GE(kept, 1u);
 }
 
 TEST(Envelope, ASpheresEnvelopeLiesAtTheOffset) {

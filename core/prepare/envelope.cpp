@@ -69,10 +69,27 @@ Envelope build_envelope(const PolygonMesh& input, const EnvelopeOptions& options
   // outside as it is).
   BallGrowth ball = grow_ball_inside(grid, solid, stop);
   BallGrowth filled = shrink_ball_outside(grid, solid, stop);
-  report.rule = filled.voxels_changed < ball.voxels_changed ? "fill" : "cut";
+  // With handles both ways, each handle's smaller change (envelope_topology.h) when that
+  // changes fewer voxels than either rule alone.
+  size_t fills_kept = 0;
+  BallGrowth mixed;
+  if (ball.changes > 0 && filled.changes > 0)
+    mixed = grow_ball_mixed(grid, solid, ball, filled, &fills_kept, stop);
+  const size_t fewest = std::min(ball.voxels_changed, filled.voxels_changed);
+  report.rule = !mixed.ball.empty() && mixed.voxels_changed < fewest ? "mixed"
+                : filled.voxels_changed < ball.voxels_changed        ? "fill"
+                                                                     : "cut";
   if (report.rule == "fill") std::swap(ball, filled);
-  filled = {};
-  (report.rule == "cut" ? report.handles_cut : report.handles_filled) = ball.changes;
+  if (report.rule == "mixed") std::swap(ball, mixed);
+  filled = {}, mixed = {};
+  if (report.rule == "mixed") {
+    // Groups of changed voxels: the fills kept, the rest cuts (a fill and a cut that
+    // touch count as one group, so this is at least the cuts made).
+    report.handles_filled = fills_kept;
+    report.handles_cut = ball.changes > fills_kept ? ball.changes - fills_kept : 0;
+  } else {
+    (report.rule == "cut" ? report.handles_cut : report.handles_filled) = ball.changes;
+  }
   report.voxels_changed = ball.voxels_changed;
   report.largest_change_voxels = ball.largest_change;
 

@@ -3,8 +3,9 @@
 // offset d outside. Steps, each in its own file: the voxel grid (dense, one byte per voxel,
 // capped; not a sparse narrow band), its band and the flood-filled solid
 // (envelope_grid.h); a ball grown through simple points, inside the solid (handles cut)
-// and, as the dual, the outside grown inward (handles filled), keeping whichever changes
-// fewer voxels over the whole asset, not per handle (envelope_topology.h); the ball's voxel
+// and, as the dual, the outside grown inward (handles filled), and, where both change
+// something, a third that keeps each handle's smaller change; whichever changes fewest
+// voxels is kept (envelope_topology.h); the ball's voxel
 // surface (envelope_surface.h); smoothing (envelope_fit.h), reduction (envelope_reduce.h),
 // fitting to the offset surface (envelope_fit.h); the checks (envelope_check.h).
 #pragma once
@@ -42,8 +43,8 @@ struct EnvelopeReport {
   double voxel_size = 0, offset = 0;
   int grid[3] = {0, 0, 0};
   size_t solid_voxels = 0;
-  // "cut" (the ball grown inside the solid) or "fill" (the outside grown inward): the one
-  // that changed fewer voxels.
+  // "cut" (the ball grown inside the solid), "fill" (the outside grown inward) or "mixed"
+  // (each handle's smaller change, envelope_topology.h): the one that changed fewest voxels.
   std::string rule;
   size_t handles_cut = 0, handles_filled = 0;  // 26-connected groups of voxels changed
   size_t voxels_changed = 0, largest_change_voxels = 0;

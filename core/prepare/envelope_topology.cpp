@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <bit>
+#include <unordered_map>
 
 #include "core/mesh/input_error.h"
 
@@ -181,7 +182,86 @@ void count_changes(const VoxelGrid& g, const std::vector<uint8_t>& solid, BallGr
   }
 }
 
+// Calls visit(j) for each 26-neighbour j of voxel v inside the grid.
+template <typename Visit>
+void for_each_neighbour(const VoxelGrid& g, size_t v, Visit visit) {
+  const int x = int(v % size_t(g.nx)), y = int(v / size_t(g.nx) % size_t(g.ny)),
+            z = int(v / (size_t(g.nx) * size_t(g.ny)));
+  for (int dz = -1; dz <= 1; ++dz)
+    for (int dy = -1; dy <= 1; ++dy)
+      for (int dx = -1; dx <= 1; ++dx) {
+        const int a = x + dx, b = y + dy, c = z + dz;
+        if (a < 0 || b < 0 || c < 0 || a >= g.nx || b >= g.ny || c >= g.nz) continue;
+        visit(g.index(a, b, c));
+      }
+}
+
+// The 26-connected groups of the voxels where solid and ball differ: per such voxel its
+// group (a map: the changes are few against the grid), and each group's size.
+struct ChangeGroups {
+  std::unordered_map<uint32_t, uint32_t> group_of;
+  std::vector<size_t> sizes;
+};
+
+ChangeGroups change_groups(const VoxelGrid& g, const std::vector<uint8_t>& solid,
+                           const std::vector<uint8_t>& ball, StopCheck& stop) {
+  ChangeGroups out;
+  std::vector<uint32_t> stack;
+  for (size_t i = 0; i < g.size(); ++i) {
+    stop.tick();
+    if (solid[i] == ball[i] || out.group_of.count(uint32_t(i))) continue;
+    const uint32_t id = uint32_t(out.sizes.size());
+    out.sizes.push_back(0);
+    out.group_of[uint32_t(i)] = id, stack.push_back(uint32_t(i));
+    while (!stack.empty()) {
+      const size_t v = stack.back();
+      stack.pop_back();
+      ++out.sizes[id];
+      for_each_neighbour(g, v, [&](size_t j) {
+        if (solid[j] != ball[j] && out.group_of.emplace(uint32_t(j), id).second)
+          stack.push_back(uint32_t(j));
+      });
+    }
+  }
+  return out;
+}
+
 }  // namespace
+
+BallGrowth grow_ball_mixed(const VoxelGrid& grid, const std::vector<uint8_t>& solid,
+                           const BallGrowth& cut, const BallGrowth& filled, size_t* fills_kept,
+                           StopCheck& stop) {
+  const ChangeGroups cuts = change_groups(grid, solid, cut.ball, stop);
+  const ChangeGroups fills = change_groups(grid, solid, filled.ball, stop);
+  // Per fill group, the voxels of the cut groups it touches (each counted once).
+  std::vector<size_t> touched_cut(fills.sizes.size(), 0);
+  std::vector<std::vector<uint32_t>> touched(fills.sizes.size());
+  for (const auto& [voxel, group] : fills.group_of) {
+    stop.tick();
+    for_each_neighbour(grid, voxel, [&](size_t j) {
+      const auto found = cuts.group_of.find(uint32_t(j));
+      if (found == cuts.group_of.end()) return;
+      std::vector<uint32_t>& list = touched[group];
+      if (std::find(list.begin(), list.end(), found->second) != list.end()) return;
+      list.push_back(found->second);
+      touched_cut[group] += cuts.sizes[found->second];
+    });
+  }
+  std::vector<uint8_t> with_fills = solid;
+  size_t kept = 0;
+  std::vector<char> keep(fills.sizes.size());
+  for (size_t k = 0; k < keep.size(); ++k) {
+    keep[k] = fills.sizes[k] < touched_cut[k];
+    kept += keep[k];
+  }
+  for (const auto& [voxel, group] : fills.group_of)
+    if (keep[group]) with_fills[voxel] = 1;
+  if (fills_kept) *fills_kept = kept;
+  BallGrowth out = grow_ball_inside(grid, with_fills, stop);
+  out.voxels_changed = out.changes = out.largest_change = 0;
+  count_changes(grid, solid, out, stop);
+  return out;
+}
 
 BallGrowth grow_ball_inside(const VoxelGrid& grid, const std::vector<uint8_t>& solid,
                             StopCheck& stop) {

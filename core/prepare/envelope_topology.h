@@ -47,4 +47,16 @@ BallGrowth grow_ball_inside(const VoxelGrid& grid, const std::vector<uint8_t>& s
 BallGrowth shrink_ball_outside(const VoxelGrid& grid, const std::vector<uint8_t>& solid,
                                StopCheck& stop);
 
+// Per handle, the smaller change (a rule close to it): each 26-connected group of voxels
+// that `filled` adds to the solid is kept when it is smaller than the groups that `cut`
+// removes next to it (a handle's cut runs across the handle, and its fill, a disc spanning
+// the handle's hole, meets the handle all along, so the two groups of one handle touch);
+// the ball is then grown inside the solid with those fills, which cuts the handles whose
+// fill was not kept. A ball by construction, like the other two. Its changes are counted
+// against `solid`; `fills_kept` (when given) is set to the fills kept. The caller keeps
+// it only where it changes fewer voxels than the cut or the fill alone.
+BallGrowth grow_ball_mixed(const VoxelGrid& grid, const std::vector<uint8_t>& solid,
+                           const BallGrowth& cut, const BallGrowth& filled, size_t* fills_kept,
+                           StopCheck& stop);
+
 }  // namespace spheremap
