@@ -141,7 +141,10 @@ Json envelope_stages(const Input& in, const VoxelGrid& grid, double d) {
   lap("fill");
   BallGrowth ball = grow_ball_inside(grid, solid, stop);
   lap("grow_inside");
+  // Always grown here, so that its cost shows: build_envelope skips it when the cut changed
+  // nothing (the solid is a ball already; "outside_skipped").
   BallGrowth filled = shrink_ball_outside(grid, solid, stop);
+  stages["outside_skipped"] = ball.voxels_changed == 0;
   lap("grow_outside");
   if (filled.voxels_changed < ball.voxels_changed) std::swap(ball, filled);
   filled = {};
