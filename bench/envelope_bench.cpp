@@ -216,7 +216,7 @@ Json vdb_run(const Input& in, const VoxelGrid& grid, double d, bool sdf) {
 #endif
 
 int run(const std::string& path, const std::string& variant, double resolution, int repeat,
-        int threads) {
+        [[maybe_unused]] int threads) {
   const Input in = read_input(path);
   const long long rss_read = peak_rss();
   const double diagonal = norm(in.box.hi - in.box.lo);
