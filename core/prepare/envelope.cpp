@@ -66,9 +66,11 @@ Envelope build_envelope(const PolygonMesh& input, const EnvelopeOptions& options
   if (report.solid_voxels == 0)
     throw InputError("envelope_empty", "no voxel lies within the offset of the triangles");
   // Both growths; the one that changes fewer voxels is kept (ties: the cut, which leaves the
-  // outside as it is).
+  // outside as it is). A cut that changed nothing (the solid is a ball already) cannot lose,
+  // so the outside is not grown then: it took 29% of a 97K-triangle horse's envelope.
   BallGrowth ball = grow_ball_inside(grid, solid, stop);
-  BallGrowth filled = shrink_ball_outside(grid, solid, stop);
+  BallGrowth filled =
+      ball.voxels_changed == 0 ? BallGrowth{} : shrink_ball_outside(grid, solid, stop);
   // With handles both ways, each handle's smaller change (envelope_topology.h) when that
   // changes fewer voxels than either rule alone.
   size_t fills_kept = 0;

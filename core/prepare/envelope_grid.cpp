@@ -79,14 +79,25 @@ void mark_band(const VoxelGrid& g, const Vec3& a, const Vec3& b, const Vec3& c, 
 
 }  // namespace
 
-std::vector<uint8_t> solid_voxels(const VoxelGrid& g, std::span<const Vec3> positions,
-                                  std::span<const Triangle> triangles, double d, StopCheck& stop) {
-  std::vector<uint8_t> solid(g.size(), 0);
+std::vector<uint8_t> band_voxels(const VoxelGrid& g, std::span<const Vec3> positions,
+                                 std::span<const Triangle> triangles, double d, StopCheck& stop) {
+  std::vector<uint8_t> band(g.size(), 0);
   for (const Triangle& t : triangles) {
     const Vec3 &a = positions[t[0]], &b = positions[t[1]], &c = positions[t[2]];
     if (!is_finite(a) || !is_finite(b) || !is_finite(c)) continue;
-    mark_band(g, a, b, c, d, solid, stop);
+    mark_band(g, a, b, c, d, band, stop);
   }
+  return band;
+}
+
+std::vector<uint8_t> solid_voxels(const VoxelGrid& g, std::span<const Vec3> positions,
+                                  std::span<const Triangle> triangles, double d, StopCheck& stop) {
+  std::vector<uint8_t> solid = band_voxels(g, positions, triangles, d, stop);
+  fill_enclosed(g, solid, stop);
+  return solid;
+}
+
+void fill_enclosed(const VoxelGrid& g, std::vector<uint8_t>& solid, StopCheck& stop) {
   // The outside: a 6-connected flood fill of the non-band voxels from the border.
   std::vector<uint8_t> outside(g.size(), 0);
   std::vector<uint32_t> stack;
@@ -111,7 +122,6 @@ std::vector<uint8_t> solid_voxels(const VoxelGrid& g, std::span<const Vec3> posi
       if (ok && !solid[j] && !outside[j]) outside[j] = 1, stack.push_back(uint32_t(j));
   }
   for (size_t i = 0; i < solid.size(); ++i) solid[i] = !outside[i];
-  return solid;
 }
 
 std::vector<uint16_t> steps_to_other(const VoxelGrid& g, const std::vector<uint8_t>& inside,

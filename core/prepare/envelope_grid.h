@@ -37,8 +37,17 @@ inline constexpr int kGridPadding = 2;
 // a positive finite length.
 VoxelGrid layout_grid(const Vec3& lo, const Vec3& hi, double h, double d, size_t max_voxels);
 
-// Per voxel 1 when solid (within d of a triangle, or enclosed by such voxels), else 0.
+// Per voxel 1 when its centre is within d of a triangle (the narrow band), else 0.
 // Triangles with a non-finite corner are skipped. `stop` is ticked per voxel visited.
+std::vector<uint8_t> band_voxels(const VoxelGrid& grid, std::span<const Vec3> positions,
+                                 std::span<const Triangle> triangles, double d, StopCheck& stop);
+
+// Turns a band (per voxel 1 or 0) into its solid: every voxel that a 6-connected flood fill
+// of the other voxels from the grid's border does not reach becomes 1.
+void fill_enclosed(const VoxelGrid& grid, std::vector<uint8_t>& band, StopCheck& stop);
+
+// Per voxel 1 when solid (within d of a triangle, or enclosed by such voxels), else 0:
+// band_voxels, then fill_enclosed.
 std::vector<uint8_t> solid_voxels(const VoxelGrid& grid, std::span<const Vec3> positions,
                                   std::span<const Triangle> triangles, double d, StopCheck& stop);
 
