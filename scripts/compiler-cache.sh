@@ -3,8 +3,12 @@
 # clone or build folder too, is a cache hit instead of a compile. Paths are hashed
 # relative to the checkout (CCACHE_BASEDIR), so clones in other folders share the cache.
 # Read by CMake when it configures a build folder for the first time.
+# Without a usable cache folder (no HOME, a read-only one) it compiles as before.
 if command -v ccache > /dev/null; then
-  export CMAKE_CXX_COMPILER_LAUNCHER=ccache CMAKE_C_COMPILER_LAUNCHER=ccache
-  CCACHE_BASEDIR=$(pwd -P)
-  export CCACHE_BASEDIR
+  export CCACHE_DIR=${CCACHE_DIR:-${HOME:-/tmp}/.cache/ccache}
+  if mkdir -p "$CCACHE_DIR" 2> /dev/null && [ -w "$CCACHE_DIR" ] && ccache -s > /dev/null 2>&1; then
+    export CMAKE_CXX_COMPILER_LAUNCHER=ccache CMAKE_C_COMPILER_LAUNCHER=ccache
+    CCACHE_BASEDIR=$(pwd -P)
+    export CCACHE_BASEDIR
+  fi
 fi
