@@ -121,6 +121,19 @@ struct Growth {
     return x == 0 || y == 0 || z == 0 || x == g.nx - 1 || y == g.ny - 1 || z == g.nz - 1;
   }
 
+  // Whether a voxel with this neighbourhood may join: simple and well-composed. Answers
+  // are remembered in a direct-mapped table (the same few thousand neighbourhoods recur
+  // along a flat front; the outside growth asks for millions of voxels).
+  std::vector<uint64_t> answers = std::vector<uint64_t>(size_t{1} << 16, 0);
+  bool may_join(uint32_t m) {
+    const uint32_t key = m & ~(1u << kCentreBit);
+    uint64_t& slot = answers[(key * 2654435761u) >> 16];
+    if (slot >> 32 == uint64_t(key) + 1) return slot & 1;  // +1: slot 0 means empty
+    const bool yes = is_simple_point(key) && stays_well_composed(key);
+    slot = ((uint64_t(key) + 1) << 32) | uint64_t(yes);
+    return yes;
+  }
+
   // Grows from the voxels already in, highest priority first (a bucket queue).
   void run(const std::vector<uint16_t>& priority, StopCheck& stop) {
     std::vector<std::vector<uint32_t>> buckets(65536);
@@ -143,8 +156,7 @@ struct Growth {
       buckets[size_t(top)].pop_back();
       stop.tick();
       state[i] &= uint8_t(~kQueued);
-      const uint32_t m = neighbourhood(i);
-      if (!is_simple_point(m) || !stays_well_composed(m)) continue;
+      if (!may_join(neighbourhood(i))) continue;
       state[i] |= kIn;
       for (int k = 0; k < 27; ++k) push(size_t(std::ptrdiff_t(i) + offset[k]));
     }
