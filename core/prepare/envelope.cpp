@@ -17,6 +17,12 @@
 namespace spheremap {
 namespace {
 
+// The reduction's floor follows the envelope's size in voxels: at least one triangle per
+// this many voxel-surface triangles (about 4 voxels a side), up to kFloorCap. A part's
+// target from its own faces alone (a 106-triangle track tile got 256 faces) cut corners
+// 2-10% of the asset's diagonal off low-poly game-kit parts (reach set, session 30).
+constexpr size_t kVoxelFacesPerFace = 16, kFloorCap = 20000;
+
 // Smoothing pairs on the voxel surface and fitting rounds on the reduced one: enough to
 // take the staircase out (each pair reaches a few voxels) and settle on the offset.
 constexpr int kSmoothing = 6, kFitting = 5;
@@ -58,6 +64,7 @@ Envelope build_envelope(const PolygonMesh& input, const EnvelopeOptions& options
                    : options.offset_fraction > 0 ? options.offset_fraction * report.diagonal
                                                  : options.offset_voxels * h;
   report.voxel_size = h, report.offset = d;
+  report.fit_distance = options.fit_voxels > 0 ? std::min(d, options.fit_voxels * h) : d;
   const VoxelGrid grid = layout_grid(box.lo, box.hi, h, d, options.max_voxels);
   report.grid[0] = grid.nx, report.grid[1] = grid.ny, report.grid[2] = grid.nz;
 
@@ -103,12 +110,14 @@ Envelope build_envelope(const PolygonMesh& input, const EnvelopeOptions& options
   smooth_surface(voxels, kSmoothing, stop);
 
   const TriangleTree original(input.positions, triangles);
-  const size_t target = options.target_faces ? options.target_faces
-                                             : std::clamp<size_t>(triangles.size(), 20000, 200000);
+  const size_t target =
+      std::max(options.target_faces ? options.target_faces
+                                    : std::clamp<size_t>(triangles.size(), 20000, 200000),
+               std::min(voxels.face_count() / kVoxelFacesPerFace, kFloorCap));
   // The reduction keeps the link condition, so its checks should pass; if they do not,
   // it is tried again less far, then not at all.
   for (const size_t tried : {target, 4 * target, voxels.face_count()}) {
-    out.mesh = fitted(voxels, tried, original, d, stop);
+    out.mesh = fitted(voxels, tried, original, report.fit_distance, stop);
     if (out.mesh.face_count() > 0) break;
   }
   if (out.mesh.face_count() == 0)

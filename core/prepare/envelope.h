@@ -7,7 +7,7 @@
 // something, a third that keeps each handle's smaller change; whichever changes fewest
 // voxels is kept (envelope_topology.h); the ball's voxel
 // surface (envelope_surface.h); smoothing (envelope_fit.h), reduction (envelope_reduce.h),
-// fitting to the offset surface (envelope_fit.h); the checks (envelope_check.h).
+// fitting toward the original (envelope_fit.h); the checks (envelope_check.h).
 #pragma once
 
 #include <cstddef>
@@ -29,6 +29,13 @@ struct EnvelopeOptions {
   double offset = 0;
   double offset_fraction = 0;
   double offset_voxels = 1.5;
+  // The reduced surface is fitted to this many voxels from the original (its closest
+  // point), or to the offset when that is smaller: the offset makes the solid (gaps closed,
+  // thin parts thick enough for the grid), the fit brings the surface back toward the
+  // original. Not 0: an open sheet's two sides would then coincide. 0.5, not the offset's
+  // 1.5: a voxel closer to the original on every side that no handle change moved
+  // (measured on the reach set's wrapped assets: BENCHMARKS.md, session 30).
+  double fit_voxels = 0.5;
   // 0: the input's faces, within [20,000, 200,000]. The floor is 20,000, not less: at 2,000
   // faces the reduced envelope of small game-kit tiles cut 3-4% of the diagonal off their
   // corners (original->envelope), at 20,000 0.7%, for the same time (the map of 20,000
@@ -41,6 +48,7 @@ struct EnvelopeOptions {
 struct EnvelopeReport {
   double diagonal = 0;  // of the input's bounding box (finite positions)
   double voxel_size = 0, offset = 0;
+  double fit_distance = 0;  // min(offset, fit_voxels * voxel_size): where the surface is fitted
   int grid[3] = {0, 0, 0};
   size_t solid_voxels = 0;
   // "cut" (the ball grown inside the solid), "fill" (the outside grown inward) or "mixed"
