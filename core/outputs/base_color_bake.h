@@ -10,6 +10,7 @@
 #include "core/io/gltf_appearance.h"
 #include "core/io/jpeg_scans.h"
 #include "core/map/pipeline.h"
+#include "core/outputs/original_surface.h"
 
 namespace spheremap {
 
@@ -45,5 +46,17 @@ std::optional<BakedBaseColor> bake_base_color(const PolygonMesh& input, const Gl
                                               std::span<const Triangle> oriented, int size,
                                               int threads,
                                               const std::function<bool()>* should_stop = nullptr);
+
+// The same for the map of an envelope (prepare wrap, or auto wrapping the whole or a part)
+// that stands for `original`: each texel's sphere point is located on the envelope, and
+// the envelope's point there takes the colour of the closest point of the original's
+// triangles (its face's material, TEXCOORD_n and COLOR_0 as above). Nothing when the
+// original's look has no material and no vertex colour. `oriented`: the envelope's
+// oriented_triangles().
+std::optional<BakedBaseColor> bake_base_color_closest(const OriginalSurface& original,
+                                                      const MappedMesh& mapped,
+                                                      std::span<const Triangle> oriented, int size,
+                                                      int threads,
+                                                      const std::function<bool()>* should_stop);
 
 }  // namespace spheremap
