@@ -215,6 +215,25 @@ TEST(WrappedLook, AutoWrapsAnOpenPartAndColoursItsRemeshFromThatPart) {
   EXPECT_GE(colours.colours.size(), 2u);
 }
 
+TEST(WrappedLook, PartsShareTheirDecodedImage) {
+  // Two open domes, each wrapped alone, both textured from the one image: decoded once.
+  const PolygonMesh dome = testing::dome(2);
+  Textured in = textured(testing::assembled({{dome, {0, 0, 0}}, {dome, {3, 0, 0}}}));
+  const PreparedMesh prepared = prepare_input(in.mesh, &in.look, options(PrepareMethod::kAuto));
+  ASSERT_EQ(prepared.preparation.decided, "parts+wrap");
+  const MappedMesh mapped = map_prepared(prepared, {});
+  ASSERT_EQ(mapped.parts.size(), 2u);
+  const RemeshAsset asset = remesh_asset(mapped, 32, 0, &in.mesh, &in.look);
+  size_t decoded = 0, textured_parts = 0;
+  for (const nlohmann::json& part : asset.metrics["parts"]) {
+    ASSERT_TRUE(part.contains("texture"));
+    ++textured_parts;
+    decoded += part["texture"]["images_decoded"].get<size_t>();
+  }
+  EXPECT_EQ(textured_parts, 2u);
+  EXPECT_EQ(decoded, 1u);
+}
+
 TEST(WrappedLook, AClosedGenusZeroInputIsUntouched) {
   Textured in = textured(testing::icosphere(3));
   const PolygonMesh input = in.mesh;

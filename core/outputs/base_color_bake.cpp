@@ -102,11 +102,12 @@ size_t base_color_image(const GltfAppearance& look, size_t m) {
 
 // The base colour of every material drawn, decoding each distinct image it uses once,
 // at most kMaxBaseColorPixels in all.
-std::vector<BaseColor> base_colors(const GltfAppearance& look, std::map<size_t, RgbaImage>& images,
+std::vector<BaseColor> base_colors(const GltfAppearance& look, DecodedImages& cache,
                                    size_t& decoded, const StopCheck& stop) {
+  std::map<size_t, RgbaImage>& images = cache.images;
+  size_t& pixels = cache.pixels;
   std::vector<BaseColor> out(look.materials.size());
   const std::vector<char> drawn = drawn_materials(look);
-  size_t pixels = 0;
   for (size_t m = 0; m < look.materials.size(); ++m) {
     if (!drawn[m]) continue;  // its image is never sampled: not decoded
     const nlohmann::json pbr = look.materials[m].contains("pbrMetallicRoughness")
@@ -283,13 +284,14 @@ std::array<double, 3> barycentric(const Vec3& p, const Vec3& a, const Vec3& b, c
 std::optional<BakedBaseColor> bake_base_color(const PolygonMesh& input, const GltfAppearance& look,
                                               const MappedMesh& mapped,
                                               std::span<const Triangle> oriented, int size,
-                                              int threads,
-                                              const std::function<bool()>* should_stop) {
+                                              int threads, const std::function<bool()>* should_stop,
+                                              DecodedImages* images) {
   const StopCheck stop(should_stop);
   if (!coloured(look) || size <= 0) return std::nullopt;
   BakedBaseColor baked;
-  std::map<size_t, RgbaImage> images;
-  const std::vector<BaseColor> colors = base_colors(look, images, baked.images_decoded, stop);
+  DecodedImages own;
+  const std::vector<BaseColor> colors =
+      base_colors(look, images ? *images : own, baked.images_decoded, stop);
 
   // Welded faces are the input's faces in order, less dropped components: face t of the
   // map is input face input_face[t], its corners matched by welded vertex.
@@ -316,11 +318,9 @@ std::optional<BakedBaseColor> bake_base_color(const PolygonMesh& input, const Gl
   return baked;
 }
 
-std::optional<BakedBaseColor> bake_base_color_closest(const OriginalSurface& original,
-                                                      const MappedMesh& mapped,
-                                                      std::span<const Triangle> oriented, int size,
-                                                      int threads,
-                                                      const std::function<bool()>* should_stop) {
+std::optional<BakedBaseColor> bake_base_color_closest(
+    const OriginalSurface& original, const MappedMesh& mapped, std::span<const Triangle> oriented,
+    int size, int threads, const std::function<bool()>* should_stop, DecodedImages* images) {
   const StopCheck stop(should_stop);
   if (!original.mesh || !original.look || !coloured(*original.look) || size <= 0 ||
       original.triangles.empty())
@@ -328,8 +328,9 @@ std::optional<BakedBaseColor> bake_base_color_closest(const OriginalSurface& ori
   const PolygonMesh& input = *original.mesh;
   const GltfAppearance& look = *original.look;
   BakedBaseColor baked;
-  std::map<size_t, RgbaImage> images;
-  const std::vector<BaseColor> colors = base_colors(look, images, baked.images_decoded, stop);
+  DecodedImages own;
+  const std::vector<BaseColor> colors =
+      base_colors(look, images ? *images : own, baked.images_decoded, stop);
   const PolygonMesh& envelope = mapped.prepared.welded.mesh;
   if (oriented.size() != envelope.face_count()) return std::nullopt;
   stop.check();

@@ -3,16 +3,26 @@
 #pragma once
 
 #include <functional>
+#include <map>
 #include <optional>
 #include <span>
 #include <string>
 
 #include "core/io/gltf_appearance.h"
+#include "core/io/image_reader.h"
 #include "core/io/jpeg_scans.h"
 #include "core/map/pipeline.h"
 #include "core/outputs/original_surface.h"
 
 namespace spheremap {
+
+// The base-colour images of one look decoded once for several bakes (the parts of an
+// asset), keyed by their image_data entry; `pixels` counts what was decoded against
+// kMaxBaseColorPixels. Pass the same one to every bake of that look.
+struct DecodedImages {
+  std::map<size_t, RgbaImage> images;
+  size_t pixels = 0;
+};
 
 struct BakedBaseColor {
   std::string png;  // size x size, 8-bit RGB
@@ -45,7 +55,8 @@ std::optional<BakedBaseColor> bake_base_color(const PolygonMesh& input, const Gl
                                               const MappedMesh& mapped,
                                               std::span<const Triangle> oriented, int size,
                                               int threads,
-                                              const std::function<bool()>* should_stop = nullptr);
+                                              const std::function<bool()>* should_stop = nullptr,
+                                              DecodedImages* images = nullptr);
 
 // The same for the map of an envelope (prepare wrap, or auto wrapping the whole or a part)
 // that stands for `original`: each texel's sphere point is located on the envelope, and
@@ -57,6 +68,7 @@ std::optional<BakedBaseColor> bake_base_color_closest(const OriginalSurface& ori
                                                       const MappedMesh& mapped,
                                                       std::span<const Triangle> oriented, int size,
                                                       int threads,
-                                                      const std::function<bool()>* should_stop);
+                                                      const std::function<bool()>* should_stop,
+                                                      DecodedImages* images = nullptr);
 
 }  // namespace spheremap

@@ -105,8 +105,8 @@ SceneGeometry scene_morph(const PolygonMesh& input, const GltfAppearance& look,
 
 BuiltRemesh build_remesh(const MappedMesh& mapped, int resolution, int threads,
                          const PolygonMesh* input, const GltfAppearance* appearance,
-                         const std::function<bool()>* should_stop,
-                         const OriginalSurface* original) {
+                         const std::function<bool()>* should_stop, const OriginalSurface* original,
+                         DecodedImages* images) {
   const StopCheck stop(should_stop);
   stop.check();
   const auto start = std::chrono::steady_clock::now();
@@ -179,7 +179,7 @@ BuiltRemesh build_remesh(const MappedMesh& mapped, int resolution, int threads,
     const int size = std::clamp(2 * resolution, 256, 2048);
     const auto bake_start = std::chrono::steady_clock::now();
     if (auto baked = bake_base_color_closest(*original, mapped, oriented.triangles, size, threads,
-                                             should_stop)) {
+                                             should_stop, images)) {
       glb.base_color_png = std::move(baked->png);
       glb.material_name = "base colour of the original";
       asset.metrics["texture"] = {{"size", baked->size},
@@ -196,7 +196,7 @@ BuiltRemesh build_remesh(const MappedMesh& mapped, int resolution, int threads,
     // Twice the grid's resolution (a texel per half quad), within 256..2048.
     const int size = std::clamp(2 * resolution, 256, 2048);
     if (auto baked = bake_base_color(*input, *appearance, mapped, oriented.triangles, size, threads,
-                                     should_stop)) {
+                                     should_stop, images)) {
       glb.base_color_png = std::move(baked->png);
       glb.material_name = "base colour of the input";
       asset.metrics["texture"] = {{"size", baked->size},

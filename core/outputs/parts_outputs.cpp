@@ -92,6 +92,7 @@ RemeshAsset parts_remesh_asset(const MappedMesh& mapped, int resolution, int thr
     scratch.assign(input->vertex_count(), kUnreferenced);
   }
   const std::vector<const PartReport*> reports = part_reports(mapped);
+  DecodedImages decoded;  // each base-colour image decoded once for all parts
   std::vector<GlbMesh> meshes;
   std::vector<GeometryImage> images;
   nlohmann::json parts = nlohmann::json::array();
@@ -109,13 +110,15 @@ RemeshAsset parts_remesh_asset(const MappedMesh& mapped, int resolution, int thr
       // An envelope: measured against, and coloured from, the input's faces it stands for.
       const OriginalSurface original =
           original_surface(*input, appearance, &reports[k]->original_faces);
-      built = build_remesh(part.mapped, grid, threads, nullptr, nullptr, should_stop, &original);
+      built = build_remesh(part.mapped, grid, threads, nullptr, nullptr, should_stop, &original,
+                           &decoded);
       ++wrapped_parts;
     } else if (bake) {
       MappedMesh with_input = part.mapped;
       for (auto [v, w] : inputs[k]) scratch[v] = w;
       with_input.prepared.welded.input_to_welded = std::move(scratch);
-      built = build_remesh(with_input, grid, threads, input, appearance, should_stop);
+      built = build_remesh(with_input, grid, threads, input, appearance, should_stop, nullptr,
+                           &decoded);
       scratch = std::move(with_input.prepared.welded.input_to_welded);
       for (auto [v, w] : inputs[k]) scratch[v] = kUnreferenced;
     } else {
