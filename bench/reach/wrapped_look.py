@@ -47,6 +47,7 @@ for path in [line.strip() for line in sys.stdin if line.strip()]:
         seen = d["output_to_original"]["max"]
         envelope = prep.get("envelope_hausdorff", float("nan"))
     s = r.get("seconds", {})
+    decoded = sum(q.get("texture", {}).get("images_decoded", 0) for q in r.get("parts", [r]))
     look = r.get("original_look")
     if look is None:  # parts: per wrapped part
         looks = {q.get("original_look", "") for q in r.get("parts", []) if "original_look" in q}
@@ -56,7 +57,7 @@ for path in [line.strip() for line in sys.stdin if line.strip()]:
     print(f"{decided:10s} hausdorff {h:.4f} rms {rms:.4f} remesh->original {seen:.4f} "
           f"envelope's own hausdorff {envelope:.4f} bake {s.get('bake', 0):.2f} s "
           f"distance {s.get('distance_to_original', 0):.2f} s remesh {s.get('total', 0):.2f} s "
-          f"wall {wall:.1f} s look {look[:5]} {path}", flush=True)
+          f"wall {wall:.1f} s look {look[:5]} images {decoded} {path}", flush=True)
 if rows:
     hs = [r[2] for r in rows]
     rs = [r[3] for r in rows]
