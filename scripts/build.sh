@@ -14,4 +14,4 @@ cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release -DSPHEREMAP_WERROR=ON > 
 targets=()
 for target in "$@"; do targets+=(--target "$target"); done
 echo "building ${*:-everything} with $(nproc) jobs"
-cmake --build build -j 2 "${targets[@]}"
+cmake --build build -j "$(nproc)" "${targets[@]}"
