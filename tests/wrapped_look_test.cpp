@@ -215,6 +215,49 @@ TEST(WrappedLook, AutoWrapsAnOpenPartAndColoursItsRemeshFromThatPart) {
   EXPECT_GE(colours.colours.size(), 2u);
 }
 
+TEST(WrappedLook, VertexColoursAreBakedByClosestPoint) {
+  // A torus whose vertices are red where x < 0 and blue elsewhere (COLOR_0, no material).
+  PolygonMesh input = testing::torus(32, 16);
+  const PolygonMesh original = input;
+  GltfAppearance look;
+  GltfAppearance::Primitive primitive;
+  primitive.vertex_count = static_cast<uint32_t>(input.vertex_count());
+  primitive.face_count = static_cast<uint32_t>(input.face_count());
+  primitive.attributes = {"COLOR_0"};
+  look.primitives = {primitive};
+  GltfAppearance::Attribute colours{"COLOR_0", 3, {}};
+  for (const Vec3& p : input.positions)
+    for (float c : p.x < 0 ? std::array<float, 3>{1, 0, 0} : std::array<float, 3>{0, 0, 1})
+      colours.values.push_back(c);
+  look.attributes = {colours};
+  const MappedMesh mapped =
+      map_prepared(prepare_input(input, &look, options(PrepareMethod::kWrap)), {});
+  const std::optional<OriginalSurface> surface = wrapped_original(mapped);
+  ASSERT_TRUE(surface);
+  const BuiltRemesh built = build_remesh(mapped, 64, 0, nullptr, nullptr, nullptr, &*surface);
+  const std::optional<RgbaImage> image = decode_image(built.glb.base_color_png, 1 << 24);
+  ASSERT_TRUE(image);
+  const TriangleTree tree(original.positions, surface->triangles);
+  size_t checked = 0, matched = 0, red = 0;
+  for (size_t i = 0; i < built.glb.positions.size(); ++i) {
+    const double x = tree.closest(built.glb.positions[i]).point.x;
+    // Faces with a corner at x = 0 (v = 90 degrees) reach |x| = 3 sin 22.5 = 1.15: blended.
+    if (std::abs(x) < 1.2) continue;
+    const auto& t = built.glb.texcoords[i];
+    const int column = std::clamp(static_cast<int>(t[0] * image->width), 0, image->width - 1);
+    const int row = std::clamp(static_cast<int>(t[1] * image->height), 0, image->height - 1);
+    const uint8_t* px = &image->rgba[(static_cast<size_t>(row) * image->width + column) * 4];
+    const bool want_red = x < 0;
+    ++checked;
+    red += want_red;
+    matched += want_red ? px[0] > 240 && px[2] < 15 : px[2] > 240 && px[0] < 15;
+  }
+  std::printf("vertex colours: checked %zu (red %zu), matched %zu\n", checked, red, matched);
+  EXPECT_GT(red, 100u);
+  EXPECT_GT(checked - red, 100u);
+  EXPECT_GE(matched, checked * 95 / 100);
+}
+
 TEST(WrappedLook, PartsShareTheirDecodedImage) {
   // Two open domes, each wrapped alone, both textured from the one image: decoded once.
   const PolygonMesh dome = testing::dome(2);
