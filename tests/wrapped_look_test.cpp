@@ -151,6 +151,31 @@ TEST(WrappedLook, AWrappedMeshWithoutALookBakesNothingAndSaysSo) {
   EXPECT_EQ(asset.metrics["original_look"].get<std::string>().rfind("none", 0), 0u);
 }
 
+TEST(WrappedLook, AMaterialWithoutImageIsBakedAsItsFactor) {
+  PolygonMesh input = testing::torus(32, 16);
+  GltfAppearance look;
+  GltfAppearance::Primitive primitive;
+  primitive.material = 0;
+  primitive.vertex_count = static_cast<uint32_t>(input.vertex_count());
+  primitive.face_count = static_cast<uint32_t>(input.face_count());
+  look.primitives = {primitive};
+  look.materials = nlohmann::json::array(
+      {{{"pbrMetallicRoughness", {{"baseColorFactor", {0.0, 1.0, 0.0, 1.0}}}}}});
+  const MappedMesh mapped =
+      map_prepared(prepare_input(input, &look, options(PrepareMethod::kWrap)), {});
+  const RemeshAsset asset = remesh_asset(mapped, 32, 0, &input, &look);
+  EXPECT_EQ(asset.metrics["original_look"].get<std::string>().rfind("material factors", 0), 0u);
+  const std::optional<OriginalSurface> surface = wrapped_original(mapped);
+  ASSERT_TRUE(surface);
+  const BuiltRemesh built = build_remesh(mapped, 32, 0, nullptr, nullptr, nullptr, &*surface);
+  const std::optional<RgbaImage> image = decode_image(built.glb.base_color_png, 1 << 24);
+  ASSERT_TRUE(image);
+  size_t green = 0;
+  for (size_t k = 0; k < image->rgba.size(); k += 4)
+    green += image->rgba[k] == 0 && image->rgba[k + 1] == 255 && image->rgba[k + 2] == 0;
+  EXPECT_EQ(green, image->rgba.size() / 4);  // every texel the factor
+}
+
 TEST(WrappedLook, AutoWrapsAnOpenPartAndColoursItsRemeshFromThatPart) {
   // A sphere (maps as it is) and an open dome (its hole too large to fill: wrapped).
   const PolygonMesh sphere = testing::icosphere(2), dome = testing::dome(3);

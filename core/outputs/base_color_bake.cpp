@@ -331,6 +331,10 @@ std::optional<BakedBaseColor> bake_base_color_closest(
   DecodedImages own;
   const std::vector<BaseColor> colors =
       base_colors(look, images ? *images : own, baked.images_decoded, stop);
+  baked.factors_only =
+      std::none_of(colors.begin(), colors.end(), [](const BaseColor& c) { return c.image; }) &&
+      std::none_of(look.primitives.begin(), look.primitives.end(),
+                   [](const auto& p) { return p.has("COLOR_0"); });
   const PolygonMesh& envelope = mapped.prepared.welded.mesh;
   if (oriented.size() != envelope.face_count()) return std::nullopt;
   stop.check();

@@ -29,6 +29,8 @@ struct BakedBaseColor {
   int size = 0;
   size_t unlocated_texels = 0;  // texels whose sphere point no triangle held (grey)
   size_t images_decoded = 0;    // base-colour images read (PNG, JPEG)
+  // No image and no vertex colour to sample: the texture holds materials' factors only.
+  bool factors_only = false;
 };
 
 // Each texel's point of the square goes to the sphere, is located in the map, and takes

@@ -186,7 +186,10 @@ BuiltRemesh build_remesh(const MappedMesh& mapped, int resolution, int threads,
                                   {"images_decoded", baked->images_decoded},
                                   {"unlocated_texels", baked->unlocated_texels}};
       glb.extras["spheremap_remesh"]["texture"] = asset.metrics["texture"];
-      asset.metrics["original_look"] = "baked by closest point on the original";
+      asset.metrics["original_look"] =
+          baked->factors_only ? "material factors baked by closest point on the original (it has "
+                                "no base-colour image and no vertex colour)"
+                              : "baked by closest point on the original";
       asset.metrics["seconds"]["bake"] = seconds_since(bake_start);
     } else {
       asset.metrics["original_look"] = "none: the original has no material and no vertex colour";
