@@ -237,7 +237,9 @@ std::unique_ptr<JobSpec> read_job_request(const httplib::Request& request,
   }
   if (std::count(options.outputs.begin(), options.outputs.end(), "remesh")) {
     // Counted from the images' headers now, so that the colour bake cannot fail later.
-    const size_t pixels = base_color_pixels(spec->look);
+    const GltfAppearance& baked_look =
+        spec->prepared.original ? spec->prepared.original->look : spec->look;
+    const size_t pixels = base_color_pixels(baked_look);
     if (pixels > config.max_image_pixels)
       throw Problem(413, "too_large", "Textures too large",
                     "the remesh's colour bake would decode " + std::to_string(pixels) +
@@ -245,7 +247,7 @@ std::unique_ptr<JobSpec> read_job_request(const httplib::Request& request,
                         std::to_string(config.max_image_pixels) +
                         "); ask for the other outputs, or send smaller textures",
                     {{"check", "image_pixels"}});
-    if (base_color_jpeg_scans(spec->look) > kMaxJpegScans)
+    if (base_color_jpeg_scans(baked_look) > kMaxJpegScans)
       throw Problem(422, "jpeg_scans", "Texture cannot be decoded",
                     "a base-colour JPEG has over " + std::to_string(kMaxJpegScans) +
                         " scans (progressive passes), too many to decode in time; ask for the "

@@ -113,9 +113,10 @@ const char* const kMapOptionsHelp = R"(Mapping options:
                             mesh around it at a small offset (any input: a soup, open,
                             non-manifold, many parts, any genus; handles are cut or filled,
                             whichever changes fewer voxels); every output shows the envelope
-                            (the sphere's "original" layout is the envelope's own), without
-                            the input's look. metrics.preparation says what changed and how
-                            far the envelope is from the input
+                            (the sphere's "original" layout is the envelope's own); the
+                            remesh bakes the input's base colour by closest point and says
+                            its distance_to_original. metrics.preparation says what changed
+                            and how far the envelope is from the input
   --wrap-resolution R       wrap: voxels across the bounding-box diagonal (default 256)
   --wrap-offset D           wrap: the envelope's offset, as a fraction of the bounding-box
                             diagonal (default 1.5 voxels)

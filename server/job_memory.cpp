@@ -14,15 +14,20 @@ size_t estimated_job_bytes(const api::JobSpec& spec) {
     return std::find(spec.outputs.begin(), spec.outputs.end(), output) != spec.outputs.end();
   };
   size_t bytes = (16u << 20) + 400 * triangles;
+  // A wrapped whole: its original held beside, with trees for the distance and the bake.
+  if (const auto& original = spec.prepared.original)
+    bytes += 200 * (original->mesh.indices.size() - 2 * original->mesh.face_count());
   // The input's images, held once each, and written once into each output that keeps them.
   size_t image_bytes = 0;
-  for (const std::string& image : spec.look.image_data) image_bytes += image.size();
+  // A wrapped whole keeps its input's look beside it (PreparedMesh::original), baked from.
+  const GltfAppearance& look = spec.prepared.original ? spec.prepared.original->look : spec.look;
+  for (const std::string& image : look.image_data) image_bytes += image.size();
   bytes += 2 * image_bytes;
   if (wants("remesh")) {
     const size_t side = static_cast<size_t>(std::max(spec.remesh_resolution, 1));
     bytes += (96u << 20) + 400 * side * side;
     // The colour bake holds each distinct base-colour image decoded, 4 bytes a pixel.
-    bytes += 4 * base_color_pixels(spec.look);
+    bytes += 4 * base_color_pixels(look);
   }
   if (wants("uv")) bytes += 100 * triangles;
   if (wants("morph")) bytes += 100 * triangles;

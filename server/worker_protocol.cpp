@@ -239,7 +239,14 @@ std::string encode_request(const JobSpec& spec, double time_limit_seconds, int t
     if (part.wrapped) {
       put_failures(w, part.wrap_reasons);
       put_envelope(w, part.envelope);
+      w.put_vector(part.original_faces);
     }
+  }
+  // A wrapped whole: the input and look it stands for (PreparedMesh::original).
+  w.put<uint8_t>(spec.prepared.original ? 1 : 0);
+  if (spec.prepared.original) {
+    w.put_mesh(spec.prepared.original->mesh);
+    w.put_look(spec.prepared.original->look);
   }
   return w.take();
 }
@@ -305,8 +312,15 @@ WorkerRequest decode_request(const std::string& bytes) {
     if (part.wrapped) {
       part.wrap_reasons = get_failures(r);
       part.envelope = get_envelope(r);
+      part.original_faces = r.get_vector<uint32_t>();  // outputs skip faces out of range
     }
     spec.prepared.parts.push_back(std::move(part));
+  }
+  if (r.get<uint8_t>() != 0) {
+    auto original = std::make_shared<WrappedOriginal>();
+    original->mesh = r.get_mesh();
+    original->look = r.get_look();
+    spec.prepared.original = std::move(original);
   }
   if (!r.done()) throw std::runtime_error("trailing bytes after the request");
   spec.prepared.topology = analyze_topology(spec.prepared.welded.mesh);

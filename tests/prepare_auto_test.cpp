@@ -145,7 +145,22 @@ TEST(PrepareAuto, WrappedPartsCrossTheWorkerProtocol) {
     EXPECT_EQ(got.parts[k].envelope.faces, spec.prepared.parts[k].envelope.faces);
     EXPECT_EQ(got.parts[k].envelope.hausdorff, spec.prepared.parts[k].envelope.hausdorff);
     EXPECT_EQ(got.parts[k].wrap_reasons.size(), spec.prepared.parts[k].wrap_reasons.size());
+    EXPECT_EQ(got.parts[k].original_faces, spec.prepared.parts[k].original_faces);
   }
+}
+
+// A wrapped whole's original (the input it stands for) crosses the pipe too.
+TEST(PrepareAuto, AWrappedWholesOriginalCrossesTheWorkerProtocol) {
+  api::JobSpec spec;
+  spec.input = testing::dome(2);
+  const size_t dome_faces = spec.input.face_count();
+  spec.prepared = prepare_input(spec.input, nullptr, automatic());
+  ASSERT_EQ(spec.prepared.preparation.decided, "wrap");
+  ASSERT_TRUE(spec.prepared.original);
+  const server::WorkerRequest back = server::decode_request(server::encode_request(spec, 10, 1));
+  ASSERT_TRUE(back.spec.prepared.original);
+  EXPECT_EQ(back.spec.prepared.original->mesh.face_count(), dome_faces);
+  EXPECT_EQ(back.spec.prepared.original->mesh.positions, spec.prepared.original->mesh.positions);
 }
 
 }  // namespace

@@ -11,7 +11,9 @@
 #include "core/io/glb_writer.h"
 #include "core/io/gltf_appearance.h"
 #include "core/map/pipeline.h"
+#include "core/outputs/base_color_bake.h"
 #include "core/outputs/map_outputs.h"
+#include "core/outputs/original_surface.h"
 #include "core/outputs/remesh.h"
 #include "core/outputs/sphere_alignment.h"
 #include "core/outputs/sphere_asset.h"
@@ -34,10 +36,15 @@ struct BuiltAsset {
 struct BuiltRemesh : BuiltAsset {
   GeometryImage image;
 };
-// The remesh of one part (preconditions of remesh_asset).
+// The remesh of one part (preconditions of remesh_asset). With `original` (the part is an
+// envelope standing for it): its distance to the original too, and the original's base
+// colour baked by closest point instead of through `input` and `appearance`. `images`
+// (may be null): decoded base-colour images shared with the other parts' bakes.
 BuiltRemesh build_remesh(const MappedMesh& mapped, int resolution, int threads,
                          const PolygonMesh* input, const GltfAppearance* appearance,
-                         const std::function<bool()>* should_stop = nullptr);
+                         const std::function<bool()>* should_stop = nullptr,
+                         const OriginalSurface* original = nullptr,
+                         DecodedImages* images = nullptr);
 
 // The UV mesh of one part, without its texture.
 BuiltAsset build_uv(const MappedMesh& mapped);

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <set>
 
@@ -12,6 +13,7 @@
 #include "core/mesh/parallel.h"
 #include "core/mesh/parallel_stop.h"
 #include "core/mesh/stop_check.h"
+#include "core/mesh/triangle_tree.h"
 #include "core/outputs/octahedral.h"
 #include "core/outputs/sphere_asset.h"
 #include "core/outputs/sphere_locator.h"
@@ -100,11 +102,12 @@ size_t base_color_image(const GltfAppearance& look, size_t m) {
 
 // The base colour of every material drawn, decoding each distinct image it uses once,
 // at most kMaxBaseColorPixels in all.
-std::vector<BaseColor> base_colors(const GltfAppearance& look, std::map<size_t, RgbaImage>& images,
+std::vector<BaseColor> base_colors(const GltfAppearance& look, DecodedImages& cache,
                                    size_t& decoded, const StopCheck& stop) {
+  std::map<size_t, RgbaImage>& images = cache.images;
+  size_t& pixels = cache.pixels;
   std::vector<BaseColor> out(look.materials.size());
   const std::vector<char> drawn = drawn_materials(look);
-  size_t pixels = 0;
   for (size_t m = 0; m < look.materials.size(); ++m) {
     if (!drawn[m]) continue;  // its image is never sampled: not decoded
     const nlohmann::json pbr = look.materials[m].contains("pbrMetallicRoughness")
@@ -180,34 +183,64 @@ size_t base_color_jpeg_scans(const GltfAppearance& look) {
   return most;
 }
 
-std::optional<BakedBaseColor> bake_base_color(const PolygonMesh& input, const GltfAppearance& look,
-                                              const MappedMesh& mapped,
-                                              std::span<const Triangle> oriented, int size,
-                                              int threads,
-                                              const std::function<bool()>* should_stop) {
-  const StopCheck stop(should_stop);
-  const bool coloured = std::any_of(look.primitives.begin(), look.primitives.end(),
-                                    [](auto& p) { return p.material >= 0 || p.has("COLOR_0"); });
-  if (look.empty() || !coloured || size <= 0) return std::nullopt;
-  BakedBaseColor baked;
-  std::map<size_t, RgbaImage> images;
-  const std::vector<BaseColor> colors = base_colors(look, images, baked.images_decoded, stop);
+namespace {
 
-  // Welded faces are the input's faces in order, less dropped components: face t of the
-  // map is input face input_face[t], its corners matched by welded vertex.
-  const PolygonMesh& welded = mapped.prepared.welded.mesh;
-  const auto& to_welded = mapped.prepared.welded.input_to_welded;
-  const std::vector<char> dropped = dropped_faces(input, mapped);
-  std::vector<uint32_t> input_face, primitive_of(input.face_count(), 0);
-  for (uint32_t p = 0; p < look.primitives.size(); ++p)
-    for (uint32_t f = 0; f < look.primitives[p].face_count; ++f)
-      primitive_of[look.primitives[p].first_face + f] = p;
-  for (uint32_t f = 0; f < input.face_count(); ++f)
-    if (!dropped[f]) input_face.push_back(f);
-  if (input_face.size() != welded.face_count() || oriented.size() != welded.face_count())
-    return std::nullopt;
-  const SphereLocator locator(mapped.map.sphere, oriented);
+// The colour of the input's surface at a point of one of its faces: baseColorFactor x
+// baseColorTexture (at the face's interpolated TEXCOORD_n, with its sampler's wrap) x
+// COLOR_0, from the corners `vertex` (input vertices of the face) and their weights.
+class FaceColors {
+ public:
+  FaceColors(const PolygonMesh& input, const GltfAppearance& look,
+             const std::vector<BaseColor>& colors)
+      : look_(look), colors_(colors), primitive_of_(input.face_count(), 0) {
+    for (uint32_t p = 0; p < look.primitives.size(); ++p)
+      for (uint32_t f = 0; f < look.primitives[p].face_count; ++f)
+        if (look.primitives[p].first_face + f < primitive_of_.size())
+          primitive_of_[look.primitives[p].first_face + f] = p;
+  }
 
+  Rgba at(uint32_t face, const std::array<uint32_t, 3>& vertex,
+          const std::array<double, 3>& weight) const {
+    const GltfAppearance::Primitive& p = look_.primitives[primitive_of_[face]];
+    auto interpolate = [&](const GltfAppearance::Attribute& a, int component) {
+      double x = 0;
+      for (int k = 0; k < 3; ++k)
+        x += weight[k] * a.values[vertex[k] * static_cast<size_t>(a.components) + component];
+      return x;
+    };
+    Rgba color{1, 1, 1, 1};
+    if (p.material >= 0 && static_cast<size_t>(p.material) < colors_.size()) {
+      const BaseColor& c = colors_[static_cast<size_t>(p.material)];
+      color = c.factor;
+      const GltfAppearance::Attribute* uv =
+          p.has(c.texcoord) ? look_.attribute(c.texcoord) : nullptr;
+      if (c.image && uv) {
+        const Rgba t = sample(c, interpolate(*uv, 0), interpolate(*uv, 1));
+        for (int k = 0; k < 4; ++k) color[k] *= t[k];
+      }
+    }
+    if (const auto* vc = p.has("COLOR_0") ? look_.attribute("COLOR_0") : nullptr)
+      for (int k = 0; k < 3; ++k) color[k] *= interpolate(*vc, k);
+    return color;
+  }
+
+ private:
+  const GltfAppearance& look_;
+  const std::vector<BaseColor>& colors_;
+  std::vector<uint32_t> primitive_of_;
+};
+
+// Whether `look` gives a surface a colour of its own (a material or vertex colours).
+bool coloured(const GltfAppearance& look) {
+  return !look.empty() && std::any_of(look.primitives.begin(), look.primitives.end(),
+                                      [](auto& p) { return p.material >= 0 || p.has("COLOR_0"); });
+}
+
+// The square's texels, each located on the map's sphere and coloured by `color_of(hit)`
+// (false: no colour, grey); a miss of the locator is counted as unlocated.
+template <typename ColorOf>
+void bake_texels(BakedBaseColor& baked, const SphereLocator& locator, int size, int threads,
+                 const std::function<bool()>* should_stop, ColorOf color_of) {
   std::vector<uint16_t> rgb(static_cast<size_t>(size) * size * 3, 128);
   std::vector<char> missed(static_cast<size_t>(size) * size, 0);
   // Asked every row (at most 2048 texels: milliseconds).
@@ -218,38 +251,11 @@ std::optional<BakedBaseColor> bake_base_color(const PolygonMesh& input, const Gl
       const double u = (column + 0.5) / size, v = (row + 0.5) / size;
       const SphereHit hit = locator.locate(octahedral_decode({2 * u - 1, 1 - 2 * v}));
       const size_t texel = row * static_cast<size_t>(size) + column;
-      if (hit.triangle == UINT32_MAX) {
-        missed[texel] = 1;
+      Rgba color;
+      if (hit.triangle == UINT32_MAX || !color_of(hit, color)) {
+        missed[texel] = hit.triangle == UINT32_MAX;
         continue;
       }
-      const uint32_t face = input_face[hit.triangle];
-      const auto corners = input.face(face);
-      const GltfAppearance::Primitive& p = look.primitives[primitive_of[face]];
-      // The input corner of each map corner (same welded vertex).
-      std::array<uint32_t, 3> vertex{};
-      for (int k = 0; k < 3; ++k)
-        for (uint32_t c : corners)
-          if (to_welded[c] == oriented[hit.triangle][k]) vertex[k] = c;
-      auto interpolate = [&](const GltfAppearance::Attribute& a, int component) {
-        double x = 0;
-        for (int k = 0; k < 3; ++k)
-          x += hit.barycentric[k] *
-               a.values[vertex[k] * static_cast<size_t>(a.components) + component];
-        return x;
-      };
-      Rgba color{1, 1, 1, 1};
-      if (p.material >= 0 && static_cast<size_t>(p.material) < colors.size()) {
-        const BaseColor& c = colors[static_cast<size_t>(p.material)];
-        color = c.factor;
-        const GltfAppearance::Attribute* uv =
-            p.has(c.texcoord) ? look.attribute(c.texcoord) : nullptr;
-        if (c.image && uv) {
-          const Rgba t = sample(c, interpolate(*uv, 0), interpolate(*uv, 1));
-          for (int k = 0; k < 4; ++k) color[k] *= t[k];
-        }
-      }
-      if (const auto* vc = p.has("COLOR_0") ? look.attribute("COLOR_0") : nullptr)
-        for (int k = 0; k < 3; ++k) color[k] *= interpolate(*vc, k);
       for (int k = 0; k < 3; ++k)
         rgb[texel * 3 + k] = static_cast<uint16_t>(std::lround(255 * linear_to_srgb(color[k])));
     }
@@ -258,6 +264,96 @@ std::optional<BakedBaseColor> bake_base_color(const PolygonMesh& input, const Gl
   baked.unlocated_texels = static_cast<size_t>(std::count(missed.begin(), missed.end(), 1));
   baked.size = size;
   baked.png = encode_png(size, size, 8, rgb);
+}
+
+// The weights of p's projection onto the plane of abc in its corners (p on abc: its
+// barycentric coordinates); a degenerate triangle answers its first corner.
+std::array<double, 3> barycentric(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
+  const Vec3 e0 = b - a, e1 = c - a, e2 = p - a;
+  const double d00 = dot(e0, e0), d01 = dot(e0, e1), d11 = dot(e1, e1);
+  const double d20 = dot(e2, e0), d21 = dot(e2, e1);
+  const double den = d00 * d11 - d01 * d01;
+  if (!(std::abs(den) > 1e-30 * (d00 * d11 + 1e-300))) return {1, 0, 0};
+  const double v = std::clamp((d11 * d20 - d01 * d21) / den, 0.0, 1.0);
+  const double w = std::clamp((d00 * d21 - d01 * d20) / den, 0.0, 1.0 - v);
+  return {1 - v - w, v, w};
+}
+
+}  // namespace
+
+std::optional<BakedBaseColor> bake_base_color(const PolygonMesh& input, const GltfAppearance& look,
+                                              const MappedMesh& mapped,
+                                              std::span<const Triangle> oriented, int size,
+                                              int threads, const std::function<bool()>* should_stop,
+                                              DecodedImages* images) {
+  const StopCheck stop(should_stop);
+  if (!coloured(look) || size <= 0) return std::nullopt;
+  BakedBaseColor baked;
+  DecodedImages own;
+  const std::vector<BaseColor> colors =
+      base_colors(look, images ? *images : own, baked.images_decoded, stop);
+
+  // Welded faces are the input's faces in order, less dropped components: face t of the
+  // map is input face input_face[t], its corners matched by welded vertex.
+  const PolygonMesh& welded = mapped.prepared.welded.mesh;
+  const auto& to_welded = mapped.prepared.welded.input_to_welded;
+  const std::vector<char> dropped = dropped_faces(input, mapped);
+  std::vector<uint32_t> input_face;
+  for (uint32_t f = 0; f < input.face_count(); ++f)
+    if (!dropped[f]) input_face.push_back(f);
+  if (input_face.size() != welded.face_count() || oriented.size() != welded.face_count())
+    return std::nullopt;
+  const SphereLocator locator(mapped.map.sphere, oriented);
+  const FaceColors face_colors(input, look, colors);
+  bake_texels(baked, locator, size, threads, should_stop, [&](const SphereHit& hit, Rgba& color) {
+    const uint32_t face = input_face[hit.triangle];
+    // The input corner of each map corner (same welded vertex).
+    std::array<uint32_t, 3> vertex{};
+    for (int k = 0; k < 3; ++k)
+      for (uint32_t c : input.face(face))
+        if (to_welded[c] == oriented[hit.triangle][k]) vertex[k] = c;
+    color = face_colors.at(face, vertex, hit.barycentric);
+    return true;
+  });
+  return baked;
+}
+
+std::optional<BakedBaseColor> bake_base_color_closest(
+    const OriginalSurface& original, const MappedMesh& mapped, std::span<const Triangle> oriented,
+    int size, int threads, const std::function<bool()>* should_stop, DecodedImages* images) {
+  const StopCheck stop(should_stop);
+  if (!original.mesh || !original.look || !coloured(*original.look) || size <= 0 ||
+      original.triangles.empty())
+    return std::nullopt;
+  const PolygonMesh& input = *original.mesh;
+  const GltfAppearance& look = *original.look;
+  BakedBaseColor baked;
+  DecodedImages own;
+  const std::vector<BaseColor> colors =
+      base_colors(look, images ? *images : own, baked.images_decoded, stop);
+  baked.factors_only =
+      std::none_of(colors.begin(), colors.end(), [](const BaseColor& c) { return c.image; }) &&
+      std::none_of(look.primitives.begin(), look.primitives.end(),
+                   [](const auto& p) { return p.has("COLOR_0"); });
+  const PolygonMesh& envelope = mapped.prepared.welded.mesh;
+  if (oriented.size() != envelope.face_count()) return std::nullopt;
+  stop.check();
+  const TriangleTree tree(input.positions, original.triangles);
+  stop.check();
+  const SphereLocator locator(mapped.map.sphere, oriented);
+  const FaceColors face_colors(input, look, colors);
+  bake_texels(baked, locator, size, threads, should_stop, [&](const SphereHit& hit, Rgba& color) {
+    const Triangle& t = oriented[hit.triangle];
+    Vec3 point;  // the envelope's point at the texel
+    for (int k = 0; k < 3; ++k) point += envelope.positions[t[k]] * hit.barycentric[k];
+    const TriangleTree::Closest closest = tree.closest(point);
+    if (closest.squared_distance == std::numeric_limits<double>::max()) return false;
+    const Triangle& o = original.triangles[closest.triangle];
+    const auto& p = input.positions;
+    color = face_colors.at(original.face[closest.triangle], o,
+                           barycentric(closest.point, p[o[0]], p[o[1]], p[o[2]]));
+    return true;
+  });
   return baked;
 }
 

@@ -3,21 +3,34 @@
 #pragma once
 
 #include <functional>
+#include <map>
 #include <optional>
 #include <span>
 #include <string>
 
 #include "core/io/gltf_appearance.h"
+#include "core/io/image_reader.h"
 #include "core/io/jpeg_scans.h"
 #include "core/map/pipeline.h"
+#include "core/outputs/original_surface.h"
 
 namespace spheremap {
+
+// The base-colour images of one look decoded once for several bakes (the parts of an
+// asset), keyed by their image_data entry; `pixels` counts what was decoded against
+// kMaxBaseColorPixels. Pass the same one to every bake of that look.
+struct DecodedImages {
+  std::map<size_t, RgbaImage> images;
+  size_t pixels = 0;
+};
 
 struct BakedBaseColor {
   std::string png;  // size x size, 8-bit RGB
   int size = 0;
   size_t unlocated_texels = 0;  // texels whose sphere point no triangle held (grey)
   size_t images_decoded = 0;    // base-colour images read (PNG, JPEG)
+  // No image and no vertex colour to sample: the texture holds materials' factors only.
+  bool factors_only = false;
 };
 
 // Each texel's point of the square goes to the sphere, is located in the map, and takes
@@ -44,6 +57,20 @@ std::optional<BakedBaseColor> bake_base_color(const PolygonMesh& input, const Gl
                                               const MappedMesh& mapped,
                                               std::span<const Triangle> oriented, int size,
                                               int threads,
-                                              const std::function<bool()>* should_stop = nullptr);
+                                              const std::function<bool()>* should_stop = nullptr,
+                                              DecodedImages* images = nullptr);
+
+// The same for the map of an envelope (prepare wrap, or auto wrapping the whole or a part)
+// that stands for `original`: each texel's sphere point is located on the envelope, and
+// the envelope's point there takes the colour of the closest point of the original's
+// triangles (its face's material, TEXCOORD_n and COLOR_0 as above). Nothing when the
+// original's look has no material and no vertex colour. `oriented`: the envelope's
+// oriented_triangles().
+std::optional<BakedBaseColor> bake_base_color_closest(const OriginalSurface& original,
+                                                      const MappedMesh& mapped,
+                                                      std::span<const Triangle> oriented, int size,
+                                                      int threads,
+                                                      const std::function<bool()>* should_stop,
+                                                      DecodedImages* images = nullptr);
 
 }  // namespace spheremap

@@ -105,7 +105,8 @@ SceneGeometry scene_morph(const PolygonMesh& input, const GltfAppearance& look,
 
 BuiltRemesh build_remesh(const MappedMesh& mapped, int resolution, int threads,
                          const PolygonMesh* input, const GltfAppearance* appearance,
-                         const std::function<bool()>* should_stop) {
+                         const std::function<bool()>* should_stop, const OriginalSurface* original,
+                         DecodedImages* images) {
   const StopCheck stop(should_stop);
   stop.check();
   const auto start = std::chrono::steady_clock::now();
@@ -168,11 +169,37 @@ BuiltRemesh build_remesh(const MappedMesh& mapped, int resolution, int threads,
   glb.triangles = remesh.triangles;
   glb.extras = {{"spheremap_remesh", without_timings(asset.metrics)}};
   glb.texcoords = std::move(texcoords);
-  if (input && appearance) {
+  if (original) {
+    const auto original_start = std::chrono::steady_clock::now();
+    asset.metrics["distance_to_original"] =
+        distance_to_original(*original, remesh.positions, remesh.triangles, threads, should_stop);
+    asset.metrics["seconds"]["distance_to_original"] = seconds_since(original_start);
+    glb.extras["spheremap_remesh"]["distance_to_original"] = asset.metrics["distance_to_original"];
+    // Twice the grid's resolution (a texel per half quad), within 256..2048, as below.
+    const int size = std::clamp(2 * resolution, 256, 2048);
+    const auto bake_start = std::chrono::steady_clock::now();
+    if (auto baked = bake_base_color_closest(*original, mapped, oriented.triangles, size, threads,
+                                             should_stop, images)) {
+      glb.base_color_png = std::move(baked->png);
+      glb.material_name = "base colour of the original";
+      asset.metrics["texture"] = {{"size", baked->size},
+                                  {"images_decoded", baked->images_decoded},
+                                  {"unlocated_texels", baked->unlocated_texels}};
+      glb.extras["spheremap_remesh"]["texture"] = asset.metrics["texture"];
+      asset.metrics["original_look"] =
+          baked->factors_only ? "material factors baked by closest point on the original (it has "
+                                "no base-colour image and no vertex colour)"
+                              : "baked by closest point on the original";
+      asset.metrics["seconds"]["bake"] = seconds_since(bake_start);
+    } else {
+      asset.metrics["original_look"] = "none: the original has no material and no vertex colour";
+    }
+    glb.extras["spheremap_remesh"]["original_look"] = asset.metrics["original_look"];
+  } else if (input && appearance) {
     // Twice the grid's resolution (a texel per half quad), within 256..2048.
     const int size = std::clamp(2 * resolution, 256, 2048);
     if (auto baked = bake_base_color(*input, *appearance, mapped, oriented.triangles, size, threads,
-                                     should_stop)) {
+                                     should_stop, images)) {
       glb.base_color_png = std::move(baked->png);
       glb.material_name = "base colour of the input";
       asset.metrics["texture"] = {{"size", baked->size},
@@ -190,7 +217,9 @@ RemeshAsset remesh_asset(const MappedMesh& mapped, int resolution, int threads,
                          const std::function<bool()>* should_stop) {
   if (!mapped.parts.empty())
     return parts_remesh_asset(mapped, resolution, threads, input, appearance, should_stop);
-  BuiltRemesh built = build_remesh(mapped, resolution, threads, input, appearance, should_stop);
+  const std::optional<OriginalSurface> original = wrapped_original(mapped);
+  BuiltRemesh built = build_remesh(mapped, resolution, threads, input, appearance, should_stop,
+                                   original ? &*original : nullptr);
   RemeshAsset asset;
   asset.geometry_image_png = encode_png(built.image.side, built.image.side, 16, built.image.rgb);
   asset.metrics = std::move(built.metrics);

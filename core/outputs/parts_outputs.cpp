@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "core/io/png_writer.h"
+#include "core/mesh/triangle_tree.h"
 #include "core/outputs/asset_builders.h"
 #include "core/outputs/report_json.h"
 #include "core/outputs/texcoords.h"
@@ -45,6 +46,23 @@ std::vector<std::vector<std::pair<uint32_t, uint32_t>>> input_vertices_of_parts(
   return out;
 }
 
+// The bounding-box diagonal of the vertices `mesh`'s faces use.
+double faces_diagonal(const PolygonMesh& mesh) {
+  AxisBox box;
+  for (uint32_t v : mesh.indices) box.add(mesh.positions[v]);
+  return mesh.indices.empty() ? 0.0 : norm(box.hi - box.lo);
+}
+
+// Per mapped part, its report (map_parts pairs the mappable reports with the parts in
+// order), or null for all when they do not pair up.
+std::vector<const PartReport*> part_reports(const MappedMesh& mapped) {
+  std::vector<const PartReport*> out;
+  for (const PartReport& report : mapped.prepared.parts)
+    if (report.mappable()) out.push_back(&report);
+  if (out.size() != mapped.parts.size()) out.assign(mapped.parts.size(), nullptr);
+  return out;
+}
+
 }  // namespace
 
 PartIndex::PartIndex(const MappedMesh& mapped)
@@ -73,21 +91,34 @@ RemeshAsset parts_remesh_asset(const MappedMesh& mapped, int resolution, int thr
     inputs = input_vertices_of_parts(mapped);
     scratch.assign(input->vertex_count(), kUnreferenced);
   }
+  const std::vector<const PartReport*> reports = part_reports(mapped);
+  DecodedImages decoded;  // each base-colour image decoded once for all parts
   std::vector<GlbMesh> meshes;
   std::vector<GeometryImage> images;
   nlohmann::json parts = nlohmann::json::array();
-  size_t samples = 0, vertices = 0, triangles = 0, unlocated = 0;
+  size_t samples = 0, vertices = 0, triangles = 0, unlocated = 0, wrapped_parts = 0;
   bool closed_genus0 = true;
   double hausdorff = 0, squared = 0, relative_rms_weight = 0;
+  double original_hausdorff = 0, original_squared = 0;  // to the original: wrapped or not
+  double bake_seconds = 0, original_seconds = 0;        // of the wrapped parts, summed
+  double absolute_hausdorff = 0, absolute_squared = 0;  // the same in model units
   for (size_t k = 0; k < mapped.parts.size(); ++k) {
     const MappedPart& part = mapped.parts[k];
     const int grid = part_resolution(resolution, part.surface_area, largest_area);
     BuiltRemesh built;
-    if (bake) {
+    if (input && reports[k] && reports[k]->wrapped) {
+      // An envelope: measured against, and coloured from, the input's faces it stands for.
+      const OriginalSurface original =
+          original_surface(*input, appearance, &reports[k]->original_faces);
+      built = build_remesh(part.mapped, grid, threads, nullptr, nullptr, should_stop, &original,
+                           &decoded);
+      ++wrapped_parts;
+    } else if (bake) {
       MappedMesh with_input = part.mapped;
       for (auto [v, w] : inputs[k]) scratch[v] = w;
       with_input.prepared.welded.input_to_welded = std::move(scratch);
-      built = build_remesh(with_input, grid, threads, input, appearance, should_stop);
+      built = build_remesh(with_input, grid, threads, input, appearance, should_stop, nullptr,
+                           &decoded);
       scratch = std::move(with_input.prepared.welded.input_to_welded);
       for (auto [v, w] : inputs[k]) scratch[v] = kUnreferenced;
     } else {
@@ -105,6 +136,17 @@ RemeshAsset parts_remesh_asset(const MappedMesh& mapped, int resolution, int thr
     const double rms = m["distance"]["rms"].get<double>();
     squared += rms * rms * m["samples"].get<double>();
     relative_rms_weight += m["samples"].get<double>();
+    bake_seconds += m["seconds"].value("bake", 0.0);
+    original_seconds += m["seconds"].value("distance_to_original", 0.0);
+    const nlohmann::json& to_original =
+        m.contains("distance_to_original") ? m["distance_to_original"] : m["distance"];
+    original_hausdorff = std::max(original_hausdorff, to_original["hausdorff"].get<double>());
+    const double original_rms = to_original["rms"].get<double>();
+    original_squared += original_rms * original_rms * m["samples"].get<double>();
+    const double diagonal = to_original["diagonal"].get<double>();  // model units
+    absolute_hausdorff =
+        std::max(absolute_hausdorff, to_original["hausdorff"].get<double>() * diagonal);
+    absolute_squared += std::pow(original_rms * diagonal, 2) * m["samples"].get<double>();
     nlohmann::json entry = without_timings(m);
     entry["part"] = k;
     parts.push_back(std::move(entry));
@@ -142,19 +184,36 @@ RemeshAsset parts_remesh_asset(const MappedMesh& mapped, int resolution, int thr
        {{"relative_to", "bounding-box diagonal of each part"},
         {"hausdorff", hausdorff},
         {"rms", relative_rms_weight > 0 ? std::sqrt(squared / relative_rms_weight) : 0.0}}},
-      {"geometry_image",
-       {{"width", width},
-        {"height", height},
-        {"bits", 16},
-        {"layout",
-         "the parts' images stacked from the top, each at parts[k].geometry_image.row "
-         "and decoded with its own origin and scale"}}},
   };
+  const double asset_diagonal = wrapped_parts > 0 ? faces_diagonal(*input) : 0.0;
+  if (wrapped_parts > 0)
+    asset.metrics["distance_to_original"] = {
+        {"relative_to", "bounding-box diagonal of each part's original triangles"},
+        {"hausdorff", original_hausdorff},
+        {"rms", relative_rms_weight > 0 ? std::sqrt(original_squared / relative_rms_weight) : 0.0},
+        {"wrapped_parts", wrapped_parts},
+        // Relative to the whole input's diagonal, as the asset's other figures.
+        {"asset_diagonal", asset_diagonal},
+        {"asset_hausdorff", asset_diagonal > 0 ? absolute_hausdorff / asset_diagonal : 0.0},
+        {"asset_rms", asset_diagonal > 0 && relative_rms_weight > 0
+                          ? std::sqrt(absolute_squared / relative_rms_weight) / asset_diagonal
+                          : 0.0}};
+  asset.metrics["geometry_image"] = {
+      {"width", width},
+      {"height", height},
+      {"bits", 16},
+      {"layout",
+       "the parts' images stacked from the top, each at parts[k].geometry_image.row "
+       "and decoded with its own origin and scale"}};
   std::vector<GlbNode> nodes = part_nodes(meshes.size());
   GlbParts glb = build_glb(meshes, nodes);
   glb.json["meshes"][0]["extras"] = {{"spheremap_remesh", without_timings(asset.metrics)}};
   asset.glb = serialize_glb(glb);
   asset.metrics["seconds"] = {{"total", seconds_since(start)}};
+  if (wrapped_parts > 0) {
+    asset.metrics["seconds"]["bake"] = bake_seconds;
+    asset.metrics["seconds"]["distance_to_original"] = original_seconds;
+  }
   return asset;
 }
 

@@ -324,7 +324,8 @@ std::optional<Envelope> part_envelope(const PolygonMesh& part, double asset_diag
 // say what "parts" would do), and under kParts `welded` cut down to the parts that map when
 // some do (the others' input vertices then weld to nothing). Under kAuto each part that
 // does not map is replaced by its envelope instead of being left out.
-void keep_mappable_parts(PreparedMesh& prepared, const PrepareOptions& options) {
+void keep_mappable_parts(PreparedMesh& prepared, const PolygonMesh& input,
+                         const PrepareOptions& options) {
   if (options.largest_component || prepared.topology.component_vertices.size() < 2) return;
   StopCheck stop(&options.should_stop);
   WeldResult& welded = prepared.welded;
@@ -349,6 +350,18 @@ void keep_mappable_parts(PreparedMesh& prepared, const PrepareOptions& options) 
   // took 35 s part by part, 8 s whole; game-kit models wrap at most 60 parts).
   if (options.method == PrepareMethod::kAuto && prepared.parts_left_out() <= kMaxWrappedParts) {
     const double asset_diagonal = diagonal_of(welded.mesh);
+    // Per welded vertex its part, so each input face finds its part (by its first corner).
+    std::vector<uint32_t> part_of(welded.mesh.vertex_count(), kUnreferenced);
+    for (size_t k = 0; k < parts.size(); ++k)
+      for (uint32_t v : parts[k].vertex) part_of[v] = static_cast<uint32_t>(k);
+    auto faces_of_part = [&](size_t k) {
+      std::vector<uint32_t> faces;
+      for (size_t f = 0; f < input.face_count(); ++f) {
+        const uint32_t w = welded.input_to_welded[input.face(f)[0]];
+        if (w != kUnreferenced && part_of[w] == k) faces.push_back(static_cast<uint32_t>(f));
+      }
+      return faces;
+    };
     for (size_t k = 0; k < parts.size(); ++k) {
       if (keep[k]) continue;
       std::optional<Envelope> envelope = part_envelope(parts[k].mesh, asset_diagonal, options);
@@ -358,6 +371,7 @@ void keep_mappable_parts(PreparedMesh& prepared, const PrepareOptions& options) 
       report.wrap_reasons = std::move(report.failures);
       report.failures.clear();
       report.envelope = envelope->report;
+      report.original_faces = faces_of_part(k);
       parts[k].mesh = std::move(envelope->mesh);
       parts[k].vertex.assign(parts[k].mesh.vertex_count(), kUnreferenced);  // no input vertex
       keep[k] = true;
@@ -400,7 +414,7 @@ void keep_mappable_parts(PreparedMesh& prepared, const PrepareOptions& options) 
 PreparedMesh prepare_parts(PolygonMesh& input, GltfAppearance* look,
                            const PrepareOptions& options) {
   PreparedMesh prepared = prepare_once(input, look, options);
-  if (!mapping_failures(prepared.topology).empty()) keep_mappable_parts(prepared, options);
+  if (!mapping_failures(prepared.topology).empty()) keep_mappable_parts(prepared, input, options);
   return prepared;
 }
 
@@ -432,6 +446,27 @@ std::string decided(const PreparedMesh& prepared) {
   return changed ? "repair" : "exact";
 }
 
+// The whole input replaced by its envelope; the input and its look moved to `original`.
+// Throws (and leaves both as they were) when the envelope cannot be made.
+PreparedMesh wrap_whole(PolygonMesh& input, GltfAppearance* look, const PrepareOptions& options) {
+  const std::function<bool()> stop = envelope_stop(options);
+  Envelope envelope = build_envelope(input, options.envelope, &stop);
+  const size_t input_faces = input.face_count();
+  auto original = std::make_shared<WrappedOriginal>();
+  original->mesh = std::move(input);
+  if (look) {
+    original->look = std::move(*look);
+    *look = GltfAppearance{};
+  }
+  input = std::move(envelope.mesh);
+  PreparedMesh prepared = prepare_mesh(input, options);
+  prepared.original = std::move(original);
+  prepared.preparation.method = PrepareMethod::kWrap;
+  prepared.preparation.input_faces = input_faces;
+  prepared.preparation.envelope = envelope.report;
+  return prepared;
+}
+
 }  // namespace
 
 PreparedMesh prepare_input(PolygonMesh& input, GltfAppearance* look,
@@ -445,14 +480,8 @@ PreparedMesh prepare_input(PolygonMesh& input, GltfAppearance* look,
     }
     // One part that does not map (or parts no envelope could be made of): the whole
     // asset's envelope. When even that cannot be made, the refusal says what the parts fail.
-    PrepareOptions whole = options;
-    whole.method = PrepareMethod::kWrap;
-    PolygonMesh wrapped_input = input;
-    GltfAppearance wrapped_look;
     try {
-      PreparedMesh wrapped = prepare_input(wrapped_input, look ? &wrapped_look : nullptr, whole);
-      input = std::move(wrapped_input);
-      if (look) *look = std::move(wrapped_look);
+      PreparedMesh wrapped = wrap_whole(input, look, options);
       wrapped.preparation.method = PrepareMethod::kAuto;
       wrapped.preparation.decided = "wrap";
       return wrapped;
@@ -461,18 +490,7 @@ PreparedMesh prepare_input(PolygonMesh& input, GltfAppearance* look,
       return prepared;
     }
   }
-  if (options.method == PrepareMethod::kWrap) {
-    const std::function<bool()> stop = envelope_stop(options);
-    Envelope envelope = build_envelope(input, options.envelope, &stop);
-    const size_t input_faces = input.face_count();
-    input = std::move(envelope.mesh);
-    if (look) *look = GltfAppearance{};
-    PreparedMesh prepared = prepare_mesh(input, options);
-    prepared.preparation.method = PrepareMethod::kWrap;
-    prepared.preparation.input_faces = input_faces;
-    prepared.preparation.envelope = envelope.report;
-    return prepared;
-  }
+  if (options.method == PrepareMethod::kWrap) return wrap_whole(input, look, options);
   PreparedMesh prepared = prepare_parts(input, look, options);
   bool has_boundary = prepared.topology.boundary_edges > 0;
   for (const PartReport& part : prepared.parts)

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <functional>
+#include <memory>
 #include <string>
 
 #include "core/io/gltf_appearance.h"
@@ -23,7 +24,8 @@ namespace spheremap {
 // sphere of its own and the others are left out, each listed with its reason. kWrap: the
 // input is replaced by its envelope (envelope.h), a closed genus-0 mesh around all of it at
 // about the offset, which maps like any mesh; its outputs show the envelope (the sphere in
-// the "original" layout is the envelope's), and the input's look is not carried over.
+// the "original" layout is the envelope's), and the input with its look is kept beside
+// (PreparedMesh::original) for the outputs to bake and measure against.
 // kAuto: the least change that maps every part: as kParts, and then each part that still
 // cannot map is replaced by its own envelope (one mesh of one part: the whole is wrapped),
 // so every part is served, exactly where it can be. preparation.decided says what was done.
@@ -90,13 +92,27 @@ struct PartReport {
   bool wrapped = false;
   std::vector<ValidationFailure> wrap_reasons;
   EnvelopeReport envelope;
+  // Wrapped: the faces of the input (as prepare_input leaves it, with its look) that the
+  // envelope stands for, ascending; what the outputs measure and bake against.
+  std::vector<uint32_t> original_faces;
   // Under kParts and kAuto, a vertex of the part in `welded` when the part is kept,
   // kUnreferenced when left out: ties the part to its map (map_parts orders parts anew).
   uint32_t welded_vertex = kUnreferenced;
 };
 
+// The input an envelope of the whole stands for (kWrap, or kAuto wrapping the whole): the
+// input as it was wrapped (after the safe cleaning) with its look, moved here rather than
+// copied, shared by every copy of the prepared mesh and read by the outputs.
+struct WrappedOriginal {
+  PolygonMesh mesh;
+  GltfAppearance look;  // empty when none was given
+};
+
 struct PreparedMesh {
   WeldResult welded;
+  // The whole input wrapped: what it was; null otherwise (then the input is the original,
+  // and a wrapped part's faces are PartReport::original_faces).
+  std::shared_ptr<const WrappedOriginal> original;
   TopologyReport topology;
   PreparationReport preparation;
   // With several components (and largest_component off): what the largest alone fails,
@@ -127,8 +143,8 @@ PreparedMesh prepare_mesh(const PolygonMesh& input, const PrepareOptions& option
 // The same after cleaning `input` in place when options.method is kRepair: faces dropped,
 // shortened or reversed, and `look` (when given) has its primitives' face ranges moved to
 // match, so the input, its look and the prepared mesh agree for every output. Under kWrap,
-// `input` becomes the envelope and `look` (when given) is emptied; InputError when the
-// envelope cannot be made (envelope.h).
+// `input` becomes the envelope and `look` (when given) is emptied, both moved to the
+// result's `original`; InputError when the envelope cannot be made (envelope.h).
 PreparedMesh prepare_input(PolygonMesh& input, GltfAppearance* look, const PrepareOptions& options);
 
 }  // namespace spheremap

@@ -50,7 +50,24 @@ done
 checks+=("$out/textured_horseshoe.glb" "$out/service.sphere.gltf" "$out/service.sphere.gltf"
          "$out/service.morph.glb" "$out/service.remesh.glb")
 
-files=()
+# A wrapped input (prepare=wrap): the envelope's remesh carries the input's base colour
+# baked by closest point (CLI, and a service job whose original crosses the worker pipe).
+"$spheremap" remesh "$out/textured_horseshoe.glb" -o "$out/wrapped.remesh.glb" --prepare wrap \
+  --wrap-resolution 64 --resolution 32 --quiet || fail "remesh --prepare wrap"
+curl -sf -D "$out/wrapped.headers" -o "$out/wrapped.sphere.glb" -H 'Prefer: wait=120' \
+  -H 'Content-Type: model/gltf-binary' --data-binary "@$out/textured_horseshoe.glb" \
+  "$url/v1/map?outputs=sphere,remesh&resolution=32&prepare=wrap&wrap_resolution=64" ||
+  fail "POST /v1/map prepare=wrap"
+grep -q '^HTTP/1.1 200' "$out/wrapped.headers" || fail "the wrap job did not succeed"
+id=$(grep -i '^spheremap-job:' "$out/wrapped.headers" | tr -d '\r' | cut -d' ' -f2)
+curl -sf -o "$out/service.wrapped.remesh.glb" "$url/v1/jobs/$id/artifacts/remesh.glb" ||
+  fail "download the wrapped remesh"
+for f in "$out/wrapped.remesh.glb" "$out/service.wrapped.remesh.glb"; do
+  grep -aq baseColorTexture "$f" || fail "$f has no baked base colour"
+  grep -aq distance_to_original "$f" || fail "$f has no distance_to_original"
+done
+
+files=("$out/wrapped.remesh.glb" "$out/service.wrapped.remesh.glb")
 for ((i = 0; i < ${#checks[@]}; i += 5)); do files+=("${checks[@]:i+1:4}"); done
 node "$here/validate.mjs" "${files[@]}" || fail "the validator found errors"
 node "$here/check_look.mjs" "${checks[@]}" || fail "an output lost the input's look"
