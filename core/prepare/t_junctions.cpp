@@ -92,6 +92,12 @@ std::vector<EdgeSplit> find_t_junctions(const PolygonMesh& faces,
     grid.push_back({cell_key(cell_of(p, 0), cell_of(p, 1), cell_of(p, 2)), v});
   }
   std::sort(grid.begin(), grid.end());
+  std::unordered_map<uint64_t, std::pair<uint32_t, uint32_t>> cells;  // key -> grid range
+  cells.reserve(grid.size());
+  for (uint32_t k = 0; k < grid.size(); ++k) {
+    auto [it, added] = cells.emplace(grid[k].first, std::pair{k, k + 1});
+    if (!added) it->second.second = k + 1;
+  }
 
   // Per boundary edge, the boundary vertices on it, by their place along it.
   std::vector<EdgeSplit> splits;
@@ -101,31 +107,52 @@ std::vector<EdgeSplit> find_t_junctions(const PolygonMesh& faces,
     const Vec3 a = positions[e.a], ab = positions[e.b] - a;
     const double length = norm(ab);
     if (!(length > 2 * tolerance)) continue;
-    const size_t samples = static_cast<size_t>(std::ceil(length / cell)) + 1;
-    visits += 27 * samples;
-    if (stop) stop->tick(27 * samples);
-    if (visits > kMaxZipCellVisits) return {};
     found.clear();
-    for (size_t s = 0; s < samples; ++s) {
-      const Vec3 p = a + ab * (static_cast<double>(s) / static_cast<double>(samples - 1));
-      const int64_t x = cell_of(p, 0), y = cell_of(p, 1), z = cell_of(p, 2);
-      for (int64_t dx = -1; dx <= 1; ++dx)
-        for (int64_t dy = -1; dy <= 1; ++dy)
-          for (int64_t dz = -1; dz <= 1; ++dz) {
-            const uint64_t key = cell_key(x + dx, y + dy, z + dz);
-            auto it = std::lower_bound(grid.begin(), grid.end(), std::make_pair(key, 0u));
-            for (; it != grid.end() && it->first == key; ++it) {
-              const uint32_t t = it->second;
-              if (t == e.a || t == e.b) continue;
-              const Vec3 at = positions[t] - a;
-              const double along = dot(at, ab) / (length * length);
-              if (!(along > 0 && along < 1)) continue;
-              if (norm(at - ab * along) > tolerance) continue;
-              if (norm(at) <= tolerance || norm(positions[t] - positions[e.b]) <= tolerance)
-                continue;
-              found.push_back({along, t});
-            }
-          }
+    auto visit = [&](int64_t x, int64_t y, int64_t z) {
+      const auto range = cells.find(cell_key(x, y, z));
+      if (range == cells.end()) return;
+      for (uint32_t k = range->second.first; k < range->second.second; ++k) {
+        const uint32_t t = grid[k].second;
+        if (t == e.a || t == e.b) continue;
+        const Vec3 at = positions[t] - a;
+        const double along = dot(at, ab) / (length * length);
+        if (!(along > 0 && along < 1)) continue;
+        if (norm(at - ab * along) > tolerance) continue;
+        if (norm(at) <= tolerance || norm(positions[t] - positions[e.b]) <= tolerance) continue;
+        found.push_back({along, t});
+      }
+    };
+    // The cells of the edge's box (widened by the tolerance) when few (a short edge), else
+    // the 27 around each of samples a cell apart along it (a long slanted edge).
+    const Vec3 b = positions[e.b];
+    int64_t from[3], to[3];
+    size_t box = 1;
+    for (int axis = 0; axis < 3; ++axis) {
+      from[axis] = cell_of(Vec3{std::min(a.x, b.x), std::min(a.y, b.y), std::min(a.z, b.z)} -
+                               Vec3{tolerance, tolerance, tolerance},
+                           axis);
+      to[axis] = cell_of(Vec3{std::max(a.x, b.x), std::max(a.y, b.y), std::max(a.z, b.z)} +
+                             Vec3{tolerance, tolerance, tolerance},
+                         axis);
+      box *= static_cast<size_t>(std::min<int64_t>(to[axis] - from[axis] + 1, 1 << 20));
+    }
+    const size_t samples = static_cast<size_t>(std::ceil(length / cell)) + 1;
+    const size_t cost = std::min(box, 27 * samples);
+    visits += cost;
+    if (stop) stop->tick(cost);
+    if (visits > kMaxZipCellVisits) return {};
+    if (box <= 27 * samples) {
+      for (int64_t x = from[0]; x <= to[0]; ++x)
+        for (int64_t y = from[1]; y <= to[1]; ++y)
+          for (int64_t z = from[2]; z <= to[2]; ++z) visit(x, y, z);
+    } else {
+      for (size_t s = 0; s < samples; ++s) {
+        const Vec3 p = a + ab * (static_cast<double>(s) / static_cast<double>(samples - 1));
+        const int64_t x = cell_of(p, 0), y = cell_of(p, 1), z = cell_of(p, 2);
+        for (int64_t dx = -1; dx <= 1; ++dx)
+          for (int64_t dy = -1; dy <= 1; ++dy)
+            for (int64_t dz = -1; dz <= 1; ++dz) visit(x + dx, y + dy, z + dz);
+      }
     }
     if (found.empty()) continue;
     std::sort(found.begin(), found.end());
