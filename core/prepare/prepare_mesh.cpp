@@ -417,7 +417,9 @@ double closing_weld_tolerance(const PolygonMesh& input, PrepareOptions options) 
 // the largest part fails then, not before those steps.
 void try_largest_component(PreparedMesh& prepared, const PolygonMesh& input,
                            PrepareOptions options) {
-  if (options.largest_component) return;
+  // Two parts or more that map: the refusal offers prepare=parts instead (input_failures).
+  const size_t parts_that_map = prepared.parts.size() - prepared.parts_left_out();
+  if (options.largest_component || parts_that_map >= 2) return;
   const std::vector<ValidationFailure> failures = remaining_failures(prepared);
   if (std::none_of(failures.begin(), failures.end(),
                    [](const ValidationFailure& f) { return f.fix.option == "largest_component"; }))
