@@ -9,7 +9,7 @@ namespace {
 
 // '2': the requests carry the input's warnings (a worker of the other format refuses them).
 // '3': and the handles closed in preparation.
-constexpr char kMagic[4] = {'S', 'M', 'W', '4'};
+constexpr char kMagic[4] = {'S', 'M', 'W', '5'};
 
 static_assert(std::is_trivially_copyable_v<MapOptions>, "MapOptions travels as bytes");
 static_assert(std::is_trivially_copyable_v<Vec3>, "positions travel as bytes");
@@ -222,7 +222,8 @@ std::string encode_request(const JobSpec& spec, double time_limit_seconds, int t
        {preparation.input_faces, preparation.collapsed_faces, preparation.shortened_faces,
         preparation.duplicate_faces, preparation.flipped_faces, preparation.reoriented_parts,
         preparation.holes_filled, preparation.faces_added, preparation.holes_left,
-        preparation.handles_closed, preparation.handles_left, preparation.vertices_split})
+        preparation.handles_closed, preparation.handles_left, preparation.vertices_split,
+        preparation.t_junctions_zipped})
     w.put<uint64_t>(count);
   w.put<double>(preparation.largest_fill);
   w.put<double>(preparation.largest_handle_cycle);
@@ -291,7 +292,8 @@ WorkerRequest decode_request(const std::string& bytes) {
        {&preparation.input_faces, &preparation.collapsed_faces, &preparation.shortened_faces,
         &preparation.duplicate_faces, &preparation.flipped_faces, &preparation.reoriented_parts,
         &preparation.holes_filled, &preparation.faces_added, &preparation.holes_left,
-        &preparation.handles_closed, &preparation.handles_left, &preparation.vertices_split})
+        &preparation.handles_closed, &preparation.handles_left, &preparation.vertices_split,
+        &preparation.t_junctions_zipped})
     *count = r.get<uint64_t>();
   preparation.largest_fill = r.get<double>();
   preparation.largest_handle_cycle = r.get<double>();

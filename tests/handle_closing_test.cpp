@@ -131,6 +131,46 @@ TEST(HandleClosing, TheCutsAreSimpleCyclesOfCopiedVerticesAndTheFillsCloseThem) 
   EXPECT_EQ(topology.genus(), 0);
 }
 
+// A plate's through-hole is closed by two fills at the same place (Reach I noted "two
+// coincident fills"): one per side of the cut, with opposite normals. Both are needed: with
+// one, the other side's loop stays open; one fill across the uncut rim instead gives each
+// rim edge a third face.
+TEST(HandleClosing, AThroughHoleGetsTwoCoincidentCapsAndNeedsBoth) {
+  const PolygonMesh plate = weld(plate_with_holes(3, 3, {{1, 1}}), 0).mesh;
+  PolygonMesh mesh = plate;
+  const size_t faces = mesh.face_count();
+  const HandleClosing closed = close_handles(mesh, 1.0);
+  ASSERT_EQ(closed.handles_closed, 1u);
+  ASSERT_EQ(closed.faces_added, 4u);  // the 1 x 1 rim: 2 triangles per side
+  auto vector_area = [&](size_t first, size_t count) {
+    Vec3 sum{0, 0, 0};
+    for (size_t f = first; f < first + count; ++f) {
+      const auto c = mesh.face(f);
+      sum += 0.5 * cross(mesh.positions[c[1]] - mesh.positions[c[0]],
+                         mesh.positions[c[2]] - mesh.positions[c[0]]);
+    }
+    return sum;
+  };
+  const Vec3 one = vector_area(faces, 2), other = vector_area(faces + 2, 2);
+  EXPECT_NEAR(norm(one), 1.0, 1e-12);
+  EXPECT_NEAR(norm(other), 1.0, 1e-12);
+  EXPECT_NEAR(norm(one + other), 0.0, 1e-12);  // the same square, facing away
+  EXPECT_EQ(analyze_topology(mesh).genus(), 0);
+
+  PolygonMesh one_cap;
+  one_cap.positions = mesh.positions;
+  for (size_t f = 0; f < faces + 2; ++f) one_cap.add_face(mesh.face(f));
+  EXPECT_EQ(analyze_topology(one_cap).boundary_edges, 4u);
+  PolygonMesh uncut = plate;
+  for (size_t f = faces; f < faces + 2; ++f) {
+    std::vector<uint32_t> corners;
+    for (uint32_t v : mesh.face(f))
+      corners.push_back(v < plate.vertex_count() ? v : closed.copy_of[v - plate.vertex_count()]);
+    uncut.add_face(corners);
+  }
+  EXPECT_EQ(analyze_topology(uncut).non_manifold_edges, 4u);
+}
+
 TEST(HandleClosing, TheBoundsStopItAndTheMessageSaysWhichWithTheNumbers) {
   // A ring whose shortest non-separating cycle is 0.713 of its diagonal.
   PolygonMesh ring = testing::torus(12, 24);

@@ -235,3 +235,52 @@ TEST(PrepareInput, OffersAWeldToleranceOnlyWhereItClosesTheSurface) {
 
 }  // namespace
 }  // namespace spheremap
+
+namespace spheremap {
+namespace {
+
+// largest_component is offered only when it was tried with the same options and maps: the
+// largest part here has a small hole that repair fills (so the hint must come from after
+// the fill, not from the input as welded), the other part is a lone triangle no step
+// closes.
+TEST(PrepareInput, OffersTheLargestComponentAsItIsAfterFills) {
+  PolygonMesh sheet;
+  sheet.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+  sheet.add_face(std::vector<uint32_t>{0, 1, 2});
+  const PolygonMesh asset = testing::assembled(
+      {{testing::without_face(testing::icosphere(2), 0), Vec3{0, 0, 0}}, {sheet, Vec3{5, 0, 0}}});
+  auto components_of = [](const std::vector<ValidationFailure>& failures) {
+    const auto it = std::find_if(failures.begin(), failures.end(),
+                                 [](const auto& f) { return f.check == "components"; });
+    EXPECT_NE(it, failures.end());
+    return it == failures.end() ? ValidationFailure("", "") : *it;
+  };
+  PrepareOptions repair;
+  repair.method = PrepareMethod::kRepair;
+  PolygonMesh input = asset;
+  const ValidationFailure offered =
+      components_of(input_failures(prepare_input(input, nullptr, repair)));
+  EXPECT_EQ(offered.fix.option, "largest_component") << offered.message;
+  // The fix works as offered.
+  repair.largest_component = true;
+  PolygonMesh again = asset;
+  const PreparedMesh fixed = prepare_input(again, nullptr, repair);
+  EXPECT_TRUE(input_failures(fixed).empty());
+  EXPECT_EQ(fixed.preparation.holes_filled, 1u);
+
+  // Under exact nothing fills the hole: not offered, and the message says why.
+  PrepareOptions exact;
+  exact.method = PrepareMethod::kExact;
+  input = asset;
+  const ValidationFailure refused =
+      components_of(input_failures(prepare_input(input, nullptr, exact)));
+  EXPECT_TRUE(refused.fix.empty()) << refused.fix.option;
+  EXPECT_NE(
+      refused.message.find("the largest alone (319 faces) cannot be mapped either: mesh has 1 "
+                           "boundary loop"),
+      std::string::npos)
+      << refused.message;
+}
+
+}  // namespace
+}  // namespace spheremap

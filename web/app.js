@@ -537,6 +537,7 @@ async function finished(job, ticket) {
       [prepared.duplicate_faces_dropped, 'duplicate faces dropped'],
       [prepared.collapsed_faces_dropped, 'collapsed faces dropped'],
       [prepared.faces_shortened, 'polygons shortened'],
+      [prepared.t_junctions_zipped, 'T-junctions zipped'],
       [prepared.faces_flipped, 'faces flipped'],
       [prepared.non_manifold_vertices_split, 'non-manifold vertices split'],
       [prepared.holes_filled, 'holes filled'],

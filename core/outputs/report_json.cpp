@@ -45,6 +45,7 @@ nlohmann::json preparation_json(const PreparationReport& p) {
                         {"collapsed_faces_dropped", p.collapsed_faces},
                         {"faces_shortened", p.shortened_faces},
                         {"duplicate_faces_dropped", p.duplicate_faces},
+                        {"t_junctions_zipped", p.t_junctions_zipped},
                         {"faces_flipped", p.flipped_faces},
                         {"parts_reoriented", p.reoriented_parts},
                         {"non_manifold_vertices_split", p.vertices_split},

@@ -4,6 +4,7 @@
 #include <numeric>
 
 #include "core/mesh/weld.h"
+#include "core/prepare/t_junctions.h"
 
 namespace spheremap {
 namespace {
@@ -101,7 +102,46 @@ WorkingFaces without(const WorkingFaces& faces, const std::vector<char>& drop) {
   return out;
 }
 
-// Step 3: per part (faces joined across edges that exactly two faces share), the faces to
+// Step 3: T-junction cracks zipped (t_junctions.h): each face with a boundary edge that
+// vertices of the other side lie on is replaced, in its place, by the fan of its corners
+// with those vertices inserted (an inserted corner takes an input vertex that welds there).
+WorkingFaces zip_t_junctions(const WorkingFaces& faces, const std::vector<Vec3>& positions,
+                             const std::vector<uint32_t>& to_welded, FaceCleanup& report,
+                             StopCheck* stop) {
+  const std::vector<EdgeSplit> splits = find_t_junctions(faces.welded_ids, positions, stop);
+  if (splits.empty()) return faces;
+  std::vector<uint32_t> input_of_welded(positions.size(), kUnreferenced);
+  for (uint32_t v = static_cast<uint32_t>(to_welded.size()); v-- > 0;)
+    if (to_welded[v] != kUnreferenced) input_of_welded[to_welded[v]] = v;
+  WorkingFaces out;
+  out.input_ids.positions = faces.input_ids.positions;
+  std::vector<Triangle> welded, input;
+  size_t next = 0;
+  for (uint32_t f = 0; f < faces.source.size(); ++f) {
+    size_t run = next;
+    while (run < splits.size() && splits[run].face == f) ++run;
+    welded.clear(), input.clear();
+    const std::span<const EdgeSplit> of_face(splits.data() + next, run - next);
+    if (run > next && split_face(faces.welded_ids.face(f), faces.input_ids.face(f), of_face,
+                                 input_of_welded, welded, input)) {
+      for (const EdgeSplit& s : of_face) report.t_junctions_zipped += s.inserted.size();
+      ++report.faces_split;
+      for (size_t t = 0; t < welded.size(); ++t) {
+        out.welded_ids.add_face(welded[t]);
+        out.input_ids.add_face(input[t]);
+        out.source.push_back(faces.source[f]);
+      }
+    } else {
+      out.welded_ids.add_face(faces.welded_ids.face(f));
+      out.input_ids.add_face(faces.input_ids.face(f));
+      out.source.push_back(faces.source[f]);
+    }
+    next = run;
+  }
+  return out;
+}
+
+// Step 4: per part (faces joined across edges that exactly two faces share), the faces to
 // reverse so that every such edge is walked once each way. Parts already consistent, and
 // parts that cannot be oriented, get none.
 std::vector<char> faces_to_flip(const PolygonMesh& welded, const std::vector<Vec3>& positions,
@@ -220,6 +260,7 @@ FaceCleanup clean_faces(const PolygonMesh& input, double weld_tolerance, StopChe
   if (stop) stop->check();
   report.duplicate_faces = static_cast<size_t>(std::count(duplicate.begin(), duplicate.end(), 1));
   if (report.duplicate_faces) faces = without(faces, duplicate);
+  faces = zip_t_junctions(faces, welded.mesh.positions, welded.input_to_welded, report, stop);
   const std::vector<char> flip = faces_to_flip(faces.welded_ids, welded.mesh.positions, report);
   report.mesh.positions = input.positions;
   std::vector<uint32_t> corners;

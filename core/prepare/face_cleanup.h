@@ -1,5 +1,6 @@
 // Cleaning that moves no vertex ("clean only what is safe"): faces the weld collapsed,
-// exact duplicate faces (double-sided copies), and faces whose orientation disagrees with
+// exact duplicate faces (double-sided copies), T-junction cracks (faces split at the other
+// side's vertices, t_junctions.h), and faces whose orientation disagrees with
 // their neighbours'. It decides on the welded mesh (glTF splits vertices at seams, so only
 // welded ids tell which faces touch) and edits the input's own faces, so every later
 // stage (the weld again, the outputs, the glTF look's face ranges) sees one consistent
@@ -25,10 +26,14 @@ struct FaceCleanup {
   size_t collapsed_faces = 0;         // dropped: fewer than 3 distinct corners once welded
   size_t shortened_faces = 0;         // polygons that lost corners welded onto their neighbour
   size_t duplicate_faces = 0;         // dropped: the same welded corners as an earlier face
+  size_t t_junctions_zipped = 0;      // vertices inserted into boundary edges (t_junctions.h)
+  size_t faces_split = 0;             // faces replaced by a fan to take them in
   size_t flipped_faces = 0;           // reversed to agree with the rest of their part
   size_t reoriented_parts = 0;        // parts whose orientation was made consistent
   bool changed() const {
-    return collapsed_faces + shortened_faces + duplicate_faces + flipped_faces > 0;
+    return collapsed_faces + shortened_faces + duplicate_faces + t_junctions_zipped +
+               flipped_faces >
+           0;
   }
 };
 

@@ -268,6 +268,7 @@ PreparedMesh prepare_once(PolygonMesh& input, GltfAppearance* look, const Prepar
   report.duplicate_faces = cleanup.duplicate_faces;
   report.flipped_faces = cleanup.flipped_faces;
   report.reoriented_parts = cleanup.reoriented_parts;
+  report.t_junctions_zipped = cleanup.t_junctions_zipped;
   split_pinched_vertices(prepared, input, look, options);
   fill_small_holes(prepared, options);
   close_short_handles(prepared, input, look, options);
@@ -434,6 +435,25 @@ double closing_weld_tolerance(const PolygonMesh& input, PrepareOptions options) 
   return 0;
 }
 
+// When the failures offer largest_component, it is tried on the input as prepared (the
+// same method: cleaned, split, filled and closed as it would be) so the hint says what
+// the largest part fails then, not before those steps.
+void try_largest_component(PreparedMesh& prepared, const PolygonMesh& input,
+                           PrepareOptions options) {
+  // Two parts or more that map: the refusal offers prepare=parts instead (input_failures).
+  const size_t parts_that_map = prepared.parts.size() - prepared.parts_left_out();
+  if (options.largest_component || parts_that_map >= 2) return;
+  const std::vector<ValidationFailure> failures = remaining_failures(prepared);
+  if (std::none_of(failures.begin(), failures.end(),
+                   [](const ValidationFailure& f) { return f.fix.option == "largest_component"; }))
+    return;
+  options.largest_component = true;
+  PolygonMesh copy = input;
+  const PreparedMesh largest = prepare_parts(copy, nullptr, options);
+  prepared.largest_component_failures = remaining_failures(largest);
+  prepared.largest_component_faces = largest.welded.mesh.face_count();
+}
+
 // What kAuto did, for preparation.decided.
 std::string decided(const PreparedMesh& prepared) {
   if (std::any_of(prepared.parts.begin(), prepared.parts.end(),
@@ -442,7 +462,7 @@ std::string decided(const PreparedMesh& prepared) {
   if (!prepared.parts.empty()) return "parts";
   const PreparationReport& r = prepared.preparation;
   const bool changed = r.collapsed_faces || r.shortened_faces || r.duplicate_faces ||
-                       r.flipped_faces || r.faces_added;
+                       r.t_junctions_zipped || r.flipped_faces || r.faces_added;
   return changed ? "repair" : "exact";
 }
 
@@ -492,6 +512,7 @@ PreparedMesh prepare_input(PolygonMesh& input, GltfAppearance* look,
   }
   if (options.method == PrepareMethod::kWrap) return wrap_whole(input, look, options);
   PreparedMesh prepared = prepare_parts(input, look, options);
+  try_largest_component(prepared, input, options);
   bool has_boundary = prepared.topology.boundary_edges > 0;
   for (const PartReport& part : prepared.parts)
     for (const ValidationFailure& f : part.failures) has_boundary |= f.check == "boundary";

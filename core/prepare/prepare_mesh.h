@@ -67,7 +67,8 @@ struct PreparationReport {
   size_t input_faces = 0;
   size_t collapsed_faces = 0, shortened_faces = 0, duplicate_faces = 0, flipped_faces = 0;
   size_t reoriented_parts = 0;
-  size_t vertices_split = 0;  // non-manifold vertices made one vertex per fan
+  size_t t_junctions_zipped = 0;  // T-junction vertices inserted into cracks' edges
+  size_t vertices_split = 0;      // non-manifold vertices made one vertex per fan
   size_t holes_filled = 0, holes_left = 0;
   size_t faces_added = 0;   // by hole fills and handle closings together
   double largest_fill = 0;  // the largest fill's area over the surface area
@@ -116,7 +117,9 @@ struct PreparedMesh {
   TopologyReport topology;
   PreparationReport preparation;
   // With several components (and largest_component off): what the largest alone fails,
-  // empty when it maps; so `largest_component` is offered only where it works.
+  // empty when it maps; so `largest_component` is offered only where it works. Under
+  // prepare_input, when a failure offers it, it is tried with the same options (the largest
+  // part cleaned, split, filled and closed), and these say what that gave.
   std::vector<ValidationFailure> largest_component_failures;
   size_t largest_component_faces = 0;
   // For a mesh with boundaries at weld_tolerance 0: the smallest tolerance tried (1e-6,
