@@ -404,7 +404,9 @@ TEST(Envelope, TheSurfaceIsFittedWithinAVoxelOfTheOriginal) {
     expect_sphere_like(c, name);
     const EnvelopeReport& r = c.envelope.report;
     // A cut only takes material away (the open cylinder's ring is cut); a fill adds some.
-    ASSERT_TRUE(r.rule == "cut" || r.voxels_changed == 0) << name;
+    // The mixed rule keeps only fills smaller than the cuts they touch (the open cylinder at
+    // 128: 4 small fills beside 38 cut groups, 1,266 voxels, and still within a voxel).
+    ASSERT_TRUE(r.rule != "fill" || r.voxels_changed == 0) << name;
     const double voxel = r.voxel_size / r.diagonal;
     EXPECT_LT(r.envelope_to_original, 1.0 * voxel) << name;
   }
