@@ -163,6 +163,20 @@ struct Growth {
   }
 };
 
+// Calls visit(j) for each 26-neighbour j of voxel v inside the grid.
+template <typename Visit>
+void for_each_neighbour(const VoxelGrid& g, size_t v, Visit visit) {
+  const int x = int(v % size_t(g.nx)), y = int(v / size_t(g.nx) % size_t(g.ny)),
+            z = int(v / (size_t(g.nx) * size_t(g.ny)));
+  for (int dz = -1; dz <= 1; ++dz)
+    for (int dy = -1; dy <= 1; ++dy)
+      for (int dx = -1; dx <= 1; ++dx) {
+        const int a = x + dx, b = y + dy, c = z + dz;
+        if (a < 0 || b < 0 || c < 0 || a >= g.nx || b >= g.ny || c >= g.nz) continue;
+        visit(g.index(a, b, c));
+      }
+}
+
 // Counts the changed voxels and their 26-connected groups.
 void count_changes(const VoxelGrid& g, const std::vector<uint8_t>& solid, BallGrowth& out,
                    StopCheck& stop) {
@@ -177,35 +191,14 @@ void count_changes(const VoxelGrid& g, const std::vector<uint8_t>& solid, BallGr
       const size_t v = stack.back();
       stack.pop_back();
       ++group;
-      const int x = int(v % size_t(g.nx)), y = int(v / size_t(g.nx) % size_t(g.ny)),
-                z = int(v / (size_t(g.nx) * size_t(g.ny)));
-      for (int dz = -1; dz <= 1; ++dz)
-        for (int dy = -1; dy <= 1; ++dy)
-          for (int dx = -1; dx <= 1; ++dx) {
-            const int a = x + dx, b = y + dy, c = z + dz;
-            if (a < 0 || b < 0 || c < 0 || a >= g.nx || b >= g.ny || c >= g.nz) continue;
-            const size_t j = g.index(a, b, c);
-            if (!seen[j] && solid[j] != out.ball[j]) seen[j] = 1, stack.push_back(uint32_t(j));
-          }
+      for_each_neighbour(g, v, [&](size_t j) {
+        if (!seen[j] && solid[j] != out.ball[j]) seen[j] = 1, stack.push_back(uint32_t(j));
+      });
     }
     out.voxels_changed += group;
     ++out.changes;
     out.largest_change = std::max(out.largest_change, group);
   }
-}
-
-// Calls visit(j) for each 26-neighbour j of voxel v inside the grid.
-template <typename Visit>
-void for_each_neighbour(const VoxelGrid& g, size_t v, Visit visit) {
-  const int x = int(v % size_t(g.nx)), y = int(v / size_t(g.nx) % size_t(g.ny)),
-            z = int(v / (size_t(g.nx) * size_t(g.ny)));
-  for (int dz = -1; dz <= 1; ++dz)
-    for (int dy = -1; dy <= 1; ++dy)
-      for (int dx = -1; dx <= 1; ++dx) {
-        const int a = x + dx, b = y + dy, c = z + dz;
-        if (a < 0 || b < 0 || c < 0 || a >= g.nx || b >= g.ny || c >= g.nz) continue;
-        visit(g.index(a, b, c));
-      }
 }
 
 // The 26-connected groups of the voxels where solid and ball differ: per such voxel its
