@@ -56,11 +56,21 @@ TriangleTree::TriangleTree(std::span<const Vec3> positions, std::span<const Tria
 TriangleTree::Closest TriangleTree::closest(const Vec3& p) const {
   Closest best;
   if (nodes_.empty()) return best;
-  std::vector<uint32_t> stack = {0};
-  while (!stack.empty()) {
-    const Node& node = nodes_[stack.back()];
-    stack.pop_back();
-    if (node.box.squared_distance(p) >= best.squared_distance) continue;
+  // A stack on the stack: this runs millions of times (distances, fits, remesh), and a
+  // heap vector per query cost as much as the search on small trees. The median split
+  // keeps the depth at most log2(triangles) + 1, and a search holds at most depth + 1
+  // entries; each entry keeps its box's distance, computed once.
+  struct Entry {
+    uint32_t node;
+    double box_distance;
+  };
+  Entry stack[kMaxDepth + 2];
+  int size = 0;
+  stack[size++] = {0, nodes_[0].box.squared_distance(p)};
+  while (size > 0) {
+    const Entry entry = stack[--size];
+    if (entry.box_distance >= best.squared_distance) continue;
+    const Node& node = nodes_[entry.node];
     if (node.count) {
       for (uint32_t k = node.first; k < node.first + node.count; ++k) {
         const Triangle& t = triangles_[order_[k]];
@@ -72,9 +82,10 @@ TriangleTree::Closest TriangleTree::closest(const Vec3& p) const {
     }
     // Nearer child last, so it is searched first.
     const uint32_t l = node.first, r = node.first + 1;
-    const bool left_nearer = nodes_[l].box.squared_distance(p) < nodes_[r].box.squared_distance(p);
-    stack.push_back(left_nearer ? r : l);
-    stack.push_back(left_nearer ? l : r);
+    const double dl = nodes_[l].box.squared_distance(p), dr = nodes_[r].box.squared_distance(p);
+    const bool left_nearer = dl < dr;
+    stack[size++] = left_nearer ? Entry{r, dr} : Entry{l, dl};
+    stack[size++] = left_nearer ? Entry{l, dl} : Entry{r, dr};
   }
   return best;
 }

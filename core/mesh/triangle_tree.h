@@ -44,6 +44,8 @@ class TriangleTree {
     uint32_t count = 0;  // leaf: triangles; 0 for an inner node
   };
   void build(uint32_t index, size_t begin, size_t end);
+  // Deeper than any median-split tree of up to 2^62 triangles (leaves of 1-4).
+  static constexpr int kMaxDepth = 64;
 
   std::span<const Vec3> positions_;
   std::span<const Triangle> triangles_;
