@@ -241,7 +241,9 @@ BallGrowth grow_ball_mixed(const VoxelGrid& grid, const std::vector<uint8_t>& so
   // Per fill group, the voxels of the cut groups it touches (each counted once).
   std::vector<size_t> touched_cut(fills.sizes.size(), 0);
   std::vector<std::vector<uint32_t>> touched(fills.sizes.size());
-  for (const auto& [voxel, group] : fills.group_of) {
+  for (const auto& entry : fills.group_of) {
+    // Plain copies: clang 14 (the fuzzers' compiler) cannot capture structured bindings.
+    const uint32_t voxel = entry.first, group = entry.second;
     stop.tick();
     for_each_neighbour(grid, voxel, [&](size_t j) {
       const auto found = cuts.group_of.find(uint32_t(j));
