@@ -169,23 +169,27 @@ BuiltRemesh build_remesh(const MappedMesh& mapped, int resolution, int threads,
   glb.triangles = remesh.triangles;
   glb.extras = {{"spheremap_remesh", without_timings(asset.metrics)}};
   glb.texcoords = std::move(texcoords);
+  // Twice the grid's resolution (a texel per half quad), within 256..2048.
+  const int size = std::clamp(2 * resolution, 256, 2048);
+  // A baked texture on the remesh, its figures in the metrics and the GLB's extras.
+  const auto attach = [&](BakedBaseColor& baked, const char* material) {
+    glb.base_color_png = std::move(baked.png);
+    glb.material_name = material;
+    asset.metrics["texture"] = {{"size", baked.size},
+                                {"images_decoded", baked.images_decoded},
+                                {"unlocated_texels", baked.unlocated_texels}};
+    glb.extras["spheremap_remesh"]["texture"] = asset.metrics["texture"];
+  };
   if (original) {
     const auto original_start = std::chrono::steady_clock::now();
     asset.metrics["distance_to_original"] =
         distance_to_original(*original, remesh.positions, remesh.triangles, threads, should_stop);
     asset.metrics["seconds"]["distance_to_original"] = seconds_since(original_start);
     glb.extras["spheremap_remesh"]["distance_to_original"] = asset.metrics["distance_to_original"];
-    // Twice the grid's resolution (a texel per half quad), within 256..2048, as below.
-    const int size = std::clamp(2 * resolution, 256, 2048);
     const auto bake_start = std::chrono::steady_clock::now();
     if (auto baked = bake_base_color_closest(*original, mapped, oriented.triangles, size, threads,
                                              should_stop, images)) {
-      glb.base_color_png = std::move(baked->png);
-      glb.material_name = "base colour of the original";
-      asset.metrics["texture"] = {{"size", baked->size},
-                                  {"images_decoded", baked->images_decoded},
-                                  {"unlocated_texels", baked->unlocated_texels}};
-      glb.extras["spheremap_remesh"]["texture"] = asset.metrics["texture"];
+      attach(*baked, "base colour of the original");
       asset.metrics["original_look"] =
           baked->factors_only ? "material factors baked by closest point on the original (it has "
                                 "no base-colour image and no vertex colour)"
@@ -196,16 +200,9 @@ BuiltRemesh build_remesh(const MappedMesh& mapped, int resolution, int threads,
     }
     glb.extras["spheremap_remesh"]["original_look"] = asset.metrics["original_look"];
   } else if (input && appearance) {
-    // Twice the grid's resolution (a texel per half quad), within 256..2048.
-    const int size = std::clamp(2 * resolution, 256, 2048);
     if (auto baked = bake_base_color(*input, *appearance, mapped, oriented.triangles, size, threads,
                                      should_stop, images)) {
-      glb.base_color_png = std::move(baked->png);
-      glb.material_name = "base colour of the input";
-      asset.metrics["texture"] = {{"size", baked->size},
-                                  {"images_decoded", baked->images_decoded},
-                                  {"unlocated_texels", baked->unlocated_texels}};
-      glb.extras["spheremap_remesh"]["texture"] = asset.metrics["texture"];
+      attach(*baked, "base colour of the input");
     }
   }
   asset.metrics["seconds"]["total"] = seconds_since(start);
