@@ -6,38 +6,50 @@
 # PLY files written here (a tetrahedron in every encoding) for mesh_binary_fuzzer.
 # Crashes land in
 # build-fuzz/crashes/; turn each into a regression test.
-# Usage: tests/fuzz/run.sh [SECONDS] [TARGET] [CORPUS_DIR]
+# Several targets (comma-separated) are built in one go and run side by side, as many at
+# a time as there are cores (a libFuzzer process uses one), each for SECONDS; their
+# output is printed target by target, and the run fails if any of them found a crash.
+# Usage: tests/fuzz/run.sh [SECONDS] [TARGET[,TARGET...]] [CORPUS_DIR]
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 source scripts/compiler-cache.sh
 seconds=${1:-60}
-target=${2:-gltf_fuzzer}
+IFS=, read -r -a targets <<< "${2:-gltf_fuzzer}"
 corpus=${3:-../shared/meshes}
 # A clone without the shared corpus seeds from the meshes it ships (examples/).
 [ -d "$corpus" ] || corpus=examples
+# Line tables only (-g1): enough for the crash reports' stacks, and a faster build.
 CC=clang CXX=clang++ cmake -S . -B build-fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-  -DSPHEREMAP_FUZZ=ON -DSPHEREMAP_BUILD_TESTS=OFF > /dev/null
-cmake --build build-fuzz --target "$target" > /dev/null
-seeds=build-fuzz/seeds/$target
-mkdir -p "$seeds" build-fuzz/crashes
-pattern='*.glb'
-[ "$target" = mesh_text_fuzzer ] && pattern='*.obj'
-if [ "$target" = request_fuzzer ]; then  # submissions as the tests send them
-  # find | head under pipefail fails when find does (a missing folder): read it all.
-  glb=$(find "$corpus" -maxdepth 1 -name '*.glb' -size -40k 2> /dev/null | sort | sed -n 1p || true)
-  { printf '\000draco=true&layout=welded\n'; [ -n "$glb" ] && cat "$glb"; } > "$seeds/glb"
-  { printf '\002outputs=remesh\n'; [ -n "$glb" ] && cat "$glb";
-    printf '\n--\n{"quality": "fast", "largest_component": true}'; } > "$seeds/multipart"
-  printf '\002mesh=0\n{"asset":{"version":"2.0"},"buffers":[{"uri":"a%%20b.bin","byteLength":4}]}\n--\na b.bin\nABCD' > "$seeds/gltf_parts"
-  printf '\001\n{"asset":{"version":"2.0"},"extensionsRequired":["EXT_meshopt_compression"],"buffers":[{"byteLength":8,"extensions":{"EXT_meshopt_compression":{"fallback":true}}}]}' > "$seeds/meshopt"
-elif [ "$target" = connection_fuzzer ]; then  # requests as clients send them
-  printf 'GET /v1/jobs/0123456789abcdef0123456789abcdef HTTP/1.1\r\nHost: x\r\n\r\nGET /healthz HTTP/1.1\r\nHost: x\r\nConnection: close\r\n\r\n' > "$seeds/pipelined"
-  printf 'POST /v1/jobs HTTP/1.1\r\nHost: x\r\nContent-Type: model/gltf-binary\r\nContent-Length: 8\r\n\r\nglTFglTF' > "$seeds/post"
-  printf 'POST /v1/jobs HTTP/1.1\r\nHost: x\r\nContent-Type: multipart/form-data; boundary=b\r\nContent-Length: 98\r\n\r\n--b\r\nContent-Disposition: form-data; name="mesh"; filename="m.glb"\r\n\r\nglTF\r\n--b--\r\n' > "$seeds/multipart"
-  printf 'POST /v1/jobs HTTP/1.1\r\nHost: x\r\nTransfer-Encoding: chunked\r\n\r\n4\r\nglTF\r\n0\r\n\r\n' > "$seeds/chunked"
-  printf 'GET /v1/openapi.yaml HTTP/1.1\r\nHost: x\r\nRange: bytes=0-1,2-3\r\nX-a: b\r\nX-b: c\r\n\r\n' > "$seeds/headers"
-elif [ "$target" = mesh_binary_fuzzer ]; then  # a tetrahedron as STL and PLY, every encoding
-  python3 - "$seeds" <<'PY'
+  -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 -g1 -DNDEBUG" -DSPHEREMAP_FUZZ=ON -DSPHEREMAP_BUILD_TESTS=OFF > /dev/null
+build_args=()
+for target in "${targets[@]}"; do build_args+=(--target "$target"); done
+cmake --build build-fuzz "${build_args[@]}" > /dev/null
+mkdir -p build-fuzz/crashes build-fuzz/logs
+
+# make_seeds TARGET: writes the seed corpus of TARGET into build-fuzz/seeds/TARGET.
+make_seeds() {
+  local target=$1
+  local seeds=build-fuzz/seeds/$target
+  mkdir -p "$seeds"
+  local pattern='*.glb'
+  [ "$target" = mesh_text_fuzzer ] && pattern='*.obj'
+  if [ "$target" = request_fuzzer ]; then  # submissions as the tests send them
+    # find | head under pipefail fails when find does (a missing folder): read it all.
+    local glb
+    glb=$(find "$corpus" -maxdepth 1 -name '*.glb' -size -40k 2> /dev/null | sort | sed -n 1p || true)
+    { printf '\000draco=true&layout=welded\n'; [ -n "$glb" ] && cat "$glb"; } > "$seeds/glb"
+    { printf '\002outputs=remesh\n'; [ -n "$glb" ] && cat "$glb";
+      printf '\n--\n{"quality": "fast", "largest_component": true}'; } > "$seeds/multipart"
+    printf '\002mesh=0\n{"asset":{"version":"2.0"},"buffers":[{"uri":"a%%20b.bin","byteLength":4}]}\n--\na b.bin\nABCD' > "$seeds/gltf_parts"
+    printf '\001\n{"asset":{"version":"2.0"},"extensionsRequired":["EXT_meshopt_compression"],"buffers":[{"byteLength":8,"extensions":{"EXT_meshopt_compression":{"fallback":true}}}]}' > "$seeds/meshopt"
+  elif [ "$target" = connection_fuzzer ]; then  # requests as clients send them
+    printf 'GET /v1/jobs/0123456789abcdef0123456789abcdef HTTP/1.1\r\nHost: x\r\n\r\nGET /healthz HTTP/1.1\r\nHost: x\r\nConnection: close\r\n\r\n' > "$seeds/pipelined"
+    printf 'POST /v1/jobs HTTP/1.1\r\nHost: x\r\nContent-Type: model/gltf-binary\r\nContent-Length: 8\r\n\r\nglTFglTF' > "$seeds/post"
+    printf 'POST /v1/jobs HTTP/1.1\r\nHost: x\r\nContent-Type: multipart/form-data; boundary=b\r\nContent-Length: 98\r\n\r\n--b\r\nContent-Disposition: form-data; name="mesh"; filename="m.glb"\r\n\r\nglTF\r\n--b--\r\n' > "$seeds/multipart"
+    printf 'POST /v1/jobs HTTP/1.1\r\nHost: x\r\nTransfer-Encoding: chunked\r\n\r\n4\r\nglTF\r\n0\r\n\r\n' > "$seeds/chunked"
+    printf 'GET /v1/openapi.yaml HTTP/1.1\r\nHost: x\r\nRange: bytes=0-1,2-3\r\nX-a: b\r\nX-b: c\r\n\r\n' > "$seeds/headers"
+  elif [ "$target" = mesh_binary_fuzzer ]; then  # a tetrahedron as STL and PLY, every encoding
+    python3 - "$seeds" <<'PY'
 import struct, sys
 d = sys.argv[1]
 v = [(1, 1, 1), (1, -1, -1), (-1, 1, -1), (-1, -1, 1)]
@@ -63,21 +75,40 @@ for enc, fmt in (("ascii", None), ("binary_little_endian", "<"), ("binary_big_en
         body += b"".join(struct.pack(fmt + "B3i", 3, *t) for t in f)
         open(f"{d}/{enc}.ply", "wb").write(head + body)
 PY
-elif [ "$target" = options_fuzzer ]; then  # the options the tests and the README use
-  printf '%s' '{"draco": true, "draco_position_bits": 16, "layout": "welded"}' > "$seeds/a.json"
-  printf '%s' '{"method": "paper", "max_iterations": 200, "time_limit_seconds": 0.5}' > "$seeds/b.json"
-  printf '%s' '{"outputs": ["remesh", "uv", "morph"], "resolution": 64, "mesh": "cow"}' > "$seeds/c.json"
-  printf '%s' 'outputs=remesh,uv&resolution=32&draco=true&attempts=3&alpha=0.5' > "$seeds/d.txt"
-else
-  find "$corpus" -name "$pattern" -size -200k -exec cp {} "$seeds/" \; 2> /dev/null || true
-fi
-if [ "$target" = gltf_fuzzer ]; then  # the shapes of the hostile-file tests, as files
-  small=$(ls "$seeds"/*.glb 2> /dev/null | sed -n 1p || true)
-  if [ -n "$small" ]; then
-    for cut in 12 20 100 1000; do head -c $cut "$small" > "$seeds/truncated_$cut.glb"; done
-    { printf 'glTF'; head -c 200 /dev/urandom; } > "$seeds/garbage.glb"
+  elif [ "$target" = options_fuzzer ]; then  # the options the tests and the README use
+    printf '%s' '{"draco": true, "draco_position_bits": 16, "layout": "welded"}' > "$seeds/a.json"
+    printf '%s' '{"method": "paper", "max_iterations": 200, "time_limit_seconds": 0.5}' > "$seeds/b.json"
+    printf '%s' '{"outputs": ["remesh", "uv", "morph"], "resolution": 64, "mesh": "cow"}' > "$seeds/c.json"
+    printf '%s' 'outputs=remesh,uv&resolution=32&draco=true&attempts=3&alpha=0.5' > "$seeds/d.txt"
+  else
+    find "$corpus" -name "$pattern" -size -200k -exec cp {} "$seeds/" \; 2> /dev/null || true
   fi
-  printf '%s' '{"asset":{"version":"2.0"},"buffers":[{"uri":"file:///etc/passwd","byteLength":10}],"bufferViews":[{"buffer":0,"byteLength":10}],"accessors":[{"bufferView":0,"componentType":5126,"count":1000000000,"type":"VEC3"}],"meshes":[{"primitives":[{"attributes":{"POSITION":0}}]}]}' > "$seeds/external_uri.gltf"
-fi
-"build-fuzz/tests/fuzz/$target" -max_total_time="$seconds" -max_len=4000000 -rss_limit_mb=2048 \
-  -artifact_prefix=build-fuzz/crashes/ -print_final_stats=1 "$seeds"
+  if [ "$target" = gltf_fuzzer ]; then  # the shapes of the hostile-file tests, as files
+    local small
+    small=$(ls "$seeds"/*.glb 2> /dev/null | sed -n 1p || true)
+    if [ -n "$small" ]; then
+      for cut in 12 20 100 1000; do head -c $cut "$small" > "$seeds/truncated_$cut.glb"; done
+      { printf 'glTF'; head -c 200 /dev/urandom; } > "$seeds/garbage.glb"
+    fi
+    printf '%s' '{"asset":{"version":"2.0"},"buffers":[{"uri":"file:///etc/passwd","byteLength":10}],"bufferViews":[{"buffer":0,"byteLength":10}],"accessors":[{"bufferView":0,"componentType":5126,"count":1000000000,"type":"VEC3"}],"meshes":[{"primitives":[{"attributes":{"POSITION":0}}]}]}' > "$seeds/external_uri.gltf"
+  fi
+}
+
+for target in "${targets[@]}"; do make_seeds "$target"; done
+# Run at most nproc fuzzers at a time; each one's output goes to its log.
+pids=() names=() status=0
+for target in "${targets[@]}"; do
+  while [ "$(jobs -rp | wc -l)" -ge "$(nproc)" ]; do wait -n || true; done
+  "build-fuzz/tests/fuzz/$target" -max_total_time="$seconds" -max_len=4000000 -rss_limit_mb=2048 \
+    -artifact_prefix=build-fuzz/crashes/ -print_final_stats=1 "build-fuzz/seeds/$target" \
+    > "build-fuzz/logs/$target.log" 2>&1 &
+  pids+=($!) names+=("$target")
+done
+for i in "${!pids[@]}"; do
+  result=0
+  wait "${pids[$i]}" || result=$?
+  echo "== ${names[$i]} (exit $result)"
+  tail -25 "build-fuzz/logs/${names[$i]}.log"
+  [ $result -eq 0 ] || status=1
+done
+exit $status
