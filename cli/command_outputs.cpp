@@ -132,7 +132,7 @@ int run_output(int argc, char** argv, Output kind) {
     if (!asset.metrics["closed_genus0"].get<bool>())
       std::fprintf(stderr, "spheremap: warning: the remesh is not a closed genus-0 surface\n");
   } else if (kind == Output::kUv) {
-    const UvAsset asset = uv_asset(mapped);
+    const UvAsset asset = uv_asset(mapped, &run.input, &run.look);
     glb = asset.glb;
     metrics["uv"] = asset.metrics;
   } else {

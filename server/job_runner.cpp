@@ -98,7 +98,7 @@ Certification make_artifacts(Job& job, const JobSpec& spec, const MappedMesh& ma
     });
   if (wanted("uv"))
     add_asset(job, "uv", metrics, asset_error, time, [&] {
-      UvAsset uv = uv_asset(mapped);
+      UvAsset uv = uv_asset(mapped, &spec.input, &spec.look);
       metrics["uv"] = std::move(uv.metrics);
       add_artifact(job, "uv.glb", "model/gltf-binary", std::move(uv.glb));
     });

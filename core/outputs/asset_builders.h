@@ -46,8 +46,10 @@ BuiltRemesh build_remesh(const MappedMesh& mapped, int resolution, int threads,
                          const OriginalSurface* original = nullptr,
                          DecodedImages* images = nullptr);
 
-// The UV mesh of one part, without its texture.
-BuiltAsset build_uv(const MappedMesh& mapped);
+// The UV mesh of one part, without its texture. With `original` (the part is an envelope
+// standing for it): COLOR_0, the original's base colour at each vertex's closest point.
+BuiltAsset build_uv(const MappedMesh& mapped, const OriginalSurface* original = nullptr,
+                    DecodedImages* images = nullptr);
 
 struct BuiltMorph : BuiltAsset {
   std::vector<Vec3> normals;  // of the welded surface
@@ -65,15 +67,22 @@ struct PartIndex {
   explicit PartIndex(const MappedMesh& mapped);
 };
 
+// Per mapped part, its report (map_parts pairs the mappable reports with the parts in
+// order), or null for all when they do not pair up.
+std::vector<const PartReport*> part_reports(const MappedMesh& mapped);
+
 // The same assets for an asset of several parts (mapped.parts), one node per part.
 RemeshAsset parts_remesh_asset(const MappedMesh& mapped, int resolution, int threads,
                                const PolygonMesh* input, const GltfAppearance* appearance,
                                const std::function<bool()>* should_stop = nullptr);
-UvAsset parts_uv_asset(const MappedMesh& mapped);
+UvAsset parts_uv_asset(const MappedMesh& mapped, const PolygonMesh* input = nullptr,
+                       const GltfAppearance* appearance = nullptr);
 MorphAsset parts_morph_asset(const MappedMesh& mapped, double seconds);
-// Each part's unit sphere in a node placed at the part (the input's look is not kept).
+// Each part's unit sphere in a node placed at the part (the input's look is not kept; a
+// wrapped part carries the colour of its faces of `input`, whose look is `appearance`, as
+// COLOR_0).
 SphereAsset parts_sphere_asset(const PolygonMesh& input, const MappedMesh& mapped,
                                const MapOptions& options, SphereLayout layout,
-                               int draco_position_bits);
+                               int draco_position_bits, const GltfAppearance* appearance = nullptr);
 
 }  // namespace spheremap

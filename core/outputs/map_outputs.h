@@ -36,8 +36,11 @@ struct UvAsset {
   nlohmann::json metrics;  // seams, flipped and degenerate UV triangles, stretch
 };
 
-// Precondition: mapped.map.check.bijective.
-UvAsset uv_asset(const MappedMesh& mapped);
+// Precondition: mapped.map.check.bijective. An envelope (prepare wrap, or a part auto
+// wrapped: its faces of `input`, whose look is `appearance`) carries the original's base
+// colour per vertex as COLOR_0, from the closest point of the original.
+UvAsset uv_asset(const MappedMesh& mapped, const PolygonMesh* input = nullptr,
+                 const GltfAppearance* appearance = nullptr);
 
 struct MorphAsset {
   std::string glb;

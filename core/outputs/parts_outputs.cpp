@@ -53,8 +53,8 @@ double faces_diagonal(const PolygonMesh& mesh) {
   return mesh.indices.empty() ? 0.0 : norm(box.hi - box.lo);
 }
 
-// Per mapped part, its report (map_parts pairs the mappable reports with the parts in
-// order), or null for all when they do not pair up.
+}  // namespace
+
 std::vector<const PartReport*> part_reports(const MappedMesh& mapped) {
   std::vector<const PartReport*> out;
   for (const PartReport& report : mapped.prepared.parts)
@@ -62,8 +62,6 @@ std::vector<const PartReport*> part_reports(const MappedMesh& mapped) {
   if (out.size() != mapped.parts.size()) out.assign(mapped.parts.size(), nullptr);
   return out;
 }
-
-}  // namespace
 
 PartIndex::PartIndex(const MappedMesh& mapped)
     : part(mapped.prepared.welded.mesh.vertex_count(), kUnreferenced),
@@ -217,7 +215,8 @@ RemeshAsset parts_remesh_asset(const MappedMesh& mapped, int resolution, int thr
   return asset;
 }
 
-UvAsset parts_uv_asset(const MappedMesh& mapped) {
+UvAsset parts_uv_asset(const MappedMesh& mapped, const PolygonMesh* input,
+                       const GltfAppearance* appearance) {
   const auto start = std::chrono::steady_clock::now();
   // One texture for all: part k's square is cell k of a grid of cells x cells, so no two
   // parts share a texel.
@@ -234,8 +233,14 @@ UvAsset parts_uv_asset(const MappedMesh& mapped) {
                           {"degenerate_triangles", 0}};
   double area = 0, l2_squared = 0, linf = 0;
   const std::string checker = checker_png();
+  const std::vector<const PartReport*> reports = part_reports(mapped);
+  DecodedImages decoded;  // each base-colour image decoded once for all parts
   for (size_t k = 0; k < count; ++k) {
-    BuiltAsset built = build_uv(mapped.parts[k].mapped);
+    // A wrapped part carries the colour of the input's faces it stands for.
+    std::optional<OriginalSurface> original;
+    if (input && reports[k] && reports[k]->wrapped)
+      original = original_surface(*input, appearance, &reports[k]->original_faces);
+    BuiltAsset built = build_uv(mapped.parts[k].mapped, original ? &*original : nullptr, &decoded);
     const double column = static_cast<double>(k % cells), line = static_cast<double>(k / cells);
     for (auto& t : built.glb.texcoords) {
       t[0] = static_cast<float>((column + t[0]) / cells);
