@@ -91,7 +91,7 @@ Certification make_artifacts(Job& job, const JobSpec& spec, const MappedMesh& ma
   if (wanted("remesh"))
     add_asset(job, "remesh", metrics, asset_error, time, [&] {
       RemeshAsset remesh = remesh_asset(mapped, spec.remesh_resolution, threads, &spec.input,
-                                        &spec.look, &time.should_stop);
+                                        &spec.look, &time.should_stop, spec.normal_map);
       metrics["remesh"] = std::move(remesh.metrics);
       add_artifact(job, "remesh.glb", "model/gltf-binary", std::move(remesh.glb));
       add_artifact(job, "geometry_image.png", "image/png", std::move(remesh.geometry_image_png));

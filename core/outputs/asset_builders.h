@@ -40,11 +40,12 @@ struct BuiltRemesh : BuiltAsset {
 // envelope standing for it): its distance to the original too, and the original's base
 // colour baked by closest point instead of through `input` and `appearance`. `images`
 // (may be null): decoded base-colour images shared with the other parts' bakes.
+// `normal_map`: with `original`, also its shading as a tangent-space normal map.
 BuiltRemesh build_remesh(const MappedMesh& mapped, int resolution, int threads,
                          const PolygonMesh* input, const GltfAppearance* appearance,
                          const std::function<bool()>* should_stop = nullptr,
-                         const OriginalSurface* original = nullptr,
-                         DecodedImages* images = nullptr);
+                         const OriginalSurface* original = nullptr, DecodedImages* images = nullptr,
+                         bool normal_map = true);
 
 // The UV mesh of one part, without its texture. With `original` (the part is an envelope
 // standing for it): COLOR_0, the original's base colour at each vertex's closest point.
@@ -74,7 +75,8 @@ std::vector<const PartReport*> part_reports(const MappedMesh& mapped);
 // The same assets for an asset of several parts (mapped.parts), one node per part.
 RemeshAsset parts_remesh_asset(const MappedMesh& mapped, int resolution, int threads,
                                const PolygonMesh* input, const GltfAppearance* appearance,
-                               const std::function<bool()>* should_stop = nullptr);
+                               const std::function<bool()>* should_stop = nullptr,
+                               bool normal_map = true);
 UvAsset parts_uv_asset(const MappedMesh& mapped, const PolygonMesh* input = nullptr,
                        const GltfAppearance* appearance = nullptr);
 MorphAsset parts_morph_asset(const MappedMesh& mapped, double seconds);

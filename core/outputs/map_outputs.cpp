@@ -107,7 +107,7 @@ SceneGeometry scene_morph(const PolygonMesh& input, const GltfAppearance& look,
 BuiltRemesh build_remesh(const MappedMesh& mapped, int resolution, int threads,
                          const PolygonMesh* input, const GltfAppearance* appearance,
                          const std::function<bool()>* should_stop, const OriginalSurface* original,
-                         DecodedImages* images) {
+                         DecodedImages* images, bool normal_map) {
   const StopCheck stop(should_stop);
   stop.check();
   const auto start = std::chrono::steady_clock::now();
@@ -201,9 +201,14 @@ BuiltRemesh build_remesh(const MappedMesh& mapped, int resolution, int threads,
     }
     glb.extras["spheremap_remesh"]["original_look"] = asset.metrics["original_look"];
     const auto normals_start = std::chrono::steady_clock::now();
-    std::vector<std::array<float, 4>> tangents = remesh_tangents(remesh, glb.normals);
-    if (auto baked = bake_normals_closest(*original, mapped, oriented.triangles, remesh,
-                                          glb.normals, tangents, size, threads, should_stop)) {
+    std::vector<std::array<float, 4>> tangents;
+    std::optional<BakedNormals> baked;
+    if (normal_map) {
+      tangents = remesh_tangents(remesh, glb.normals);
+      baked = bake_normals_closest(*original, mapped, oriented.triangles, remesh, glb.normals,
+                                   tangents, size, threads, should_stop);
+    }
+    if (baked) {
       glb.normal_png = std::move(baked->png);
       glb.tangents = std::move(tangents);
       if (glb.base_color_png.empty()) glb.material_name = "shading of the original";
@@ -228,12 +233,13 @@ BuiltRemesh build_remesh(const MappedMesh& mapped, int resolution, int threads,
 
 RemeshAsset remesh_asset(const MappedMesh& mapped, int resolution, int threads,
                          const PolygonMesh* input, const GltfAppearance* appearance,
-                         const std::function<bool()>* should_stop) {
+                         const std::function<bool()>* should_stop, bool normal_map) {
   if (!mapped.parts.empty())
-    return parts_remesh_asset(mapped, resolution, threads, input, appearance, should_stop);
+    return parts_remesh_asset(mapped, resolution, threads, input, appearance, should_stop,
+                              normal_map);
   const std::optional<OriginalSurface> original = wrapped_original(mapped);
   BuiltRemesh built = build_remesh(mapped, resolution, threads, input, appearance, should_stop,
-                                   original ? &*original : nullptr);
+                                   original ? &*original : nullptr, nullptr, normal_map);
   RemeshAsset asset;
   asset.geometry_image_png = encode_png(built.image.side, built.image.side, 16, built.image.rgb);
   asset.metrics = std::move(built.metrics);

@@ -75,7 +75,7 @@ PartIndex::PartIndex(const MappedMesh& mapped)
 
 RemeshAsset parts_remesh_asset(const MappedMesh& mapped, int resolution, int threads,
                                const PolygonMesh* input, const GltfAppearance* appearance,
-                               const std::function<bool()>* should_stop) {
+                               const std::function<bool()>* should_stop, bool normal_map) {
   const auto start = std::chrono::steady_clock::now();
   double largest_area = 0;
   for (const MappedPart& part : mapped.parts)
@@ -99,6 +99,7 @@ RemeshAsset parts_remesh_asset(const MappedMesh& mapped, int resolution, int thr
   double hausdorff = 0, squared = 0, relative_rms_weight = 0;
   double original_hausdorff = 0, original_squared = 0;  // to the original: wrapped or not
   double bake_seconds = 0, original_seconds = 0;        // of the wrapped parts, summed
+  double normal_map_seconds = 0;
   double absolute_hausdorff = 0, absolute_squared = 0;  // the same in model units
   for (size_t k = 0; k < mapped.parts.size(); ++k) {
     const MappedPart& part = mapped.parts[k];
@@ -109,7 +110,7 @@ RemeshAsset parts_remesh_asset(const MappedMesh& mapped, int resolution, int thr
       const OriginalSurface original =
           original_surface(*input, appearance, &reports[k]->original_faces);
       built = build_remesh(part.mapped, grid, threads, nullptr, nullptr, should_stop, &original,
-                           &decoded);
+                           &decoded, normal_map);
       ++wrapped_parts;
     } else if (bake) {
       MappedMesh with_input = part.mapped;
@@ -135,6 +136,7 @@ RemeshAsset parts_remesh_asset(const MappedMesh& mapped, int resolution, int thr
     squared += rms * rms * m["samples"].get<double>();
     relative_rms_weight += m["samples"].get<double>();
     bake_seconds += m["seconds"].value("bake", 0.0);
+    normal_map_seconds += m["seconds"].value("normal_map", 0.0);
     original_seconds += m["seconds"].value("distance_to_original", 0.0);
     const nlohmann::json& to_original =
         m.contains("distance_to_original") ? m["distance_to_original"] : m["distance"];
@@ -210,6 +212,7 @@ RemeshAsset parts_remesh_asset(const MappedMesh& mapped, int resolution, int thr
   asset.metrics["seconds"] = {{"total", seconds_since(start)}};
   if (wrapped_parts > 0) {
     asset.metrics["seconds"]["bake"] = bake_seconds;
+    asset.metrics["seconds"]["normal_map"] = normal_map_seconds;
     asset.metrics["seconds"]["distance_to_original"] = original_seconds;
   }
   return asset;
