@@ -341,6 +341,7 @@ TEST(WrappedLook, TheWrappedSphereAndUvMeshCarryTheOriginalsColourPerVertex) {
   EXPECT_GT(on_uv.checked - on_uv.red, 100u);
   EXPECT_EQ(on_uv.matched, on_uv.checked);
   EXPECT_TRUE(uv_asset(mapped).metrics.contains("vertex_colors"));
+  EXPECT_TRUE(morph_asset(mapped, 4).metrics.contains("vertex_colors"));
 
   // The sphere as written (the envelope's own vertices, in the input's layout), read back.
   const SphereAsset sphere = sphere_asset(input, mapped, {}, SphereLayout::kOriginal, 0, &look);

@@ -158,6 +158,40 @@ TEST(WrappedNormals, TheOriginalsNormalAttributeIsBakedWhenItHasOne) {
   EXPECT_LT(untilted.within, check.checked / 2);
 }
 
+TEST(WrappedNormals, TheNormalAttributeTurnsWithItsNodesTransform) {
+  // One triangle whose primitive's node scales z by 4 and turns 90 degrees about x: a
+  // NORMAL turns by the inverse transpose (scaled by 1/4 in z before the turn).
+  PolygonMesh mesh;
+  mesh.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+  const uint32_t corners[3] = {0, 1, 2};
+  mesh.add_face(corners);
+  GltfAppearance look;
+  GltfAppearance::Primitive primitive;
+  primitive.vertex_count = 3;
+  primitive.face_count = 1;
+  primitive.attributes = {"NORMAL"};
+  // Column-major: scale z by 4, then turn (x, y, z) -> (x, -z, y).
+  primitive.world = {1, 0, 0, 0, 0, 0, 1, 0, 0, -4, 0, 0, 0, 0, 0, 1};
+  look.primitives = {primitive};
+  const float s = static_cast<float>(1 / std::sqrt(2.0));
+  look.attributes = {{"NORMAL", 3, {0, s, s, 0, s, s, 0, s, s}}};
+  const OriginalSurface original = original_surface(mesh, &look);
+  const ShadingNormals normals(original);
+  EXPECT_TRUE(normals.from_attribute());
+  const Vec3 n = normals.at(0, {1.0 / 3, 1.0 / 3, 1.0 / 3});
+  // Local (0, 1, 1) -> scaled (0, 1, 1/4) -> turned (0, -1/4, 1), normalized.
+  const Vec3 want = Vec3{0, -0.25, 1} * (1 / std::sqrt(1 + 0.0625));
+  EXPECT_NEAR(n.x, want.x, 1e-6);
+  EXPECT_NEAR(n.y, want.y, 1e-6);
+  EXPECT_NEAR(n.z, want.z, 1e-6);
+  // Without the attribute: the face's own normal.
+  const OriginalSurface bare = original_surface(mesh, nullptr);
+  const ShadingNormals computed(bare);
+  EXPECT_FALSE(computed.from_attribute());
+  const Vec3 face = computed.at(0, {1.0 / 3, 1.0 / 3, 1.0 / 3});
+  EXPECT_NEAR(face.z, 1, 1e-12);
+}
+
 TEST(WrappedNormals, AMeshMappedAsItIsGetsNoNormalMap) {
   PolygonMesh input = testing::icosphere(3);
   GltfAppearance none;

@@ -79,7 +79,10 @@ RemeshAsset parts_remesh_asset(const MappedMesh& mapped, int resolution, int thr
                                bool normal_map = true);
 UvAsset parts_uv_asset(const MappedMesh& mapped, const PolygonMesh* input = nullptr,
                        const GltfAppearance* appearance = nullptr);
-MorphAsset parts_morph_asset(const MappedMesh& mapped, double seconds);
+// A wrapped part's morph carries the colour of its faces of `input` (look `appearance`).
+MorphAsset parts_morph_asset(const MappedMesh& mapped, double seconds,
+                             const PolygonMesh* input = nullptr,
+                             const GltfAppearance* appearance = nullptr);
 // Each part's unit sphere in a node placed at the part (the input's look is not kept; a
 // wrapped part carries the colour of its faces of `input`, whose look is `appearance`, as
 // COLOR_0).

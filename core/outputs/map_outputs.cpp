@@ -344,9 +344,14 @@ BuiltMorph build_morph(const MappedMesh& mapped, double seconds) {
 
 MorphAsset morph_asset(const MappedMesh& mapped, double seconds, const PolygonMesh* input,
                        const GltfAppearance* appearance) {
-  if (!mapped.parts.empty()) return parts_morph_asset(mapped, seconds);
+  if (!mapped.parts.empty()) return parts_morph_asset(mapped, seconds, input, appearance);
   const auto start = std::chrono::steady_clock::now();
   BuiltMorph built = build_morph(mapped, seconds);
+  if (const std::optional<OriginalSurface> original = wrapped_original(mapped))
+    if (auto colors = colors_closest(*original, built.glb.positions, 0, nullptr)) {
+      built.glb.colors = std::move(*colors);
+      built.metrics["vertex_colors"] = "COLOR_0: the original's base colour at the closest point";
+    }
   MorphAsset asset;
   asset.metrics = std::move(built.metrics);
   if (input && appearance && !appearance->empty()) {

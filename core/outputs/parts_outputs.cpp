@@ -278,13 +278,24 @@ UvAsset parts_uv_asset(const MappedMesh& mapped, const PolygonMesh* input,
   return asset;
 }
 
-MorphAsset parts_morph_asset(const MappedMesh& mapped, double seconds) {
+MorphAsset parts_morph_asset(const MappedMesh& mapped, double seconds, const PolygonMesh* input,
+                             const GltfAppearance* appearance) {
   const auto start = std::chrono::steady_clock::now();
+  const std::vector<const PartReport*> reports = part_reports(mapped);
+  DecodedImages decoded;  // each base-colour image decoded once for all parts
   std::vector<GlbMesh> meshes;
   nlohmann::json parts = nlohmann::json::array();
   size_t vertices = 0, triangles = 0;
   for (size_t k = 0; k < mapped.parts.size(); ++k) {
     BuiltMorph built = build_morph(mapped.parts[k].mapped, seconds);
+    if (input && reports[k] && reports[k]->wrapped) {
+      const OriginalSurface original =
+          original_surface(*input, appearance, &reports[k]->original_faces);
+      if (auto colors = colors_closest(original, built.glb.positions, 0, nullptr, &decoded)) {
+        built.glb.colors = std::move(*colors);
+        built.metrics["vertex_colors"] = "COLOR_0: the original's base colour at the closest point";
+      }
+    }
     vertices += built.metrics["vertices"].get<size_t>();
     triangles += built.metrics["triangles"].get<size_t>();
     built.metrics["part"] = k;

@@ -4,8 +4,8 @@
 # CesiumMan (corpus), written by the CLI and by the service (a .gltf download), each
 # checked by the Khronos validator (0 errors) and by check_look.mjs (materials, textures,
 # images and TEXCOORD_0 of the input kept; the remesh has a base colour texture). Of a
-# wrapped input: the remesh's normal map (with TANGENT), the sphere's (Draco too) and UV
-# mesh's COLOR_0.
+# wrapped input: the remesh's normal map (with TANGENT), the sphere's (Draco too), UV
+# mesh's and morph's COLOR_0.
 # Usage: textured_outputs.sh SPHEREMAP MAKE_TEST_MESHES CORPUS. Exit 77 without npm.
 set -uo pipefail
 spheremap=$1 make_meshes=$2 corpus=$3
@@ -92,13 +92,16 @@ done
   --wrap-resolution 64 --draco --quiet || fail "map --prepare wrap --draco"
 "$spheremap" uv "$out/textured_horseshoe.glb" -o "$out/wrapped.uv.glb" --prepare wrap \
   --wrap-resolution 64 --quiet || fail "uv --prepare wrap"
+"$spheremap" morph "$out/textured_horseshoe.glb" -o "$out/wrapped.morph.glb" --prepare wrap \
+  --wrap-resolution 64 --quiet || fail "morph --prepare wrap"
 for f in "$out/wrapped.sphere.cli.glb" "$out/wrapped.sphere.draco.glb" "$out/wrapped.uv.glb" \
-         "$out/wrapped.sphere.glb"; do
+         "$out/wrapped.morph.glb" "$out/wrapped.sphere.glb"; do
   grep -aq '"COLOR_0"' "$f" || fail "$f has no COLOR_0"
 done
 
 files=("$out/wrapped.remesh.glb" "$out/service.wrapped.remesh.glb" "$out/wrapped.sphere.cli.glb"
-       "$out/wrapped.sphere.draco.glb" "$out/wrapped.uv.glb" "$out/wrapped.sphere.glb")
+       "$out/wrapped.sphere.draco.glb" "$out/wrapped.uv.glb" "$out/wrapped.morph.glb"
+       "$out/wrapped.sphere.glb")
 for ((i = 0; i < ${#checks[@]}; i += 5)); do files+=("${checks[@]:i+1:4}"); done
 node "$here/validate.mjs" "${files[@]}" || fail "the validator found errors"
 node "$here/check_look.mjs" "${checks[@]}" || fail "an output lost the input's look"
