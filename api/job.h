@@ -35,6 +35,7 @@ struct JobSpec {
   int draco_position_bits = 0;                    // 0 = no Draco
   std::vector<std::string> outputs = {"sphere"};  // and "remesh", "uv", "morph"
   int remesh_resolution = 256;
+  bool normal_map = true;  // the remesh of an envelope: its normal map (normal_bake.h)
   size_t input_bytes = 0;
   std::string input_format;  // "glb", "gltf", "obj", "off", "stl", "ply"
   // What the reader read leniently (GltfReadStats::warnings): metrics.json "input_warnings".

@@ -167,6 +167,7 @@ JobOptions parse_job_options(const nlohmann::json& options) {
       {"largest_component",
        [&](const Json& v, const std::string& k) { out.prepare.largest_component = boolean(v, k); }},
       {"draco", [&](const Json& v, const std::string& k) { draco = boolean(v, k); }},
+      {"normal_map", [&](const Json& v, const std::string& k) { out.normal_map = boolean(v, k); }},
       {"draco_position_bits",
        [&](const Json& v, const std::string& k) {
          // Above 20 bits Draco's encoder allocates per quantization cell (measured: 30

@@ -26,6 +26,7 @@ struct JobOptions {
   int draco_position_bits = 0;
   std::vector<std::string> outputs = {"sphere"};
   int remesh_resolution = 256;
+  bool normal_map = true;  // the remesh of an envelope bakes the original's shading
 };
 
 // Throws Problem(400, "invalid_options").

@@ -259,6 +259,7 @@ std::unique_ptr<JobSpec> read_job_request(const httplib::Request& request,
   spec->draco_position_bits = options.draco_position_bits;
   spec->outputs = options.outputs;
   spec->remesh_resolution = options.remesh_resolution;
+  spec->normal_map = options.normal_map;
   spec->input_bytes = body.mesh.size();
   spec->input_format = format_name(body.format);
   spec->input_warnings = stats.warnings;

@@ -33,6 +33,9 @@ say so). TEXCOORD_0 holds the grid coordinates.
   --metrics FILE            the map's metrics with the remesh's: sizes, topology,
                             distance to the original (RMS, Hausdorff) relative to the
                             bounding-box diagonal
+  --no-normal-map           the remesh of an envelope (wrap) without the normal map of
+                            the original's shading (its bake costs about as long as the
+                            colour bake: one closest-point query per texel)
   --mesh INDEX|NAME, --quiet  as for map
 
 )";
@@ -75,6 +78,7 @@ int run_output(int argc, char** argv, Output kind) {
   values.insert({"output", "metrics", "mesh", "resolution", "geometry-image", "seconds"});
   std::set<std::string> flags = kMapFlags;
   flags.insert({"quiet", "help"});
+  if (kind == Output::kRemesh) flags.insert("no-normal-map");
   Arguments args(argc, argv, 2, values, flags);
   const char* usage =
       kind == Output::kRemesh ? kRemeshUsage : (kind == Output::kUv ? kUvUsage : kMorphUsage);
@@ -116,7 +120,7 @@ int run_output(int argc, char** argv, Output kind) {
     RemeshAsset asset;
     try {
       asset = remesh_asset(mapped, resolution, options.smoothing.threads, &run.input, &run.look,
-                           &out_of_time);
+                           &out_of_time, !args.flag("no-normal-map"));
     } catch (const InputError& e) {
       if (e.check() != "stopped") throw;
       std::fprintf(stderr,
@@ -132,7 +136,7 @@ int run_output(int argc, char** argv, Output kind) {
     if (!asset.metrics["closed_genus0"].get<bool>())
       std::fprintf(stderr, "spheremap: warning: the remesh is not a closed genus-0 surface\n");
   } else if (kind == Output::kUv) {
-    const UvAsset asset = uv_asset(mapped);
+    const UvAsset asset = uv_asset(mapped, &run.input, &run.look);
     glb = asset.glb;
     metrics["uv"] = asset.metrics;
   } else {

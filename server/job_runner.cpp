@@ -91,14 +91,14 @@ Certification make_artifacts(Job& job, const JobSpec& spec, const MappedMesh& ma
   if (wanted("remesh"))
     add_asset(job, "remesh", metrics, asset_error, time, [&] {
       RemeshAsset remesh = remesh_asset(mapped, spec.remesh_resolution, threads, &spec.input,
-                                        &spec.look, &time.should_stop);
+                                        &spec.look, &time.should_stop, spec.normal_map);
       metrics["remesh"] = std::move(remesh.metrics);
       add_artifact(job, "remesh.glb", "model/gltf-binary", std::move(remesh.glb));
       add_artifact(job, "geometry_image.png", "image/png", std::move(remesh.geometry_image_png));
     });
   if (wanted("uv"))
     add_asset(job, "uv", metrics, asset_error, time, [&] {
-      UvAsset uv = uv_asset(mapped);
+      UvAsset uv = uv_asset(mapped, &spec.input, &spec.look);
       metrics["uv"] = std::move(uv.metrics);
       add_artifact(job, "uv.glb", "model/gltf-binary", std::move(uv.glb));
     });

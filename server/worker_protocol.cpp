@@ -205,6 +205,7 @@ std::string encode_request(const JobSpec& spec, double time_limit_seconds, int t
   w.put<int32_t>(static_cast<int32_t>(spec.layout));
   w.put<int32_t>(spec.draco_position_bits);
   w.put<int32_t>(spec.remesh_resolution);
+  w.put<int32_t>(spec.normal_map ? 1 : 0);
   w.put<int32_t>(threads);
   w.put<double>(time_limit_seconds);
   w.put<uint64_t>(spec.outputs.size());
@@ -264,6 +265,7 @@ WorkerRequest decode_request(const std::string& bytes) {
   spec.layout = static_cast<SphereLayout>(r.get<int32_t>());
   spec.draco_position_bits = r.get<int32_t>();
   spec.remesh_resolution = r.get<int32_t>();
+  spec.normal_map = r.get<int32_t>() != 0;
   request.threads = r.get<int32_t>();
   request.time_limit_seconds = r.get<double>();
   const uint64_t outputs = r.get<uint64_t>();

@@ -30,7 +30,7 @@ declare -A value=(
   [queue]=memory:// [trusted-proxies]=127.0.0.1 [visibility-timeout-seconds]=10 [max-attempts]=2
   [redis-payload-timeout-seconds]=5 [redis-payload-timeout-seconds-per-mib]=0.25
   [tenant-result-memory-bytes]=1000000 [cors-origins]=https://a.example [health-port]=0 [geometry-image]=$tmp/gi.png)
-flags=" draco largest-component no-centroid no-optimize quiet "
+flags=" draco largest-component no-centroid no-normal-map no-optimize quiet "
 echo '{"workers": 1}' > "$tmp/config.json"
 echo 'team-a 0123456789abcdef0123' > "$tmp/keys"
 

@@ -14,6 +14,7 @@
 #include "core/mesh/triangle_tree.h"
 #include "core/outputs/asset_builders.h"
 #include "core/outputs/original_surface.h"
+#include "core/outputs/sphere_asset.h"
 #include "core/prepare/prepare_mesh.h"
 #include "tests/mesh_generators.h"
 
@@ -281,6 +282,117 @@ TEST(WrappedLook, VertexColoursAreBakedByClosestPoint) {
   EXPECT_GT(red, 100u);
   EXPECT_GT(checked - red, 100u);
   EXPECT_GE(matched, checked * 95 / 100);
+}
+
+// A torus red where x < 0 and blue elsewhere (COLOR_0, no material).
+GltfAppearance two_colours(const PolygonMesh& input) {
+  GltfAppearance look;
+  GltfAppearance::Primitive primitive;
+  primitive.vertex_count = static_cast<uint32_t>(input.vertex_count());
+  primitive.face_count = static_cast<uint32_t>(input.face_count());
+  primitive.attributes = {"COLOR_0"};
+  look.primitives = {primitive};
+  GltfAppearance::Attribute colours{"COLOR_0", 3, {}};
+  for (const Vec3& p : input.positions)
+    for (float c : p.x < 0 ? std::array<float, 3>{1, 0, 0} : std::array<float, 3>{0, 0, 1})
+      colours.values.push_back(c);
+  look.attributes = {colours};
+  return look;
+}
+
+struct VertexColourCheck {
+  size_t checked = 0, red = 0, matched = 0;
+};
+
+// Per vertex at `surface[v]` whose closest point of the original lies well away from x = 0:
+// colours[v] red for x < 0, blue otherwise.
+VertexColourCheck check_vertex_colours(std::span<const Vec3> surface,
+                                       std::span<const std::array<float, 3>> colours,
+                                       const TriangleTree& tree) {
+  VertexColourCheck out;
+  for (size_t v = 0; v < surface.size() && v < colours.size(); ++v) {
+    const double x = tree.closest(surface[v]).point.x;
+    if (std::abs(x) < 1.2) continue;  // faces with a corner at x = 0 blend the two
+    ++out.checked;
+    const bool want_red = x < 0;
+    out.red += want_red;
+    const auto& c = colours[v];
+    out.matched += want_red ? c[0] > 0.99f && c[2] < 0.01f : c[2] > 0.99f && c[0] < 0.01f;
+  }
+  return out;
+}
+
+TEST(WrappedLook, TheWrappedSphereAndUvMeshCarryTheOriginalsColourPerVertex) {
+  PolygonMesh input = testing::torus(32, 16);
+  const PolygonMesh original = input;
+  GltfAppearance look = two_colours(input);
+  const MappedMesh mapped =
+      map_prepared(prepare_input(input, &look, options(PrepareMethod::kWrap)), {});
+  const std::optional<OriginalSurface> surface = wrapped_original(mapped);
+  ASSERT_TRUE(surface);
+  const TriangleTree tree(original.positions, surface->triangles);
+
+  const BuiltAsset uv = build_uv(mapped, &*surface);
+  ASSERT_EQ(uv.glb.colors.size(), uv.glb.positions.size());
+  const VertexColourCheck on_uv = check_vertex_colours(uv.glb.positions, uv.glb.colors, tree);
+  std::printf("uv COLOR_0: checked %zu (red %zu), matched %zu\n", on_uv.checked, on_uv.red,
+              on_uv.matched);
+  EXPECT_GT(on_uv.red, 100u);
+  EXPECT_GT(on_uv.checked - on_uv.red, 100u);
+  EXPECT_EQ(on_uv.matched, on_uv.checked);
+  EXPECT_TRUE(uv_asset(mapped).metrics.contains("vertex_colors"));
+  EXPECT_TRUE(morph_asset(mapped, 4).metrics.contains("vertex_colors"));
+
+  // The sphere as written (the envelope's own vertices, in the input's layout), read back.
+  const SphereAsset sphere = sphere_asset(input, mapped, {}, SphereLayout::kOriginal, 0, &look);
+  EXPECT_TRUE(sphere.metrics.contains("vertex_colors"));
+  GltfAppearance written;
+  const PolygonMesh read =
+      read_gltf({reinterpret_cast<const uint8_t*>(sphere.glb.data()), sphere.glb.size()}, {},
+                nullptr, nullptr, &written);
+  const GltfAppearance::Attribute* colour = written.attribute("COLOR_0");
+  ASSERT_TRUE(colour);
+  ASSERT_EQ(read.vertex_count(), input.vertex_count());
+  std::vector<std::array<float, 3>> per_vertex;
+  for (size_t v = 0; v < read.vertex_count(); ++v)
+    per_vertex.push_back({colour->values[v * colour->components],
+                          colour->values[v * colour->components + 1],
+                          colour->values[v * colour->components + 2]});
+  const VertexColourCheck on_sphere = check_vertex_colours(input.positions, per_vertex, tree);
+  std::printf("sphere COLOR_0: checked %zu (red %zu), matched %zu\n", on_sphere.checked,
+              on_sphere.red, on_sphere.matched);
+  EXPECT_GT(on_sphere.red, 50u);
+  EXPECT_GT(on_sphere.checked - on_sphere.red, 50u);
+  EXPECT_EQ(on_sphere.matched, on_sphere.checked);
+}
+
+TEST(WrappedLook, AMeshMappedAsItIsHasNoVertexColours) {
+  Textured in = textured(testing::icosphere(3));
+  const MappedMesh mapped =
+      map_prepared(prepare_input(in.mesh, &in.look, options(PrepareMethod::kAuto)), {});
+  EXPECT_TRUE(build_uv(mapped).glb.colors.empty());
+  EXPECT_FALSE(uv_asset(mapped, &in.mesh, &in.look).metrics.contains("vertex_colors"));
+}
+
+TEST(WrappedLook, AnAutoWrappedPartsSphereAndUvMeshCarryItsColourPerVertex) {
+  // A sphere (maps as it is) and an open dome (wrapped): only the dome's meshes coloured.
+  const PolygonMesh sphere = testing::icosphere(2), dome = testing::dome(3);
+  Textured in = textured(testing::assembled({{sphere, {0, 0, 0}}, {dome, {3, 0, 0}}}));
+  const MappedMesh mapped =
+      map_prepared(prepare_input(in.mesh, &in.look, options(PrepareMethod::kAuto)), {});
+  ASSERT_EQ(mapped.parts.size(), 2u);
+  const SphereAsset spheres =
+      sphere_asset(in.mesh, mapped, {}, SphereLayout::kOriginal, 0, &in.look);
+  EXPECT_TRUE(spheres.metrics.contains("vertex_colors"));
+  GltfAppearance written;
+  read_gltf({reinterpret_cast<const uint8_t*>(spheres.glb.data()), spheres.glb.size()}, {}, nullptr,
+            nullptr, &written);
+  ASSERT_EQ(written.primitives.size(), 2u);
+  EXPECT_NE(written.primitives[0].has("COLOR_0"), written.primitives[1].has("COLOR_0"));
+  const UvAsset uv = uv_asset(mapped, &in.mesh, &in.look);
+  size_t coloured = 0;
+  for (const nlohmann::json& part : uv.metrics["parts"]) coloured += part.contains("vertex_colors");
+  EXPECT_EQ(coloured, 1u);
 }
 
 TEST(WrappedLook, PartsShareTheirDecodedImage) {

@@ -43,6 +43,11 @@ std::string encode_draco(const GlbMesh& mesh, nlohmann::json& attribute_ids) {
       add_draco_vec3(out, draco::GeometryAttribute::POSITION, mesh.positions);
   if (!mesh.normals.empty())
     attribute_ids["NORMAL"] = add_draco_vec3(out, draco::GeometryAttribute::NORMAL, mesh.normals);
+  if (!mesh.colors.empty()) {
+    std::vector<Vec3> colors;
+    for (const auto& c : mesh.colors) colors.push_back({c[0], c[1], c[2]});
+    attribute_ids["COLOR_0"] = add_draco_vec3(out, draco::GeometryAttribute::COLOR, colors);
+  }
   out.SetNumFaces(mesh.triangles.size());
   for (uint32_t f = 0; f < mesh.triangles.size(); ++f) {
     draco::Mesh::Face face;
@@ -68,31 +73,50 @@ namespace {
 struct MaterialTable {
   nlohmann::json images = nlohmann::json::array(), textures = nlohmann::json::array(),
                  materials = nlohmann::json::array();
-  std::vector<const std::string*> pngs;
+  std::vector<const GlbMesh*> owners;  // the mesh each material was made for
 
   size_t material_for(GlbBuilder& b, const GlbMesh& mesh) {
-    for (size_t m = 0; m < pngs.size(); ++m)
-      if (*pngs[m] == mesh.base_color_png && materials[m]["name"] == mesh.material_name) return m;
+    for (size_t m = 0; m < owners.size(); ++m)
+      if (owners[m]->base_color_png == mesh.base_color_png &&
+          owners[m]->normal_png == mesh.normal_png && materials[m]["name"] == mesh.material_name)
+        return m;
     const size_t index = materials.size();
-    pngs.push_back(&mesh.base_color_png);
-    images.push_back({{"bufferView", b.add_view(mesh.base_color_png)}, {"mimeType", "image/png"}});
-    textures.push_back({{"source", index}, {"sampler", 0}});
-    materials.push_back({{"name", mesh.material_name},
-                         {"pbrMetallicRoughness",
-                          {{"baseColorTexture", {{"index", index}}},
-                           {"metallicFactor", 0.0},
-                           {"roughnessFactor", 0.9}}}});
+    owners.push_back(&mesh);
+    // A texture (image and all) per PNG; the same PNG written twice is one texture.
+    auto texture = [&](const std::string& png) {
+      for (size_t i = 0; i < pngs.size(); ++i)
+        if (*pngs[i] == png) return i;
+      pngs.push_back(&png);
+      images.push_back({{"bufferView", b.add_view(png)}, {"mimeType", "image/png"}});
+      textures.push_back({{"source", images.size() - 1}, {"sampler", 0}});
+      return textures.size() - 1;
+    };
+    nlohmann::json pbr = {{"metallicFactor", 0.0}, {"roughnessFactor", 0.9}};
+    if (!mesh.base_color_png.empty())
+      pbr["baseColorTexture"] = {{"index", texture(mesh.base_color_png)}};
+    nlohmann::json material = {{"name", mesh.material_name}, {"pbrMetallicRoughness", pbr}};
+    if (!mesh.normal_png.empty()) material["normalTexture"] = {{"index", texture(mesh.normal_png)}};
+    materials.push_back(std::move(material));
     return index;
   }
+
+ private:
+  std::vector<const std::string*> pngs;  // per texture, its PNG
 };
 
 // One glTF mesh (a single primitive) of `mesh`, its data appended to `b`.
 nlohmann::json add_mesh(GlbBuilder& b, MaterialTable& table, const GlbMesh& mesh) {
   const bool draco = mesh.draco_position_bits > 0;
-  if (draco &&
-      (!mesh.texcoords.empty() || !mesh.morph_positions.empty() || !mesh.base_color_png.empty()))
-    throw std::invalid_argument("build_glb: Draco output carries positions and normals only");
+  if (draco && (!mesh.texcoords.empty() || !mesh.morph_positions.empty() ||
+                !mesh.base_color_png.empty() || !mesh.normal_png.empty()))
+    throw std::invalid_argument(
+        "build_glb: Draco output carries positions, normals and colours only");
   const size_t n = mesh.positions.size();
+  if (!mesh.normal_png.empty() && (mesh.tangents.size() != n || mesh.texcoords.size() != n))
+    throw std::invalid_argument(
+        "build_glb: a normal map needs a tangent and a texcoord per vertex");
+  if (!mesh.colors.empty() && mesh.colors.size() != n)
+    throw std::invalid_argument("build_glb: one colour per vertex");
   GlbBuilder::require_float32_positions(mesh.positions);
   // With Draco, accessors describe the decoded data and have no bufferView.
   auto vec3 = [&](const std::vector<Vec3>& values, bool bounds) {
@@ -102,8 +126,14 @@ nlohmann::json add_mesh(GlbBuilder& b, MaterialTable& table, const GlbMesh& mesh
   nlohmann::json attributes;
   attributes["POSITION"] = vec3(mesh.positions, true);
   if (!mesh.normals.empty()) attributes["NORMAL"] = vec3(mesh.normals, false);
+  if (!mesh.normal_png.empty())
+    attributes["TANGENT"] = b.add_floats({mesh.tangents.data()->data(), 4 * n}, 4);
   if (!mesh.texcoords.empty())
     attributes["TEXCOORD_0"] = b.add_floats({mesh.texcoords.data()->data(), 2 * n}, 2);
+  if (!mesh.colors.empty())
+    attributes["COLOR_0"] =
+        draco ? b.add_accessor({{"componentType", 5126}, {"count", n}, {"type", "VEC3"}})
+              : b.add_floats({mesh.colors.data()->data(), 3 * n}, 3);
   nlohmann::json targets = nlohmann::json::array();
   if (!mesh.morph_positions.empty()) {
     nlohmann::json target;
@@ -118,7 +148,8 @@ nlohmann::json add_mesh(GlbBuilder& b, MaterialTable& table, const GlbMesh& mesh
           : b.add_indices(mesh.triangles);
   nlohmann::json primitive = {{"attributes", attributes}, {"indices", indices}, {"mode", 4}};
   if (!targets.empty()) primitive["targets"] = targets;
-  if (!mesh.base_color_png.empty()) primitive["material"] = table.material_for(b, mesh);
+  if (!mesh.base_color_png.empty() || !mesh.normal_png.empty())
+    primitive["material"] = table.material_for(b, mesh);
   if (draco) {
     nlohmann::json ids;
     const std::string stream = encode_draco(mesh, ids);

@@ -1,7 +1,7 @@
 // Writing a triangle mesh as a self-contained GLB (glTF 2.0 binary): float32 POSITION
-// (with the min/max glTF requires), optional NORMAL and TEXCOORD_0, uint32 indices, one
-// node, `extras` on the mesh (our metrics); optionally a textured material, a morph
-// target and its animation.
+// (with the min/max glTF requires), optional NORMAL, TANGENT, TEXCOORD_0 and COLOR_0,
+// uint32 indices, one node, `extras` on the mesh (our metrics); optionally a textured
+// material (base colour, normal map), a morph target and its animation.
 #pragma once
 
 #include <array>
@@ -27,6 +27,12 @@ struct GlbMesh {
 
   std::vector<std::array<float, 2>> texcoords;  // TEXCOORD_0: empty, or one per position
   std::string base_color_png;                   // non-empty: a material with this texture
+  // Non-empty: the material's normalTexture (tangent space, linear RGB), with `tangents`
+  // (TANGENT: xyz unit, w = +-1) one per position.
+  std::string normal_png;
+  std::vector<std::array<float, 4>> tangents;
+  // COLOR_0 (linear RGB in [0, 1]): empty, or one per position. Draco encodes it too.
+  std::vector<std::array<float, 3>> colors;
   std::string material_name = "checker";
   // One morph target: a displacement per position (and per normal, when given), the mesh's
   // weight 0; with morph_seconds > 0, an animation plays the weight 0 -> 1 -> 0 over it.

@@ -40,14 +40,17 @@ struct BuiltRemesh : BuiltAsset {
 // envelope standing for it): its distance to the original too, and the original's base
 // colour baked by closest point instead of through `input` and `appearance`. `images`
 // (may be null): decoded base-colour images shared with the other parts' bakes.
+// `normal_map`: with `original`, also its shading as a tangent-space normal map.
 BuiltRemesh build_remesh(const MappedMesh& mapped, int resolution, int threads,
                          const PolygonMesh* input, const GltfAppearance* appearance,
                          const std::function<bool()>* should_stop = nullptr,
-                         const OriginalSurface* original = nullptr,
-                         DecodedImages* images = nullptr);
+                         const OriginalSurface* original = nullptr, DecodedImages* images = nullptr,
+                         bool normal_map = true);
 
-// The UV mesh of one part, without its texture.
-BuiltAsset build_uv(const MappedMesh& mapped);
+// The UV mesh of one part, without its texture. With `original` (the part is an envelope
+// standing for it): COLOR_0, the original's base colour at each vertex's closest point.
+BuiltAsset build_uv(const MappedMesh& mapped, const OriginalSurface* original = nullptr,
+                    DecodedImages* images = nullptr);
 
 struct BuiltMorph : BuiltAsset {
   std::vector<Vec3> normals;  // of the welded surface
@@ -65,15 +68,26 @@ struct PartIndex {
   explicit PartIndex(const MappedMesh& mapped);
 };
 
+// Per mapped part, its report (map_parts pairs the mappable reports with the parts in
+// order), or null for all when they do not pair up.
+std::vector<const PartReport*> part_reports(const MappedMesh& mapped);
+
 // The same assets for an asset of several parts (mapped.parts), one node per part.
 RemeshAsset parts_remesh_asset(const MappedMesh& mapped, int resolution, int threads,
                                const PolygonMesh* input, const GltfAppearance* appearance,
-                               const std::function<bool()>* should_stop = nullptr);
-UvAsset parts_uv_asset(const MappedMesh& mapped);
-MorphAsset parts_morph_asset(const MappedMesh& mapped, double seconds);
-// Each part's unit sphere in a node placed at the part (the input's look is not kept).
+                               const std::function<bool()>* should_stop = nullptr,
+                               bool normal_map = true);
+UvAsset parts_uv_asset(const MappedMesh& mapped, const PolygonMesh* input = nullptr,
+                       const GltfAppearance* appearance = nullptr);
+// A wrapped part's morph carries the colour of its faces of `input` (look `appearance`).
+MorphAsset parts_morph_asset(const MappedMesh& mapped, double seconds,
+                             const PolygonMesh* input = nullptr,
+                             const GltfAppearance* appearance = nullptr);
+// Each part's unit sphere in a node placed at the part (the input's look is not kept; a
+// wrapped part carries the colour of its faces of `input`, whose look is `appearance`, as
+// COLOR_0).
 SphereAsset parts_sphere_asset(const PolygonMesh& input, const MappedMesh& mapped,
                                const MapOptions& options, SphereLayout layout,
-                               int draco_position_bits);
+                               int draco_position_bits, const GltfAppearance* appearance = nullptr);
 
 }  // namespace spheremap

@@ -9,6 +9,7 @@
 #include "core/io/image_reader.h"
 #include "core/io/jpeg_scans.h"
 #include "core/io/png_writer.h"
+#include "core/mesh/barycentric.h"
 #include "core/mesh/input_error.h"
 #include "core/mesh/parallel.h"
 #include "core/mesh/parallel_stop.h"
@@ -266,19 +267,6 @@ void bake_texels(BakedBaseColor& baked, const SphereLocator& locator, int size, 
   baked.png = encode_png(size, size, 8, rgb);
 }
 
-// The weights of p's projection onto the plane of abc in its corners (p on abc: its
-// barycentric coordinates); a degenerate triangle answers its first corner.
-std::array<double, 3> barycentric(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
-  const Vec3 e0 = b - a, e1 = c - a, e2 = p - a;
-  const double d00 = dot(e0, e0), d01 = dot(e0, e1), d11 = dot(e1, e1);
-  const double d20 = dot(e2, e0), d21 = dot(e2, e1);
-  const double den = d00 * d11 - d01 * d01;
-  if (!(std::abs(den) > 1e-30 * (d00 * d11 + 1e-300))) return {1, 0, 0};
-  const double v = std::clamp((d11 * d20 - d01 * d21) / den, 0.0, 1.0);
-  const double w = std::clamp((d00 * d21 - d01 * d20) / den, 0.0, 1.0 - v);
-  return {1 - v - w, v, w};
-}
-
 }  // namespace
 
 std::optional<BakedBaseColor> bake_base_color(const PolygonMesh& input, const GltfAppearance& look,
@@ -355,6 +343,36 @@ std::optional<BakedBaseColor> bake_base_color_closest(
     return true;
   });
   return baked;
+}
+
+std::optional<std::vector<std::array<float, 3>>> colors_closest(
+    const OriginalSurface& original, std::span<const Vec3> points, int threads,
+    const std::function<bool()>* should_stop, DecodedImages* images) {
+  const StopCheck stop(should_stop);
+  if (!original.mesh || !original.look || !coloured(*original.look) || original.triangles.empty())
+    return std::nullopt;
+  const PolygonMesh& input = *original.mesh;
+  const GltfAppearance& look = *original.look;
+  DecodedImages own;
+  size_t decoded = 0;
+  const std::vector<BaseColor> colors = base_colors(look, images ? *images : own, decoded, stop);
+  stop.check();
+  const TriangleTree tree(input.positions, original.triangles);
+  const FaceColors face_colors(input, look, colors);
+  std::vector<std::array<float, 3>> out(points.size(), {0.5f, 0.5f, 0.5f});
+  ParallelStop point_stop(should_stop, 4096);
+  parallel_for(points.size(), resolve_threads(threads), [&](size_t v) {
+    if (point_stop.skip(v)) return;
+    const TriangleTree::Closest closest = tree.closest(points[v]);
+    if (closest.squared_distance == std::numeric_limits<double>::max()) return;
+    const Triangle& o = original.triangles[closest.triangle];
+    const auto& p = input.positions;
+    const Rgba c = face_colors.at(original.face[closest.triangle], o,
+                                  barycentric(closest.point, p[o[0]], p[o[1]], p[o[2]]));
+    for (int k = 0; k < 3; ++k) out[v][k] = static_cast<float>(std::clamp(c[k], 0.0, 1.0));
+  });
+  point_stop.throw_if_stopped();
+  return out;
 }
 
 }  // namespace spheremap

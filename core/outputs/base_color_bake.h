@@ -73,4 +73,13 @@ std::optional<BakedBaseColor> bake_base_color_closest(const OriginalSurface& ori
                                                       const std::function<bool()>* should_stop,
                                                       DecodedImages* images = nullptr);
 
+// The same colour per point (COLOR_0 of a wrapped sphere or UV mesh): the original's base
+// colour, linear RGB clamped to [0, 1], at the closest point of its triangles to each of
+// `points` (an envelope's vertices). Nothing when the original's look has no material and
+// no vertex colour. `should_stop` (may be null) is asked every 4096 points and before
+// each image decode; true throws InputError("stopped").
+std::optional<std::vector<std::array<float, 3>>> colors_closest(
+    const OriginalSurface& original, std::span<const Vec3> points, int threads,
+    const std::function<bool()>* should_stop, DecodedImages* images = nullptr);
+
 }  // namespace spheremap

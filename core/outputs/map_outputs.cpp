@@ -14,6 +14,7 @@
 #include "core/mesh/topology.h"
 #include "core/outputs/asset_builders.h"
 #include "core/outputs/base_color_bake.h"
+#include "core/outputs/normal_bake.h"
 #include "core/outputs/remesh.h"
 #include "core/outputs/sphere_alignment.h"
 #include "core/outputs/sphere_asset.h"
@@ -106,7 +107,7 @@ SceneGeometry scene_morph(const PolygonMesh& input, const GltfAppearance& look,
 BuiltRemesh build_remesh(const MappedMesh& mapped, int resolution, int threads,
                          const PolygonMesh* input, const GltfAppearance* appearance,
                          const std::function<bool()>* should_stop, const OriginalSurface* original,
-                         DecodedImages* images) {
+                         DecodedImages* images, bool normal_map) {
   const StopCheck stop(should_stop);
   stop.check();
   const auto start = std::chrono::steady_clock::now();
@@ -199,6 +200,27 @@ BuiltRemesh build_remesh(const MappedMesh& mapped, int resolution, int threads,
       asset.metrics["original_look"] = "none: the original has no material and no vertex colour";
     }
     glb.extras["spheremap_remesh"]["original_look"] = asset.metrics["original_look"];
+    const auto normals_start = std::chrono::steady_clock::now();
+    std::vector<std::array<float, 4>> tangents;
+    std::optional<BakedNormals> baked;
+    if (normal_map) {
+      tangents = remesh_tangents(remesh, glb.normals);
+      baked = bake_normals_closest(*original, mapped, oriented.triangles, remesh, glb.normals,
+                                   tangents, size, threads, should_stop);
+    }
+    if (baked) {
+      glb.normal_png = std::move(baked->png);
+      glb.tangents = std::move(tangents);
+      if (glb.base_color_png.empty()) glb.material_name = "shading of the original";
+      asset.metrics["normal_map"] = {
+          {"size", baked->size},
+          {"unlocated_texels", baked->unlocated_texels},
+          {"normals", baked->from_attribute
+                          ? "the original's NORMAL attribute at the closest point"
+                          : "the original's area-weighted vertex normals at the closest point"}};
+      glb.extras["spheremap_remesh"]["normal_map"] = asset.metrics["normal_map"];
+      asset.metrics["seconds"]["normal_map"] = seconds_since(normals_start);
+    }
   } else if (input && appearance) {
     if (auto baked = bake_base_color(*input, *appearance, mapped, oriented.triangles, size, threads,
                                      should_stop, images)) {
@@ -211,12 +233,13 @@ BuiltRemesh build_remesh(const MappedMesh& mapped, int resolution, int threads,
 
 RemeshAsset remesh_asset(const MappedMesh& mapped, int resolution, int threads,
                          const PolygonMesh* input, const GltfAppearance* appearance,
-                         const std::function<bool()>* should_stop) {
+                         const std::function<bool()>* should_stop, bool normal_map) {
   if (!mapped.parts.empty())
-    return parts_remesh_asset(mapped, resolution, threads, input, appearance, should_stop);
+    return parts_remesh_asset(mapped, resolution, threads, input, appearance, should_stop,
+                              normal_map);
   const std::optional<OriginalSurface> original = wrapped_original(mapped);
   BuiltRemesh built = build_remesh(mapped, resolution, threads, input, appearance, should_stop,
-                                   original ? &*original : nullptr);
+                                   original ? &*original : nullptr, nullptr, normal_map);
   RemeshAsset asset;
   asset.geometry_image_png = encode_png(built.image.side, built.image.side, 16, built.image.rgb);
   asset.metrics = std::move(built.metrics);
@@ -224,7 +247,8 @@ RemeshAsset remesh_asset(const MappedMesh& mapped, int resolution, int threads,
   return asset;
 }
 
-BuiltAsset build_uv(const MappedMesh& mapped) {
+BuiltAsset build_uv(const MappedMesh& mapped, const OriginalSurface* original,
+                    DecodedImages* images) {
   const PolygonMesh& mesh = mapped.prepared.welded.mesh;
   const OrientedTriangles oriented = oriented_triangles(mesh);
   const UvMesh uv = octahedral_texcoords(mesh.positions, mapped.map.sphere, oriented.triangles);
@@ -246,15 +270,22 @@ BuiltAsset build_uv(const MappedMesh& mapped) {
   glb.positions = uv.positions;
   glb.normals = vertex_normals(uv.positions, uv.triangles);
   glb.triangles = uv.triangles;
+  if (original)
+    if (auto colors = colors_closest(*original, uv.positions, 0, nullptr, images)) {
+      glb.colors = std::move(*colors);
+      asset.metrics["vertex_colors"] = "COLOR_0: the original's base colour at the closest point";
+    }
   glb.extras = {{"spheremap_uv", without_timings(asset.metrics)}};
   glb.texcoords = std::move(texcoords);
   return asset;
 }
 
-UvAsset uv_asset(const MappedMesh& mapped) {
-  if (!mapped.parts.empty()) return parts_uv_asset(mapped);
+UvAsset uv_asset(const MappedMesh& mapped, const PolygonMesh* input,
+                 const GltfAppearance* appearance) {
+  if (!mapped.parts.empty()) return parts_uv_asset(mapped, input, appearance);
   const auto start = std::chrono::steady_clock::now();
-  BuiltAsset built = build_uv(mapped);
+  const std::optional<OriginalSurface> original = wrapped_original(mapped);
+  BuiltAsset built = build_uv(mapped, original ? &*original : nullptr);
   built.glb.base_color_png = checker_png();
   UvAsset asset;
   asset.glb = format_glb(built.glb);
@@ -313,9 +344,14 @@ BuiltMorph build_morph(const MappedMesh& mapped, double seconds) {
 
 MorphAsset morph_asset(const MappedMesh& mapped, double seconds, const PolygonMesh* input,
                        const GltfAppearance* appearance) {
-  if (!mapped.parts.empty()) return parts_morph_asset(mapped, seconds);
+  if (!mapped.parts.empty()) return parts_morph_asset(mapped, seconds, input, appearance);
   const auto start = std::chrono::steady_clock::now();
   BuiltMorph built = build_morph(mapped, seconds);
+  if (const std::optional<OriginalSurface> original = wrapped_original(mapped))
+    if (auto colors = colors_closest(*original, built.glb.positions, 0, nullptr)) {
+      built.glb.colors = std::move(*colors);
+      built.metrics["vertex_colors"] = "COLOR_0: the original's base colour at the closest point";
+    }
   MorphAsset asset;
   asset.metrics = std::move(built.metrics);
   if (input && appearance && !appearance->empty()) {

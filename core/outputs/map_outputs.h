@@ -26,18 +26,24 @@ struct RemeshAsset {
 // `should_stop` (may be null: never stop) is asked between stages, between image
 // decodes and every row of the colour bake; when it says true, remesh_asset throws
 // InputError("stopped") within a row's time (a job's time limit or cancel).
+// `normal_map`: the remesh of an envelope also carries the original's shading as a
+// tangent-space normal map (normal_bake.h; about as long as the colour bake).
 RemeshAsset remesh_asset(const MappedMesh& mapped, int resolution, int threads = 0,
                          const PolygonMesh* input = nullptr,
                          const GltfAppearance* appearance = nullptr,
-                         const std::function<bool()>* should_stop = nullptr);
+                         const std::function<bool()>* should_stop = nullptr,
+                         bool normal_map = true);
 
 struct UvAsset {
   std::string glb;
   nlohmann::json metrics;  // seams, flipped and degenerate UV triangles, stretch
 };
 
-// Precondition: mapped.map.check.bijective.
-UvAsset uv_asset(const MappedMesh& mapped);
+// Precondition: mapped.map.check.bijective. An envelope (prepare wrap, or a part auto
+// wrapped: its faces of `input`, whose look is `appearance`) carries the original's base
+// colour per vertex as COLOR_0, from the closest point of the original.
+UvAsset uv_asset(const MappedMesh& mapped, const PolygonMesh* input = nullptr,
+                 const GltfAppearance* appearance = nullptr);
 
 struct MorphAsset {
   std::string glb;

@@ -53,8 +53,8 @@ double faces_diagonal(const PolygonMesh& mesh) {
   return mesh.indices.empty() ? 0.0 : norm(box.hi - box.lo);
 }
 
-// Per mapped part, its report (map_parts pairs the mappable reports with the parts in
-// order), or null for all when they do not pair up.
+}  // namespace
+
 std::vector<const PartReport*> part_reports(const MappedMesh& mapped) {
   std::vector<const PartReport*> out;
   for (const PartReport& report : mapped.prepared.parts)
@@ -62,8 +62,6 @@ std::vector<const PartReport*> part_reports(const MappedMesh& mapped) {
   if (out.size() != mapped.parts.size()) out.assign(mapped.parts.size(), nullptr);
   return out;
 }
-
-}  // namespace
 
 PartIndex::PartIndex(const MappedMesh& mapped)
     : part(mapped.prepared.welded.mesh.vertex_count(), kUnreferenced),
@@ -77,7 +75,7 @@ PartIndex::PartIndex(const MappedMesh& mapped)
 
 RemeshAsset parts_remesh_asset(const MappedMesh& mapped, int resolution, int threads,
                                const PolygonMesh* input, const GltfAppearance* appearance,
-                               const std::function<bool()>* should_stop) {
+                               const std::function<bool()>* should_stop, bool normal_map) {
   const auto start = std::chrono::steady_clock::now();
   double largest_area = 0;
   for (const MappedPart& part : mapped.parts)
@@ -101,6 +99,7 @@ RemeshAsset parts_remesh_asset(const MappedMesh& mapped, int resolution, int thr
   double hausdorff = 0, squared = 0, relative_rms_weight = 0;
   double original_hausdorff = 0, original_squared = 0;  // to the original: wrapped or not
   double bake_seconds = 0, original_seconds = 0;        // of the wrapped parts, summed
+  double normal_map_seconds = 0;
   double absolute_hausdorff = 0, absolute_squared = 0;  // the same in model units
   for (size_t k = 0; k < mapped.parts.size(); ++k) {
     const MappedPart& part = mapped.parts[k];
@@ -111,7 +110,7 @@ RemeshAsset parts_remesh_asset(const MappedMesh& mapped, int resolution, int thr
       const OriginalSurface original =
           original_surface(*input, appearance, &reports[k]->original_faces);
       built = build_remesh(part.mapped, grid, threads, nullptr, nullptr, should_stop, &original,
-                           &decoded);
+                           &decoded, normal_map);
       ++wrapped_parts;
     } else if (bake) {
       MappedMesh with_input = part.mapped;
@@ -137,6 +136,7 @@ RemeshAsset parts_remesh_asset(const MappedMesh& mapped, int resolution, int thr
     squared += rms * rms * m["samples"].get<double>();
     relative_rms_weight += m["samples"].get<double>();
     bake_seconds += m["seconds"].value("bake", 0.0);
+    normal_map_seconds += m["seconds"].value("normal_map", 0.0);
     original_seconds += m["seconds"].value("distance_to_original", 0.0);
     const nlohmann::json& to_original =
         m.contains("distance_to_original") ? m["distance_to_original"] : m["distance"];
@@ -212,12 +212,14 @@ RemeshAsset parts_remesh_asset(const MappedMesh& mapped, int resolution, int thr
   asset.metrics["seconds"] = {{"total", seconds_since(start)}};
   if (wrapped_parts > 0) {
     asset.metrics["seconds"]["bake"] = bake_seconds;
+    asset.metrics["seconds"]["normal_map"] = normal_map_seconds;
     asset.metrics["seconds"]["distance_to_original"] = original_seconds;
   }
   return asset;
 }
 
-UvAsset parts_uv_asset(const MappedMesh& mapped) {
+UvAsset parts_uv_asset(const MappedMesh& mapped, const PolygonMesh* input,
+                       const GltfAppearance* appearance) {
   const auto start = std::chrono::steady_clock::now();
   // One texture for all: part k's square is cell k of a grid of cells x cells, so no two
   // parts share a texel.
@@ -234,8 +236,14 @@ UvAsset parts_uv_asset(const MappedMesh& mapped) {
                           {"degenerate_triangles", 0}};
   double area = 0, l2_squared = 0, linf = 0;
   const std::string checker = checker_png();
+  const std::vector<const PartReport*> reports = part_reports(mapped);
+  DecodedImages decoded;  // each base-colour image decoded once for all parts
   for (size_t k = 0; k < count; ++k) {
-    BuiltAsset built = build_uv(mapped.parts[k].mapped);
+    // A wrapped part carries the colour of the input's faces it stands for.
+    std::optional<OriginalSurface> original;
+    if (input && reports[k] && reports[k]->wrapped)
+      original = original_surface(*input, appearance, &reports[k]->original_faces);
+    BuiltAsset built = build_uv(mapped.parts[k].mapped, original ? &*original : nullptr, &decoded);
     const double column = static_cast<double>(k % cells), line = static_cast<double>(k / cells);
     for (auto& t : built.glb.texcoords) {
       t[0] = static_cast<float>((column + t[0]) / cells);
@@ -270,13 +278,24 @@ UvAsset parts_uv_asset(const MappedMesh& mapped) {
   return asset;
 }
 
-MorphAsset parts_morph_asset(const MappedMesh& mapped, double seconds) {
+MorphAsset parts_morph_asset(const MappedMesh& mapped, double seconds, const PolygonMesh* input,
+                             const GltfAppearance* appearance) {
   const auto start = std::chrono::steady_clock::now();
+  const std::vector<const PartReport*> reports = part_reports(mapped);
+  DecodedImages decoded;  // each base-colour image decoded once for all parts
   std::vector<GlbMesh> meshes;
   nlohmann::json parts = nlohmann::json::array();
   size_t vertices = 0, triangles = 0;
   for (size_t k = 0; k < mapped.parts.size(); ++k) {
     BuiltMorph built = build_morph(mapped.parts[k].mapped, seconds);
+    if (input && reports[k] && reports[k]->wrapped) {
+      const OriginalSurface original =
+          original_surface(*input, appearance, &reports[k]->original_faces);
+      if (auto colors = colors_closest(original, built.glb.positions, 0, nullptr, &decoded)) {
+        built.glb.colors = std::move(*colors);
+        built.metrics["vertex_colors"] = "COLOR_0: the original's base colour at the closest point";
+      }
+    }
     vertices += built.metrics["vertices"].get<size_t>();
     triangles += built.metrics["triangles"].get<size_t>();
     built.metrics["part"] = k;

@@ -2,6 +2,8 @@
 // own that moves it to where the part is (MappedPart::center, radius). The positions stay
 // on the unit sphere in the file (float32 and Draco keep their precision whatever the
 // asset's size), and the check as written reads the file back with the nodes unmoved.
+#include <algorithm>
+
 #include "core/io/gltf_reader.h"
 #include "core/map/certification.h"
 #include "core/mesh/sphere_geometry.h"
@@ -87,8 +89,10 @@ MapCheck check_as_written(const GlbParts& unmoved, const MappedMesh& mapped,
 
 SphereAsset parts_sphere_asset(const PolygonMesh& input, const MappedMesh& mapped,
                                const MapOptions& options, SphereLayout layout,
-                               int draco_position_bits) {
+                               int draco_position_bits, const GltfAppearance* appearance) {
   const PartIndex index(mapped);
+  const std::vector<const PartReport*> reports = part_reports(mapped);
+  DecodedImages decoded;  // each base-colour image decoded once for all parts
   // Each part's input faces, in one pass.
   std::vector<std::vector<uint32_t>> faces_of(mapped.parts.size());
   const auto& to_welded = mapped.prepared.welded.input_to_welded;
@@ -105,6 +109,15 @@ SphereAsset parts_sphere_asset(const PolygonMesh& input, const MappedMesh& mappe
     const PolygonMesh sphere = part_sphere(input, mapped, k, layout, index, faces_of[k], local);
     meshes[k].positions = meshes[k].normals = sphere.positions;
     meshes[k].triangles = fan_triangulate(sphere).triangles;
+    // A wrapped part shows its envelope (welded vertices): coloured from its faces.
+    const std::vector<Vec3>& surface = mapped.parts[k].mapped.prepared.welded.mesh.positions;
+    if (reports[k] && reports[k]->wrapped && surface.size() == sphere.positions.size()) {
+      const OriginalSurface original =
+          original_surface(input, appearance, &reports[k]->original_faces);
+      if (auto colors =
+              colors_closest(original, surface, options.smoothing.threads, nullptr, &decoded))
+        meshes[k].colors = std::move(*colors);
+    }
     part_triangles.push_back(meshes[k].triangles.size());
     unmoved[k].name = placed[k].name = "part " + std::to_string(k);
     placed[k].translation = mapped.parts[k].center;
@@ -145,6 +158,9 @@ SphereAsset parts_sphere_asset(const PolygonMesh& input, const MappedMesh& mappe
   asset.metrics["folds_as_written"] = written.folds;
   asset.metrics["kept_appearance"] = false;
   if (draco_position_bits != 0) asset.metrics["draco_position_bits"] = draco_position_bits;
+  if (std::any_of(meshes.begin(), meshes.end(), [](const GlbMesh& m) { return !m.colors.empty(); }))
+    asset.metrics["vertex_colors"] =
+        "COLOR_0 on wrapped parts: the original's base colour at the closest point";
   glb.json["meshes"][0]["extras"] = without_timings(asset.metrics);
   asset.glb = serialize_glb(glb);
   return asset;

@@ -2,6 +2,8 @@
 
 #include "core/map/certification.h"
 #include "core/outputs/asset_builders.h"
+#include "core/outputs/base_color_bake.h"
+#include "core/outputs/original_surface.h"
 #include "core/outputs/report_json.h"
 #include "core/outputs/sphere_glb.h"
 
@@ -23,7 +25,7 @@ SphereAsset sphere_asset(const PolygonMesh& input, const MappedMesh& mapped,
                          const MapOptions& options, SphereLayout layout, int draco_position_bits,
                          const GltfAppearance* appearance) {
   if (!mapped.parts.empty())
-    return parts_sphere_asset(input, mapped, options, layout, draco_position_bits);
+    return parts_sphere_asset(input, mapped, options, layout, draco_position_bits, appearance);
   SphereLook look;
   if (appearance && !appearance->empty() && layout == SphereLayout::kOriginal &&
       draco_position_bits == 0)
@@ -31,16 +33,27 @@ SphereAsset sphere_asset(const PolygonMesh& input, const MappedMesh& mapped,
   const PolygonMesh sphere = sphere_mesh(input, mapped, layout);
   const bool without_fills =
       layout == SphereLayout::kOriginal && mapped.prepared.preparation.faces_added > 0;
+  // An envelope's sphere takes the original's base colour per vertex (COLOR_0), from the
+  // closest point of the original to the envelope's vertex.
+  std::vector<std::array<float, 3>> colors;
+  if (!look.appearance)
+    if (const std::optional<OriginalSurface> original = wrapped_original(mapped)) {
+      const std::vector<Vec3>& surface =
+          layout == SphereLayout::kWelded ? mapped.prepared.welded.mesh.positions : input.positions;
+      if (surface.size() == sphere.positions.size())
+        if (auto c = colors_closest(*original, surface, options.smoothing.threads, nullptr))
+          colors = std::move(*c);
+    }
   WrittenGlb file;
   if (draco_position_bits == kDracoBitsAutomatic) {
     for (const int bits : kDracoAutomaticBits) {
-      file = sphere_glb(sphere, mapped.map.inward, bits, look, without_fills);
+      file = sphere_glb(sphere, mapped.map.inward, bits, look, without_fills, colors);
       draco_position_bits = bits;
       // More bits cannot help a map that is not certified in float32 already.
       if (clean(file.check) || !clean(mapped.float32_check)) break;
     }
   } else {
-    file = sphere_glb(sphere, mapped.map.inward, draco_position_bits, look, without_fills);
+    file = sphere_glb(sphere, mapped.map.inward, draco_position_bits, look, without_fills, colors);
   }
   SphereAsset asset;
   asset.written = file.check;
@@ -52,6 +65,8 @@ SphereAsset sphere_asset(const PolygonMesh& input, const MappedMesh& mapped,
   asset.metrics["bijective_as_written"] = clean(file.check);
   asset.metrics["folds_as_written"] = file.check.folds;
   if (draco_position_bits != 0) asset.metrics["draco_position_bits"] = draco_position_bits;
+  if (!colors.empty())
+    asset.metrics["vertex_colors"] = "COLOR_0: the original's base colour at the closest point";
   file.glb.json["meshes"][0]["extras"] = without_timings(asset.metrics);
   asset.glb = serialize_glb(file.glb);
   return asset;

@@ -7,7 +7,8 @@
 namespace spheremap {
 
 WrittenGlb sphere_glb(const PolygonMesh& sphere, bool inward, int draco_position_bits,
-                      const SphereLook& look, bool without_fills) {
+                      const SphereLook& look, bool without_fills,
+                      std::span<const std::array<float, 3>> colors) {
   WrittenGlb out;
   const std::vector<Triangle> triangles = fan_triangulate(sphere).triangles;
   if (look.appearance) {
@@ -21,6 +22,7 @@ WrittenGlb sphere_glb(const PolygonMesh& sphere, bool inward, int draco_position
     mesh.positions = mesh.normals = sphere.positions;
     mesh.triangles = triangles;
     mesh.draco_position_bits = draco_position_bits;
+    if (colors.size() == sphere.positions.size()) mesh.colors.assign(colors.begin(), colors.end());
     out.glb = build_glb(mesh);
   }
   const std::string bytes = serialize_glb(out.glb);

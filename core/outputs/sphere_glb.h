@@ -1,6 +1,9 @@
 // The spherical mesh written as a GLB, and checked as written.
 #pragma once
 
+#include <array>
+#include <span>
+
 #include "core/io/glb_writer.h"
 #include "core/io/gltf_appearance.h"
 #include "core/map/map_check.h"
@@ -27,7 +30,9 @@ struct SphereLook {
 // input's layout does not show), so its signed areas fall short of 4 pi by theirs: the
 // check as written then asks for no fold and no degenerate triangle only (the map itself
 // was checked whole, in double and float32).
+// `colors` (plain GLB only, may be empty): COLOR_0, one per vertex of `sphere`.
 WrittenGlb sphere_glb(const PolygonMesh& sphere, bool inward, int draco_position_bits,
-                      const SphereLook& look = {}, bool without_fills = false);
+                      const SphereLook& look = {}, bool without_fills = false,
+                      std::span<const std::array<float, 3>> colors = {});
 
 }  // namespace spheremap

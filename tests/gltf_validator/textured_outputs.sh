@@ -3,7 +3,9 @@
 # generated textured mesh (always) and of the duck, its Draco copy, Box With Spaces and
 # CesiumMan (corpus), written by the CLI and by the service (a .gltf download), each
 # checked by the Khronos validator (0 errors) and by check_look.mjs (materials, textures,
-# images and TEXCOORD_0 of the input kept; the remesh has a base colour texture).
+# images and TEXCOORD_0 of the input kept; the remesh has a base colour texture). Of a
+# wrapped input: the remesh's normal map (with TANGENT), the sphere's (Draco too), UV
+# mesh's and morph's COLOR_0.
 # Usage: textured_outputs.sh SPHEREMAP MAKE_TEST_MESHES CORPUS. Exit 77 without npm.
 set -uo pipefail
 spheremap=$1 make_meshes=$2 corpus=$3
@@ -65,9 +67,41 @@ curl -sf -o "$out/service.wrapped.remesh.glb" "$url/v1/jobs/$id/artifacts/remesh
 for f in "$out/wrapped.remesh.glb" "$out/service.wrapped.remesh.glb"; do
   grep -aq baseColorTexture "$f" || fail "$f has no baked base colour"
   grep -aq distance_to_original "$f" || fail "$f has no distance_to_original"
+  grep -aq normalTexture "$f" || fail "$f has no baked normal map"
+  grep -aq '"TANGENT"' "$f" || fail "$f has no TANGENT for its normal map"
+done
+# normal_map=false (the service) and --no-normal-map (the CLI) leave the normal map out.
+curl -sf -D "$out/plain.headers" -o /dev/null -H 'Prefer: wait=120' \
+  -H 'Content-Type: model/gltf-binary' --data-binary "@$out/textured_horseshoe.glb" \
+  "$url/v1/map?outputs=remesh&resolution=16&prepare=wrap&wrap_resolution=64&normal_map=false" ||
+  fail "POST /v1/map normal_map=false"
+grep -q '^HTTP/1.1 200' "$out/plain.headers" || fail "the normal_map=false job did not succeed"
+id=$(grep -i '^spheremap-job:' "$out/plain.headers" | tr -d '\r' | cut -d' ' -f2)
+curl -sf -o "$out/service.plain.remesh.glb" "$url/v1/jobs/$id/artifacts/remesh.glb" ||
+  fail "download the remesh without normal map"
+"$spheremap" remesh "$out/textured_horseshoe.glb" -o "$out/plain.remesh.glb" --prepare wrap \
+  --wrap-resolution 64 --resolution 16 --no-normal-map --quiet || fail "remesh --no-normal-map"
+for f in "$out/service.plain.remesh.glb" "$out/plain.remesh.glb"; do
+  grep -aq baseColorTexture "$f" || fail "$f has no baked base colour"
+  grep -aq normalTexture "$f" && fail "$f has a normal map though it was turned off"
+done
+# The sphere and UV mesh of an envelope carry the original's colour per vertex (COLOR_0).
+"$spheremap" map "$out/textured_horseshoe.glb" -o "$out/wrapped.sphere.cli.glb" --prepare wrap \
+  --wrap-resolution 64 --quiet || fail "map --prepare wrap"
+"$spheremap" map "$out/textured_horseshoe.glb" -o "$out/wrapped.sphere.draco.glb" --prepare wrap \
+  --wrap-resolution 64 --draco --quiet || fail "map --prepare wrap --draco"
+"$spheremap" uv "$out/textured_horseshoe.glb" -o "$out/wrapped.uv.glb" --prepare wrap \
+  --wrap-resolution 64 --quiet || fail "uv --prepare wrap"
+"$spheremap" morph "$out/textured_horseshoe.glb" -o "$out/wrapped.morph.glb" --prepare wrap \
+  --wrap-resolution 64 --quiet || fail "morph --prepare wrap"
+for f in "$out/wrapped.sphere.cli.glb" "$out/wrapped.sphere.draco.glb" "$out/wrapped.uv.glb" \
+         "$out/wrapped.morph.glb" "$out/wrapped.sphere.glb"; do
+  grep -aq '"COLOR_0"' "$f" || fail "$f has no COLOR_0"
 done
 
-files=("$out/wrapped.remesh.glb" "$out/service.wrapped.remesh.glb")
+files=("$out/wrapped.remesh.glb" "$out/service.wrapped.remesh.glb" "$out/wrapped.sphere.cli.glb"
+       "$out/wrapped.sphere.draco.glb" "$out/wrapped.uv.glb" "$out/wrapped.morph.glb"
+       "$out/wrapped.sphere.glb")
 for ((i = 0; i < ${#checks[@]}; i += 5)); do files+=("${checks[@]:i+1:4}"); done
 node "$here/validate.mjs" "${files[@]}" || fail "the validator found errors"
 node "$here/check_look.mjs" "${checks[@]}" || fail "an output lost the input's look"
