@@ -137,9 +137,11 @@ namespace {
 void fill_small_holes(PreparedMesh& prepared, const PrepareOptions& options) {
   if (prepared.topology.boundary_edges == 0 || options.max_hole_fill <= 0) return;
   StopCheck stop(&options.should_stop);
-  const HoleFilling filled = fill_holes(prepared.welded.mesh, options.max_hole_fill, &stop);
+  const HoleFilling filled =
+      fill_holes(prepared.welded.mesh, options.max_hole_fill, &stop, options.refine_hole_fills);
   PreparationReport& report = prepared.preparation;
   report.holes_filled = filled.holes_filled;
+  report.vertices_added = filled.vertices_added;
   report.faces_added = filled.faces_added;
   report.holes_left = filled.holes_left;
   report.largest_fill = filled.largest_fill;
