@@ -6,6 +6,7 @@
 
 #include <functional>
 #include <memory>
+#include <span>
 #include <string>
 
 #include "core/io/gltf_appearance.h"
@@ -136,9 +137,16 @@ struct PreparedMesh {
   // nothing); otherwise the whole as it is. Empty for one component.
   std::vector<PartReport> parts;
   size_t parts_left_out() const;
+  // The triangles hole filling and handle closing added (welded ids, kept through the parts
+  // step): the map weighs them MapOptions::filled_weight.
+  std::vector<Triangle> filled;
   // Parts whose handles were left (a vertex of each, welded ids before the parts step).
   std::vector<HandleClosing::Stopped> handle_stops;
 };
+
+// `triangles` in new vertex ids (new_id[old]); those with a corner that has none
+// (kUnreferenced, or beyond new_id) are dropped.
+void rename_triangles(std::vector<Triangle>& triangles, std::span<const uint32_t> new_id);
 
 // What stands between `prepared` and its map: mapping_failures of its topology, except that
 // under kParts several components are fine once every part kept maps alone.
