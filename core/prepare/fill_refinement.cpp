@@ -108,7 +108,7 @@ class Fill {
   std::unordered_map<uint64_t, uint32_t> at_;
 };
 
-// Moves the vertices from `base` on to the uniform bi-Laplacian (thin-plate) surface over
+// Moves the vertices from `base` on to the scale-dependent bi-Laplacian (thin-plate) surface over
 // the fill and the loop corners' mesh rings, the rest fixed; returns false (positions as
 // they were) when the system cannot be solved or the result would fold.
 bool fair(PolygonMesh& mesh, uint32_t base, const std::vector<Triangle>& fill,

@@ -2,7 +2,7 @@
 // least-area triangulation of hole_filling.h spans a wide hole with long thin triangles in
 // a flat (or folded) sheet; here its triangles are split where they are larger than the
 // boundary's edges say they should be, edges are swapped toward Delaunay, and the new
-// vertices are moved to the thin-plate surface (uniform bi-Laplacian, the boundary loop and
+// vertices are moved to the thin-plate surface (scale-dependent bi-Laplacian, the boundary loop and
 // the mesh's ring around it fixed), so the cap continues the surface around the hole. No
 // vertex of the mesh moves; new vertices are appended to mesh.positions.
 #pragma once
