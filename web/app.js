@@ -543,6 +543,7 @@ async function finished(job, ticket) {
       [prepared.holes_filled, 'holes filled'],
       [prepared.handles_closed, 'handles closed'],
       [prepared.faces_added, 'faces added by the fills'],
+      [prepared.vertices_added, 'vertices added inside the fills'],
       [prepared.holes_left, 'holes left open'],
     ].filter(([count]) => count > 0).map(([count, what]) => `${count.toLocaleString()} ${what}`);
     rows.push([`preparation (${prepared.method})`, changes.length ? changes.join(', ') : 'none needed']);

@@ -57,6 +57,8 @@ class CoarseToFine {
     result_.hierarchy_seconds = session_.elapsed() - start;
     result_.hierarchy_rounds = h_.rounds;
     fine_triangles_.assign(triangles.begin(), triangles.end());
+    const std::span<const double> weights = session.triangle_weights();
+    if (weights.size() == triangles.size()) fine_weights_.assign(weights.begin(), weights.end());
     for (Triangle& t : fine_triangles_)
       for (uint32_t& v : t) v = h_.old_to_new[v];
     q_.resize(mesh.vertex_count());
@@ -196,12 +198,16 @@ class CoarseToFine {
 
   Vec3 position(uint32_t id) const { return mesh_.positions[h_.new_to_old[id]]; }
 
-  // A third of each triangle's surface area on each of its corners (ids < n).
-  std::vector<double> corner_areas(std::span<const Triangle> triangles, size_t n) const {
+  // A third of each triangle's surface area (times its weight, when given) on each of its
+  // corners (ids < n).
+  std::vector<double> corner_areas(std::span<const Triangle> triangles, size_t n,
+                                   std::span<const double> weights = {}) const {
     std::vector<double> area(n, 0);
-    for (const Triangle& t : triangles) {
+    for (size_t k = 0; k < triangles.size(); ++k) {
+      const Triangle& t = triangles[k];
       const double third =
-          norm(cross(position(t[1]) - position(t[0]), position(t[2]) - position(t[0]))) / 6;
+          norm(cross(position(t[1]) - position(t[0]), position(t[2]) - position(t[0]))) / 6 *
+          (weights.empty() ? 1.0 : weights[k]);
       for (uint32_t v : t) area[v] += third;
     }
     return area;
@@ -214,7 +220,8 @@ class CoarseToFine {
   void compute_represented_areas() {
     const int levels = static_cast<int>(h_.level_sizes.size());
     represented_.assign(levels, {});
-    std::vector<double> mass = corner_areas(fine_triangles_, q_.size());
+    // Filled faces stand for their weighed area (MapOptions::filled_weight) at every level.
+    std::vector<double> mass = corner_areas(fine_triangles_, q_.size(), fine_weights_);
     for (int l = levels - 2; l >= 0; --l) {
       for (uint32_t u = h_.level_sizes[l + 1]; u-- > h_.level_sizes[l];) {
         const std::span<const uint32_t> ring = h_.ring(u);
@@ -249,7 +256,8 @@ class CoarseToFine {
     const size_t n = h_.level_sizes[l];
     std::span<const Triangle> triangles = triangles_of(l, levels);
     const std::vector<Vec3> x = positions_of(n);
-    const std::vector<double> area_scale = l + 1 == levels || !options_.represented_area
+    const std::vector<double> area_scale = l + 1 == levels ? fine_weights_
+                                           : !options_.represented_area
                                                ? std::vector<double>{}
                                                : represented_scale(l, triangles);
     StretchOptions stretch = options_.stretch;
@@ -448,7 +456,8 @@ class CoarseToFine {
   MapResult& result_;
   CollapseHierarchy h_;
   std::vector<Triangle> fine_triangles_;
-  std::vector<Vec3> q_;  // hierarchy ids
+  std::vector<double> fine_weights_;  // per fine triangle, empty: 1 each (map_session.h)
+  std::vector<Vec3> q_;               // hierarchy ids
   // Per level but the finest: the fine surface area each vertex stands for.
   std::vector<std::vector<double>> represented_;
   SmoothingOptions smoothing_;
@@ -517,7 +526,7 @@ void polish_map(const PolygonMesh& mesh, std::span<const Triangle> triangles,
     const double begin = session.elapsed();
     const StretchStats stats = optimize_stretch(
         mesh.positions, triangles, result.sphere, stretch, [&] { return session.should_stop(); },
-        start);
+        start, session.triangle_weights());
     result.optimize_seconds += session.elapsed() - begin;
     result.stretch_vertex_updates += stats.vertex_updates;
     ++result.polish_rounds;

@@ -165,6 +165,7 @@ void leave_out_uncertified(MappedMesh& whole) {
   }
   for (uint32_t& w : welded.input_to_welded)
     if (w != kUnreferenced) w = new_id[w];
+  rename_triangles(whole.prepared.filled, new_id);
   welded.mesh = std::move(mesh);
   whole.prepared.topology = analyze_topology(welded.mesh);
   whole.parts = std::move(parts);
@@ -201,11 +202,23 @@ MappedMesh map_parts(PreparedMesh prepared, const MapOptions& options, const Map
   whole.prepared = std::move(prepared);
   std::vector<MeshPart> split = connected_parts(whole.prepared.welded.mesh);
   order_as_reported(split, whole.prepared.parts, whole.prepared.welded.mesh.vertex_count());
+  // Per vertex of the whole with a filled triangle: its part and its id there.
+  std::vector<uint32_t> part_of, local_id;
+  if (!whole.prepared.filled.empty()) {
+    part_of.assign(whole.prepared.welded.mesh.vertex_count(), kUnreferenced);
+    local_id.assign(part_of.size(), kUnreferenced);
+    for (uint32_t k = 0; k < split.size(); ++k)
+      for (uint32_t v = 0; v < split[k].vertex.size(); ++v)
+        part_of[split[k].vertex[v]] = k, local_id[split[k].vertex[v]] = v;
+  }
   for (MeshPart& piece : split) {
     MappedPart part;
     part.whole_vertex = std::move(piece.vertex);
     PreparedMesh alone;
     alone.welded.mesh = std::move(piece.mesh);
+    for (const Triangle& t : whole.prepared.filled)
+      if (part_of[t[0]] == whole.parts.size())
+        alone.filled.push_back({local_id[t[0]], local_id[t[1]], local_id[t[2]]});
     alone.topology = analyze_topology(alone.welded.mesh);
     alone.preparation = whole.prepared.preparation;
     part.mapped.prepared = std::move(alone);

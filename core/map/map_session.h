@@ -2,6 +2,7 @@
 #pragma once
 
 #include <chrono>
+#include <span>
 #include <string>
 
 #include "core/map/spherical_map.h"
@@ -47,8 +48,13 @@ class MapSession {
     control_.on_progress(progress);
   }
   const MapOptions& options() const { return options_; }
+  // Per triangle of the mesh being mapped (the order the method gets them): the factor on
+  // its area in the stretch energy (empty: 1 each); faces preparation added weigh less.
+  std::span<const double> triangle_weights() const { return triangle_weights_; }
+  void set_triangle_weights(std::span<const double> weights) { triangle_weights_ = weights; }
 
  private:
+  std::span<const double> triangle_weights_;
   const MapOptions& options_;
   const MapControl& control_;
   std::chrono::steady_clock::time_point start_, limit_start_;

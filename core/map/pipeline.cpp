@@ -32,7 +32,7 @@ MappedMesh map_prepared(PreparedMesh prepared, const MapOptions& options,
     return map_parts(std::move(prepared), options, control);
   MappedMesh out;
   out.prepared = std::move(prepared);
-  out.map = map_to_sphere(out.prepared.welded.mesh, options, control);
+  out.map = map_to_sphere(out.prepared.welded.mesh, options, control, out.prepared.filled);
   if (out.map.sphere.empty()) return out;  // cancelled
 
   const auto start = std::chrono::steady_clock::now();

@@ -63,12 +63,36 @@ MappingInput mapping_input(const PolygonMesh& input, const std::vector<uint32_t>
 
 namespace {
 
+// Per triangle of `triangles`: filled_weight when it is one of `filled` (corners as a set),
+// 1 otherwise; empty when nothing was filled or the weight is 1.
+std::vector<double> triangle_weights(std::span<const Triangle> triangles,
+                                     std::span<const Triangle> filled, double filled_weight) {
+  if (filled.empty() || filled_weight == 1) return {};
+  auto sorted = [](Triangle t) {
+    std::sort(t.begin(), t.end());
+    return t;
+  };
+  std::vector<Triangle> keys;
+  keys.reserve(filled.size());
+  for (const Triangle& t : filled) keys.push_back(sorted(t));
+  std::sort(keys.begin(), keys.end());
+  std::vector<double> weights(triangles.size(), 1.0);
+  for (size_t k = 0; k < triangles.size(); ++k)
+    if (std::binary_search(keys.begin(), keys.end(), sorted(triangles[k])))
+      weights[k] = filled_weight;
+  return weights;
+}
+
 MapResult map_in_order(const MappingInput& input, const MapOptions& options,
-                       const MapControl& control, std::chrono::steady_clock::time_point start) {
+                       const MapControl& control, std::chrono::steady_clock::time_point start,
+                       std::span<const Triangle> filled) {
   MapSession session(options, control, start);
   MapResult result;
   const PolygonMesh& mesh = input.mesh;
   const OrientedTriangles& oriented = input.oriented;
+  const std::vector<double> weights =
+      triangle_weights(oriented.triangles, filled, std::clamp(options.filled_weight, 1e-3, 1.0));
+  session.set_triangle_weights(weights);
   if (oriented.conflicting_faces)
     throw std::invalid_argument("cannot triangulate " + std::to_string(oriented.conflicting_faces) +
                                 " polygons without duplicating an edge");
@@ -104,7 +128,7 @@ MapResult map_in_order(const MappingInput& input, const MapOptions& options,
 }  // namespace
 
 MapResult map_to_sphere(const PolygonMesh& input, const MapOptions& options,
-                        const MapControl& control) {
+                        const MapControl& control, std::span<const Triangle> filled) {
   // Map a copy in a cache-friendly vertex order, centred and scaled to the unit ball
   // (the map does not depend on the mesh's placement or units; its arithmetic would),
   // positions back in the input's order. On
@@ -127,7 +151,16 @@ MapResult map_to_sphere(const PolygonMesh& input, const MapOptions& options,
       attempt_options.direct_iterations = 0;  // tried already
       attempt_options.optimize = false;
     }
-    MapResult result = map_in_order(mapping_input(input, *order), attempt_options, control, start);
+    // The filled triangles in the order's vertex ids.
+    std::vector<uint32_t> new_id(order->size());
+    for (uint32_t k = 0; k < order->size(); ++k) new_id[(*order)[k]] = k;
+    std::vector<Triangle> renamed;
+    renamed.reserve(filled.size());
+    for (const Triangle& t : filled)
+      if (t[0] < new_id.size() && t[1] < new_id.size() && t[2] < new_id.size())
+        renamed.push_back({new_id[t[0]], new_id[t[1]], new_id[t[2]]});
+    MapResult result =
+        map_in_order(mapping_input(input, *order), attempt_options, control, start, renamed);
     attempts += result.attempts, iterations += result.iterations;
     work += result.fine_iteration_equivalents;
     result.attempts = attempts, result.iterations = iterations;

@@ -15,6 +15,7 @@
 #include <chrono>
 #include <functional>
 #include <optional>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -61,6 +62,10 @@ struct MapOptions {
   // offset) settings in a cache-friendly vertex order, then the same in the input order.
   size_t attempts = 8;
   double time_limit_seconds = 0;  // 0 = none
+  // The factor on the area of the faces preparation added (hole fills, handle closings:
+  // map_to_sphere's `filled`) in the stretch energy, as Praun & Hoppe's SphereParam weighs
+  // them down: they get little room on the sphere, the input's faces the rest. 1: as any.
+  double filled_weight = 0.1;
 };
 
 struct MapProgress {
@@ -121,9 +126,11 @@ struct MapResult {
   std::string stopped_in;
 };
 
-// Precondition: mesh passed require_mappable(analyze_topology(mesh)).
+// Precondition: mesh passed require_mappable(analyze_topology(mesh)). `filled`: triangles
+// of `mesh` (by vertex ids, either orientation) that preparation added; they weigh
+// options.filled_weight in the stretch energy.
 MapResult map_to_sphere(const PolygonMesh& mesh, const MapOptions& options,
-                        const MapControl& control = {});
+                        const MapControl& control = {}, std::span<const Triangle> filled = {});
 
 // The fan triangles of the mesh, reversed when the mesh is oriented inward, so that a
 // valid map has positive determinants (ALGORITHM §0.3).

@@ -51,6 +51,7 @@ nlohmann::json preparation_json(const PreparationReport& p) {
                         {"non_manifold_vertices_split", p.vertices_split},
                         {"holes_filled", p.holes_filled},
                         {"faces_added", p.faces_added},
+                        {"vertices_added", p.vertices_added},
                         {"holes_left", p.holes_left},
                         {"largest_fill", p.largest_fill},
                         {"handles_closed", p.handles_closed},

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "core/mesh/union_find.h"
+#include "core/prepare/fill_refinement.h"
 
 namespace spheremap {
 namespace {
@@ -118,7 +119,7 @@ std::vector<Triangle> least_area_fill(const PolygonMesh& mesh, std::span<const u
   return out;
 }
 
-HoleFilling fill_holes(PolygonMesh& mesh, double max_fill, const StopCheck* stop) {
+HoleFilling fill_holes(PolygonMesh& mesh, double max_fill, const StopCheck* stop, bool refine) {
   HoleFilling result;
   if (max_fill <= 0) return result;
   size_t pinched = 0;
@@ -139,6 +140,20 @@ HoleFilling fill_holes(PolygonMesh& mesh, double max_fill, const StopCheck* stop
     for (size_t k = 0; k < face.size(); ++k)
       edges.insert(edge_key(face[k], face[(k + 1) % face.size()]));
   }
+  // Each corner's neighbours in the mesh (before any fill): the fixed ring of the fairing.
+  std::unordered_map<uint32_t, std::vector<uint32_t>> ring;
+  if (refine) {
+    for (const std::vector<uint32_t>& loop : loops)
+      for (uint32_t v : loop) ring[v];
+    for (size_t f = 0; f < mesh.face_count(); ++f) {
+      const auto face = mesh.face(f);
+      for (size_t k = 0; k < face.size(); ++k) {
+        const uint32_t a = face[k], b = face[(k + 1) % face.size()];
+        if (const auto it = ring.find(a); it != ring.end()) it->second.push_back(b);
+        if (const auto it = ring.find(b); it != ring.end()) it->second.push_back(a);
+      }
+    }
+  }
   if (stop) stop->check();
   for (const std::vector<uint32_t>& loop : loops) {
     double area = 0;
@@ -155,6 +170,12 @@ HoleFilling fill_holes(PolygonMesh& mesh, double max_fill, const StopCheck* stop
     if (fill.empty() || crack || !(share <= max_fill)) {
       ++result.holes_left;
       continue;
+    }
+    if (refine) {
+      const FillRefinement refined =
+          refine_and_fair_fill(mesh, loop, fill, edges, ring, fill_vertex_budget(mesh, loop), stop);
+      result.vertices_added += refined.vertices_added;
+      result.holes_faired += refined.faired;
     }
     for (const Triangle& t : fill) {
       mesh.add_face(t);

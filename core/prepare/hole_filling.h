@@ -1,6 +1,7 @@
-// Closing small holes exactly (Reach I): each boundary loop of a mesh whose fill is small
-// beside the surface is closed with the triangulation of its corners of least total area
-// (Liepa 2003's first step, without refinement or fairing: no vertex is added or moved).
+// Closing small holes (Reach I): each boundary loop of a mesh whose fill is small beside the
+// surface is closed as Liepa 2003 does: the triangulation of its corners of least total
+// area, then refined to the boundary's edge lengths and faired (fill_refinement.h). No
+// vertex of the mesh moves; the new vertices are appended after the mesh's own.
 // A part with a few holes then maps instead of being left out; the added faces are
 // appended after the mesh's own, so outputs that show only the original (the sphere in
 // the input's layout) leave them out, and those where closing is the point (the remesh)
@@ -23,9 +24,11 @@ inline constexpr size_t kMaxHoleCorners = 300;
 
 struct HoleFilling {
   size_t holes_filled = 0, faces_added = 0;
-  size_t holes_left = 0;    // too large, too many corners, pinched, or no valid triangulation
-  double largest_fill = 0;  // the largest fill's area over the surface area of its part
-  double filled_area = 0;   // the sum of those shares
+  size_t vertices_added = 0;  // by refining the fills (appended to mesh.positions)
+  size_t holes_faired = 0;    // fills whose new vertices lie on the thin-plate surface
+  size_t holes_left = 0;      // too large, too many corners, pinched, or no valid triangulation
+  double largest_fill = 0;    // the largest fill's area over the surface area of its part
+  double filled_area = 0;     // the sum of those shares
 };
 
 // Preconditions: `mesh` welded (one vertex per point) and consistently oriented around each
@@ -34,8 +37,11 @@ struct HoleFilling {
 // each corner once, and which can be triangulated without an edge the mesh (or an earlier
 // fill) already has (that would make it non-manifold). Holes whose fill would have a
 // triangle of next to no area (cracks, which a weld closes) are left. Fills run the way
-// the hole's faces do. `stop` may be null.
-HoleFilling fill_holes(PolygonMesh& mesh, double max_fill, const StopCheck* stop = nullptr);
+// the hole's faces do. The size bound is weighed on the least-area fill; `refine` then
+// refines and fairs each fill (refine_and_fair_fill, at most fill_vertex_budget new
+// vertices per hole); false: the least-area fill alone, no vertex added. `stop` may be null.
+HoleFilling fill_holes(PolygonMesh& mesh, double max_fill, const StopCheck* stop = nullptr,
+                       bool refine = true);
 
 // The key of the undirected edge {a, b} in the `edges` sets below.
 inline uint64_t undirected_edge_key(uint32_t a, uint32_t b) {

@@ -124,6 +124,20 @@ PreparedMesh prepare_welded(WeldResult welded, size_t input_faces, const Prepare
 
 }  // namespace
 
+void rename_triangles(std::vector<Triangle>& triangles, std::span<const uint32_t> new_id) {
+  size_t kept = 0;
+  for (const Triangle& t : triangles) {
+    Triangle renamed;
+    bool known = true;
+    for (int k = 0; k < 3; ++k) {
+      renamed[k] = t[k] < new_id.size() ? new_id[t[k]] : kUnreferenced;
+      known = known && renamed[k] != kUnreferenced;
+    }
+    if (known) triangles[kept++] = renamed;
+  }
+  triangles.resize(kept);
+}
+
 PreparedMesh prepare_mesh(const PolygonMesh& input, const PrepareOptions& options) {
   StopCheck stop(&options.should_stop);
   WeldResult welded = weld(input, options.weld_tolerance, &stop);
@@ -137,9 +151,11 @@ namespace {
 void fill_small_holes(PreparedMesh& prepared, const PrepareOptions& options) {
   if (prepared.topology.boundary_edges == 0 || options.max_hole_fill <= 0) return;
   StopCheck stop(&options.should_stop);
-  const HoleFilling filled = fill_holes(prepared.welded.mesh, options.max_hole_fill, &stop);
+  const HoleFilling filled =
+      fill_holes(prepared.welded.mesh, options.max_hole_fill, &stop, options.refine_hole_fills);
   PreparationReport& report = prepared.preparation;
   report.holes_filled = filled.holes_filled;
+  report.vertices_added = filled.vertices_added;
   report.faces_added = filled.faces_added;
   report.holes_left = filled.holes_left;
   report.largest_fill = filled.largest_fill;
@@ -270,8 +286,15 @@ PreparedMesh prepare_once(PolygonMesh& input, GltfAppearance* look, const Prepar
   report.reoriented_parts = cleanup.reoriented_parts;
   report.t_junctions_zipped = cleanup.t_junctions_zipped;
   split_pinched_vertices(prepared, input, look, options);
+  const size_t own_faces = prepared.welded.mesh.face_count();
   fill_small_holes(prepared, options);
   close_short_handles(prepared, input, look, options);
+  // Fills are triangles appended after the mesh's own faces (a cut may have renamed their
+  // corners since, so they are read at the end).
+  const PolygonMesh& mesh = prepared.welded.mesh;
+  for (size_t f = own_faces; f < mesh.face_count(); ++f)
+    if (mesh.face_size(f) == 3)
+      prepared.filled.push_back({mesh.face(f)[0], mesh.face(f)[1], mesh.face(f)[2]});
   return prepared;
 }
 
@@ -407,6 +430,7 @@ void keep_mappable_parts(PreparedMesh& prepared, const PolygonMesh& input,
   }
   for (uint32_t& w : welded.input_to_welded)
     if (w != kUnreferenced) w = new_id[w];
+  rename_triangles(prepared.filled, new_id);
   welded.mesh = std::move(kept);
   prepared.topology = analyze_topology(welded.mesh, &stop);
 }

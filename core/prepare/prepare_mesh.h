@@ -6,6 +6,7 @@
 
 #include <functional>
 #include <memory>
+#include <span>
 #include <string>
 
 #include "core/io/gltf_appearance.h"
@@ -46,6 +47,9 @@ struct PrepareOptions {
   // repair and parts: holes whose least-area fill is at most this share of the surface
   // area are closed (hole_filling.h); 0: none.
   double max_hole_fill = 0.05;
+  // Hole fills refined and faired (Liepa 2003; fill_refinement.h): new vertices inside each
+  // fill so a wide hole's cap continues the surface; false: the least-area fill alone.
+  bool refine_hole_fills = true;
   // repair and parts: handles of closed, manifold, oriented parts are closed along
   // non-separating cycles of at most this length over the part's bounding-box diagonal,
   // shortest first (handle_closing.h); 0: none. 1.5: the longest cycle the reach set's
@@ -70,8 +74,9 @@ struct PreparationReport {
   size_t t_junctions_zipped = 0;  // T-junction vertices inserted into cracks' edges
   size_t vertices_split = 0;      // non-manifold vertices made one vertex per fan
   size_t holes_filled = 0, holes_left = 0;
-  size_t faces_added = 0;   // by hole fills and handle closings together
-  double largest_fill = 0;  // the largest fill's area over the surface area
+  size_t faces_added = 0;     // by hole fills and handle closings together
+  size_t vertices_added = 0;  // inside hole fills (refinement), after the input's own
+  double largest_fill = 0;    // the largest fill's area over the surface area
   size_t handles_closed = 0, handles_left = 0;
   double largest_handle_cycle = 0;  // the longest cycle cut over its part's diagonal
   // Why handles were left (the first part stopped, with the numbers); "" when none was.
@@ -132,9 +137,16 @@ struct PreparedMesh {
   // nothing); otherwise the whole as it is. Empty for one component.
   std::vector<PartReport> parts;
   size_t parts_left_out() const;
+  // The triangles hole filling and handle closing added (welded ids, kept through the parts
+  // step): the map weighs them MapOptions::filled_weight.
+  std::vector<Triangle> filled;
   // Parts whose handles were left (a vertex of each, welded ids before the parts step).
   std::vector<HandleClosing::Stopped> handle_stops;
 };
+
+// `triangles` in new vertex ids (new_id[old]); those with a corner that has none
+// (kUnreferenced, or beyond new_id) are dropped.
+void rename_triangles(std::vector<Triangle>& triangles, std::span<const uint32_t> new_id);
 
 // What stands between `prepared` and its map: mapping_failures of its topology, except that
 // under kParts several components are fine once every part kept maps alone.

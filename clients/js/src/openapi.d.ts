@@ -272,7 +272,7 @@ export interface components {
             /** @default false */
             largest_component: boolean;
             /**
-             * @description repair and parts close each hole whose least-area fill (triangles over its own corners; no vertex added or moved) is at most this share of the surface area; 0 closes none. metrics.preparation: holes_filled, faces_added, holes_left, largest_fill. The sphere in the original layout leaves the fills out; the remesh, UV and morph keep them
+             * @description repair and parts close each hole whose least-area fill (triangles over its own corners) is at most this share of the surface area; 0 closes none. The fill is then refined to the boundary's edge lengths and faired (Liepa 2003: new vertices on the thin-plate surface over the hole, at most about (corners^2)/4 per hole; no vertex of the input moves), and weighs 0.1 of its area in the map's stretch energy. metrics.preparation: holes_filled, faces_added, vertices_added, holes_left, largest_fill. The sphere in the original layout leaves the fills out; the remesh, UV and morph keep them
              * @default 0.05
              */
             max_hole_fill: number;
@@ -364,7 +364,7 @@ export interface components {
                 parts?: number;
                 elapsed_seconds?: number;
             };
-            /** @description as metrics.json: bijective (the certified verdict: no fold and no degenerate triangle in double, float32 and as written), bijective_double, bijective_as_written, problem, quality, folds, distortion (area_distortion.mean_abs_log), stretch, seconds per stage, preparation (method, the faces dropped, shortened and flipped, t_junctions_zipped, non_manifold_vertices_split, and holes_filled, faces_added, holes_left, largest_fill, handles_closed, handles_left, largest_handle_cycle); for an asset of several parts, parts (each part: mapped, or its check and reason), parts_mapped and parts_left_out; input_warnings when the input was read leniently (a glTF bufferView with byteStride 0 read as packed) */
+            /** @description as metrics.json: bijective (the certified verdict: no fold and no degenerate triangle in double, float32 and as written), bijective_double, bijective_as_written, problem, quality, folds, distortion (area_distortion.mean_abs_log), stretch, seconds per stage, preparation (method, the faces dropped, shortened and flipped, t_junctions_zipped, non_manifold_vertices_split, and holes_filled, faces_added, vertices_added, holes_left, largest_fill, handles_closed, handles_left, largest_handle_cycle); for an asset of several parts, parts (each part: mapped, or its check and reason), parts_mapped and parts_left_out; input_warnings when the input was read leniently (a glTF bufferView with byteStride 0 read as packed) */
             metrics?: Record<string, never>;
             artifacts?: {
                 [key: string]: {
