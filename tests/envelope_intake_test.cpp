@@ -9,6 +9,7 @@
 #include <thread>
 #include <vector>
 
+#include "server/job_runner.h"
 #include "tests/mesh_generators.h"
 #include "tests/mesh_writers.h"
 #include "tests/test_server.h"
@@ -103,6 +104,62 @@ TEST(EnvelopeIntake, TheJobsTimeLimitStopsTheEnvelope) {
   EXPECT_EQ(failed["error"]["type"], "/v1/problems/time_limit") << failed.dump(2);
   EXPECT_NE(failed["error"]["detail"].get<std::string>().find("envelope"), std::string::npos)
       << failed.dump(2);
+}
+
+// The envelope's memory is charged with its job: with a budget that holds a small job but not
+// the envelope's grid beside it, the envelope job waits for memory while the other runs,
+// and runs once it has ended.
+TEST(EnvelopeIntake, TheEnvelopesGridIsChargedAgainstTheMemoryBudget) {
+  server::ServerConfig config = one_worker_one_intake();
+  config.workers = 2;
+  // A small job's estimate is about 17 MB; the torus's envelope at 256 voxels across its
+  // diagonal (1.9M voxels) adds about 30 MB to its own.
+  config.jobs_memory_bytes = 40u << 20;
+  testing::TestServer server(config);
+  auto client = server.client();
+  auto blocker = client.Post("/v1/jobs?method=paper&max_iterations=1000000&time_limit_seconds=60",
+                             testing::binary_stl(testing::horseshoe()), "model/stl");
+  ASSERT_EQ(blocker->status, 202) << blocker->body;
+  const std::string blocking = json::parse(blocker->body)["id"];
+  for (int i = 0; i < 6000 && job_of(client, blocking)["status"] == "queued"; ++i)
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  ASSERT_EQ(job_of(client, blocking)["status"], "running");
+  auto wrapped = client.Post("/v1/jobs?prepare=wrap&wrap_resolution=256",
+                             testing::binary_stl(testing::torus(48, 24)), "model/stl");
+  ASSERT_EQ(wrapped->status, 202) << wrapped->body;
+  const std::string id = json::parse(wrapped->body)["id"];
+  std::string stage;
+  for (int i = 0; i < 6000 && stage != "waiting_for_memory"; ++i) {
+    stage = job_of(client, id)["progress"]["stage"];
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  EXPECT_EQ(stage, "waiting_for_memory");
+  EXPECT_EQ(job_of(client, blocking)["status"], "running");
+  EXPECT_EQ(client.Delete(("/v1/jobs/" + blocking).c_str())->status, 202);
+  const json done = wait_until_done(client, id);
+  ASSERT_EQ(done["status"], "succeeded") << done.dump(2);
+  EXPECT_EQ(done["metrics"]["preparation"]["method"], "wrap");
+}
+
+// An envelope that cannot be made in the worker (here a grid over the cap it was left
+// with) fails its job with the reason, the map never starts.
+TEST(EnvelopeIntake, AnEnvelopeThatCannotBeMadeFailsItsJob) {
+  server::Job job;
+  job.spec = std::make_unique<server::JobSpec>();
+  server::JobSpec& spec = *job.spec;
+  spec.input = testing::torus(24, 12);
+  PrepareOptions wrap;
+  wrap.method = PrepareMethod::kWrap;
+  wrap.defer_envelopes = true;
+  spec.prepared = prepare_input(spec.input, nullptr, wrap);
+  ASSERT_TRUE(spec.prepared.pending.any());
+  spec.prepared.pending.envelope.max_voxels = 4096;
+  EXPECT_EQ(server::run_job(job, {300, 1}), server::JobStatus::kFailed);
+  ASSERT_TRUE(job.error);
+  EXPECT_EQ(job.error->problem, "envelope_size");
+  EXPECT_EQ(job.error->title, "Envelope cannot be made");
+  EXPECT_NE(job.error->detail.find("4096"), std::string::npos) << job.error->detail;
+  EXPECT_TRUE(job.artifacts.empty());
 }
 
 }  // namespace
