@@ -13,6 +13,9 @@
 //   and the weld ask IntakeDeadline::passed() every few thousand elements, so an intake
 //   thread is free again within milliseconds of the deadline, and stop_reading() (on
 //   SIGTERM) ends them the same way (503 shutting_down).
+// - Envelopes (prepare wrap, auto: seconds and hundreds of MB) are not built here: their
+//   grid is laid out and checked, and the job's worker builds them under the job's time
+//   limit and memory charge (job_request.cpp, PrepareOptions::defer_envelopes).
 //
 // The HTTP thread waits for the answer because the API answers a bad mesh at once (400,
 // 413, 422) rather than as a failed job later; it holds the request, whose bytes the

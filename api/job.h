@@ -25,7 +25,10 @@ inline bool is_terminal(JobStatus s) {
 }
 
 // What a client asked for, checked and ready to run: the mesh is already read and
-// prepared (welded, validated), so a job that is accepted can be mapped.
+// prepared (welded, validated), so a job that is accepted can be mapped. An envelope
+// (prepare wrap, or auto when a part cannot map) is left to the job's worker
+// (prepared.pending): the intake checked that its grid fits; one that still cannot be made
+// fails the job with the reason.
 struct JobSpec {
   PolygonMesh input;
   GltfAppearance look;  // the input's materials, textures, attributes, nodes (outputs keep them)

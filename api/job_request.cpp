@@ -200,9 +200,13 @@ std::unique_ptr<JobSpec> read_job_request(const httplib::Request& request,
   }
   deadline.check(gltf ? "reading the glTF" : "reading the mesh");
   options.prepare.should_stop = options.gltf.should_stop;
-  // The envelope's grid is built here, in the server: its size is the server's to bound.
+  // The envelope's grid is built in the server (in the job's worker): its size is the
+  // server's to bound.
   options.prepare.envelope.max_voxels =
       std::min(options.prepare.envelope.max_voxels, config.max_envelope_voxels);
+  // Envelopes take seconds and hundreds of MB: the intake only checks that the grid fits,
+  // and the job's worker builds them under its time limit and memory charge.
+  options.prepare.defer_envelopes = true;
   try {
     spec->prepared = prepare_input(spec->input, &spec->look, options.prepare);
   } catch (const InputError& e) {
@@ -211,14 +215,16 @@ std::unique_ptr<JobSpec> read_job_request(const httplib::Request& request,
       throw;
     }
     // What preparation itself refuses: an envelope it cannot make (prepare wrap: a grid
-    // over max_envelope_voxels, no triangle to wrap).
+    // over max_envelope_voxels, no triangle to wrap), known before one is built.
     throw Problem(422, "not_mappable", "Mesh cannot be mapped", e.what(), {{"check", e.check()}});
   }
   deadline.check("welding and the topology checks");
   // An STL has three vertices per triangle until welded: its vertex cap is on the welded.
   if (body.format == MeshFormat::kStl)
     check_vertex_cap(spec->prepared.welded.mesh.vertex_count(), config, "after welding");
-  const auto failures = input_failures(spec->prepared, &stats);
+  // An envelope left to the worker is what makes the input map: nothing to refuse here.
+  const auto failures = spec->prepared.pending.any() ? std::vector<ValidationFailure>{}
+                                                     : input_failures(spec->prepared, &stats);
   if (!failures.empty()) {
     nlohmann::json list = nlohmann::json::array();
     std::string detail;

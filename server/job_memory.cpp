@@ -4,6 +4,7 @@
 
 #include "api/log.h"
 #include "core/outputs/base_color_bake.h"
+#include "core/prepare/envelope_plan.h"
 
 namespace spheremap::server {
 
@@ -17,6 +18,15 @@ size_t estimated_job_bytes(const api::JobSpec& spec) {
   // A wrapped whole: its original held beside, with trees for the distance and the bake.
   if (const auto& original = spec.prepared.original)
     bytes += 200 * (original->mesh.indices.size() - 2 * original->mesh.face_count());
+  // Envelopes left to the worker (PreparedMesh::pending): the largest grid at its peak, the
+  // input kept beside as the original (as above), and the envelope's own map (at most
+  // 200,000 faces, envelope.h).
+  if (const PendingEnvelopes& pending = spec.prepared.pending; pending.any()) {
+    const size_t envelope_faces = pending.envelope.target_faces
+                                      ? pending.envelope.target_faces
+                                      : std::clamp<size_t>(triangles, 20000, 200000);
+    bytes += envelope_peak_bytes(pending.grid_voxels) + 200 * triangles + 400 * envelope_faces;
+  }
   // The input's images, held once each, and written once into each output that keeps them.
   size_t image_bytes = 0;
   // A wrapped whole keeps its input's look beside it (PreparedMesh::original), baked from.

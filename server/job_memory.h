@@ -6,6 +6,8 @@
 // fingers): about 8 MB + 320 bytes per triangle. The remesh adds 92 MB (horse) at
 // resolution 256 and 415 MB (horse) / 372 MB (igea) at 1024: about 80 MB + 330 bytes
 // per resolution squared. uv and morph keep a few more copies of the vertices.
+// An envelope the intake left to the worker adds its grid (16 bytes a voxel at the
+// peak, envelope_plan.h) and the original kept beside the envelope.
 // The figures here round those up (the estimate should rather wait than overcommit).
 #pragma once
 

@@ -11,6 +11,7 @@
 #include "core/map/certification.h"
 #include "core/mesh/input_error.h"
 #include "core/outputs/map_outputs.h"
+#include "core/prepare/prepare_mesh.h"
 
 namespace spheremap::server {
 namespace {
@@ -114,6 +115,30 @@ Certification make_artifacts(Job& job, const JobSpec& spec, const MappedMesh& ma
   return verdict;
 }
 
+// The envelopes the intake left (PreparedMesh::pending), built first, under the job's
+// time limit and cancel: here, in the worker, the job's memory charge covers them
+// (estimated_job_bytes). False, with the job's error set, when none could be made or the
+// time limit stopped it; a cancel is left to the caller.
+bool build_pending_envelopes(Job& job, JobSpec& spec, const AssetDeadline& time) {
+  set_stage(job, "envelope");
+  try {
+    build_envelopes(spec.prepared, spec.input, &spec.look, time.should_stop);
+    return true;
+  } catch (const InputError& e) {
+    if (e.check() == "stopped" && job.cancel) return false;
+    std::lock_guard lock(job.mutex);
+    if (e.check() == "stopped") {
+      std::ostringstream detail;
+      detail << "the envelope was not built within the job's time limit (" << time.limit_seconds
+             << " s); ask for a smaller wrap_resolution or a longer time_limit_seconds";
+      job.error = JobError{422, "time_limit", "Time limit reached", detail.str()};
+    } else {
+      job.error = JobError{422, e.check(), "Envelope cannot be made", e.what()};
+    }
+    return false;
+  }
+}
+
 }  // namespace
 
 JobStatus run_job(Job& job, const RunLimits& limits) {
@@ -127,6 +152,7 @@ JobStatus run_job(Job& job, const RunLimits& limits) {
   options.time_limit_seconds = options.time_limit_seconds > 0
                                    ? std::min(options.time_limit_seconds, limits.time_limit_seconds)
                                    : limits.time_limit_seconds;
+  const Clock::time_point started = Clock::now();
   const AssetDeadline time(job.cancel, options.time_limit_seconds);
   MapControl control;
   control.cancel = &job.cancel;
@@ -143,6 +169,14 @@ JobStatus run_job(Job& job, const RunLimits& limits) {
                     p.parts};
   };
   try {
+    if (spec->prepared.pending.any()) {
+      if (!build_pending_envelopes(job, *spec, time))
+        return job.cancel ? JobStatus::kCancelled : JobStatus::kFailed;
+      // The map gets what the envelope left of the job's time limit.
+      const double spent = std::chrono::duration<double>(Clock::now() - started).count();
+      if (options.time_limit_seconds > 0)
+        options.time_limit_seconds = std::max(options.time_limit_seconds - spent, 0.01);
+    }
     const MappedMesh mapped = map_prepared(std::move(spec->prepared), options, control);
     if (job.cancel || mapped.map.stop_reason == StopReason::kCancelled)
       return JobStatus::kCancelled;
@@ -157,7 +191,7 @@ JobStatus run_job(Job& job, const RunLimits& limits) {
     if (!verdict.certified) {
       std::lock_guard lock(job.mutex);
       std::ostringstream limit;
-      limit << " (limit " << options.time_limit_seconds << " s)";
+      limit << " (limit " << time.limit_seconds << " s)";
       job.error =
           verdict.problem == "time_limit"
               ? JobError{422, "time_limit", "Time limit reached", verdict.detail + limit.str()}

@@ -8,11 +8,13 @@ namespace spheremap::server {
 namespace {
 
 // '2': the requests carry the input's warnings (a worker of the other format refuses them).
-// '3': and the handles closed in preparation.
-constexpr char kMagic[4] = {'S', 'M', 'W', '5'};
+// '3': and the handles closed in preparation. '6': and the envelopes the intake left to
+// the worker (PendingEnvelopes).
+constexpr char kMagic[4] = {'S', 'M', 'W', '6'};
 
 static_assert(std::is_trivially_copyable_v<MapOptions>, "MapOptions travels as bytes");
 static_assert(std::is_trivially_copyable_v<Vec3>, "positions travel as bytes");
+static_assert(std::is_trivially_copyable_v<EnvelopeOptions>, "EnvelopeOptions travel as bytes");
 
 class Writer {
  public:
@@ -250,6 +252,13 @@ std::string encode_request(const JobSpec& spec, double time_limit_seconds, int t
     w.put_mesh(spec.prepared.original->mesh);
     w.put_look(spec.prepared.original->look);
   }
+  // The envelopes the intake left to the worker (build_envelopes).
+  const PendingEnvelopes& pending = spec.prepared.pending;
+  w.put<int32_t>(static_cast<int32_t>(pending.method));
+  w.put<uint8_t>(pending.parts ? 1 : 0);
+  w.put(pending.envelope);
+  w.put<double>(pending.weld_tolerance);
+  w.put<uint64_t>(pending.grid_voxels);
   return w.take();
 }
 
@@ -326,6 +335,17 @@ WorkerRequest decode_request(const std::string& bytes) {
     original->look = r.get_look();
     spec.prepared.original = std::move(original);
   }
+  PendingEnvelopes& pending = spec.prepared.pending;
+  const int32_t pending_method = r.get<int32_t>();
+  if (pending_method != static_cast<int32_t>(PrepareMethod::kExact) &&
+      pending_method != static_cast<int32_t>(PrepareMethod::kWrap) &&
+      pending_method != static_cast<int32_t>(PrepareMethod::kAuto))
+    throw std::runtime_error("unknown pending envelope");
+  pending.method = static_cast<PrepareMethod>(pending_method);
+  pending.parts = r.get<uint8_t>() != 0;
+  pending.envelope = r.get<EnvelopeOptions>();
+  pending.weld_tolerance = r.get<double>();
+  pending.grid_voxels = r.get<uint64_t>();
   if (!r.done()) throw std::runtime_error("trailing bytes after the request");
   spec.prepared.topology = analyze_topology(spec.prepared.welded.mesh);
   return request;

@@ -1,12 +1,11 @@
 // What the server and a worker process say to each other over a pair of pipes.
 //
 // The server writes one request on the worker's stdin: a job's spec (the input mesh, the
-// welded mesh it was checked as, the options) and the run limits, then closes it. The
-// worker answers on its stdout with frames, each a type byte, a little-endian uint64
-// length and that many bytes: progress (JSON, as often as every 100 ms), one frame per
-// artifact, the metrics, the error if any, and last the status. A worker that dies
-// before its status frame has crashed; the server says so and never trusts a partial
-// answer.
+// welded mesh it was checked as, the envelopes left to build, the options) and the run
+// limits, then closes it. The worker answers on its stdout with frames, each a type byte, a
+// little-endian uint64 length and that many bytes: progress (JSON, as often as every 100 ms), one
+// frame per artifact, the metrics, the error if any, and last the status. A worker that dies before
+// its status frame has crashed; the server says so and never trusts a partial answer.
 //
 // Both sides are the same binary (the worker is `spheremap worker-process`, re-executed
 // by the server), so the options travel as the plain struct they are; a size check in
@@ -31,7 +30,9 @@ enum class FrameType : uint8_t {
 };
 
 struct WorkerRequest {
-  JobSpec spec;  // input, prepared.welded (topology is recomputed), options, outputs
+  // input, prepared.welded (topology is recomputed), the envelopes left to build
+  // (prepared.pending), options, outputs
+  JobSpec spec;
   double time_limit_seconds = 300;
   int threads = 1;
 };

@@ -12,6 +12,7 @@
 
 #include "server/job_memory.h"
 #include "tests/gltf_files.h"
+#include "tests/mesh_generators.h"
 
 namespace spheremap {
 namespace {
@@ -120,6 +121,21 @@ TEST(JobMemory, TheInputsImagesCountOnceEach) {
   // Held, and written into sphere.glb: twice the distinct bytes, not 101 x.
   EXPECT_EQ(with_images - server::estimated_job_bytes(spec), 2 * image_bytes);
   EXPECT_LT(2 * image_bytes, size_t{3} << 20);
+}
+
+// An envelope left to the worker is charged with the job: its grid at the peak, and the
+// original kept beside it.
+TEST(JobMemory, APendingEnvelopeCountsItsGrid) {
+  api::JobSpec spec;
+  spec.input = testing::torus(24, 12);
+  const size_t plain = server::estimated_job_bytes(spec);
+  PrepareOptions wrap;
+  wrap.method = PrepareMethod::kWrap;
+  wrap.defer_envelopes = true;
+  spec.prepared = prepare_input(spec.input, nullptr, wrap);
+  const size_t voxels = spec.prepared.pending.grid_voxels;
+  EXPECT_GT(voxels, size_t{1} << 20);  // the default 256 voxels across the diagonal
+  EXPECT_GE(server::estimated_job_bytes(spec), plain + 16 * voxels);
 }
 
 }  // namespace

@@ -3,10 +3,13 @@
 // one part that cannot map is wrapped whole; a mesh that maps is untouched.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include "core/io/gltf_reader.h"
 #include "core/map/certification.h"
 #include "core/map/map_parts.h"
 #include "core/map/pipeline.h"
+#include "core/mesh/input_error.h"
 #include "core/outputs/asset_builders.h"
 #include "core/outputs/report_json.h"
 #include "core/prepare/prepare_mesh.h"
@@ -161,6 +164,89 @@ TEST(PrepareAuto, AWrappedWholesOriginalCrossesTheWorkerProtocol) {
   ASSERT_TRUE(back.spec.prepared.original);
   EXPECT_EQ(back.spec.prepared.original->mesh.face_count(), dome_faces);
   EXPECT_EQ(back.spec.prepared.original->mesh.positions, spec.prepared.original->mesh.positions);
+}
+
+// Under defer_envelopes (the server's intake) nothing is wrapped yet; what build_envelopes
+// makes of it after the worker protocol is what prepare_input makes at once.
+void expect_deferred_same_as_eager(const PolygonMesh& mesh, PrepareOptions options) {
+  PolygonMesh eager_input = mesh;
+  const PreparedMesh eager = prepare_input(eager_input, nullptr, options);
+  options.defer_envelopes = true;
+  api::JobSpec spec;
+  spec.input = mesh;
+  spec.prepared = prepare_input(spec.input, nullptr, options);
+  ASSERT_TRUE(spec.prepared.pending.any());
+  EXPECT_FALSE(spec.prepared.original);
+  EXPECT_TRUE(std::none_of(spec.prepared.parts.begin(), spec.prepared.parts.end(),
+                           [](const PartReport& p) { return p.wrapped; }));
+  EXPECT_GT(spec.prepared.pending.grid_voxels, 0u);
+  server::WorkerRequest back = server::decode_request(server::encode_request(spec, 10, 1));
+  PreparedMesh& got = back.spec.prepared;
+  ASSERT_EQ(got.pending.method, options.method);
+  EXPECT_EQ(got.pending.parts, spec.prepared.pending.parts);
+  EXPECT_EQ(got.pending.grid_voxels, spec.prepared.pending.grid_voxels);
+  build_envelopes(got, back.spec.input, &back.spec.look, {});
+  EXPECT_FALSE(got.pending.any());
+  EXPECT_EQ(got.preparation.method, eager.preparation.method);
+  EXPECT_EQ(got.preparation.decided, eager.preparation.decided);
+  EXPECT_EQ(got.preparation.envelope.faces, eager.preparation.envelope.faces);
+  EXPECT_EQ(got.welded.mesh.positions, eager.welded.mesh.positions);
+  EXPECT_EQ(got.welded.mesh.indices, eager.welded.mesh.indices);
+  EXPECT_EQ(got.welded.input_to_welded, eager.welded.input_to_welded);
+  EXPECT_EQ(back.spec.input.positions, eager_input.positions);
+  EXPECT_EQ(bool(got.original), bool(eager.original));
+  ASSERT_EQ(got.parts.size(), eager.parts.size());
+  for (size_t k = 0; k < got.parts.size(); ++k) {
+    EXPECT_EQ(got.parts[k].wrapped, eager.parts[k].wrapped);
+    EXPECT_EQ(got.parts[k].welded_vertex, eager.parts[k].welded_vertex);
+    EXPECT_EQ(got.parts[k].original_faces, eager.parts[k].original_faces);
+  }
+  EXPECT_TRUE(remaining_failures(got).empty());
+}
+
+TEST(PrepareAuto, DeferredPartEnvelopesMatchTheEagerOnes) {
+  expect_deferred_same_as_eager(kit(), automatic());
+}
+
+TEST(PrepareAuto, ADeferredWholeEnvelopeMatchesTheEagerOne) {
+  expect_deferred_same_as_eager(testing::dome(2), automatic());
+  PrepareOptions wrap = automatic();
+  wrap.method = PrepareMethod::kWrap;
+  expect_deferred_same_as_eager(kit(), wrap);
+}
+
+// The intake still refuses at once what no envelope can be made of (the grid over its cap),
+// and leaves nothing pending for a mesh that maps.
+TEST(PrepareAuto, DeferringChecksTheGridAndLeavesMappableMeshesAlone) {
+  PrepareOptions options = automatic();
+  options.defer_envelopes = true;
+  options.method = PrepareMethod::kWrap;
+  options.envelope.max_voxels = 4096;
+  PolygonMesh torus = testing::torus(24, 12);
+  try {
+    prepare_input(torus, nullptr, options);
+    ADD_FAILURE() << "a grid over max_voxels was accepted";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.check(), "envelope_size");
+  }
+  options.method = PrepareMethod::kAuto;
+  PolygonMesh sphere = testing::icosphere(2);
+  EXPECT_FALSE(prepare_input(sphere, nullptr, options).pending.any());
+}
+
+// The worker's envelope asks its stop check (the job's time limit and cancel).
+TEST(PrepareAuto, ADeferredEnvelopeStops) {
+  PrepareOptions options = automatic();
+  options.defer_envelopes = true;
+  PolygonMesh input = testing::dome(2);
+  PreparedMesh prepared = prepare_input(input, nullptr, options);
+  ASSERT_TRUE(prepared.pending.any());
+  try {
+    build_envelopes(prepared, input, nullptr, [] { return true; });
+    ADD_FAILURE() << "the envelope did not stop";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.check(), "stopped");
+  }
 }
 
 }  // namespace

@@ -10,6 +10,7 @@
 #include "core/prepare/envelope_check.h"
 #include "core/prepare/envelope_fit.h"
 #include "core/prepare/envelope_grid.h"
+#include "core/prepare/envelope_plan.h"
 #include "core/prepare/envelope_reduce.h"
 #include "core/prepare/envelope_surface.h"
 #include "core/prepare/envelope_topology.h"
@@ -43,29 +44,15 @@ PolygonMesh fitted(const PolygonMesh& voxels, size_t target, const TriangleTree&
 Envelope build_envelope(const PolygonMesh& input, const EnvelopeOptions& options,
                         const std::function<bool()>* should_stop) {
   StopCheck stop(should_stop);
-  const FanTriangulation fan = fan_triangulate(input);
-  std::vector<Triangle> triangles;
-  AxisBox box;
-  for (const Triangle& t : fan.triangles) {
-    const Vec3 &a = input.positions[t[0]], &b = input.positions[t[1]], &c = input.positions[t[2]];
-    if (!is_finite(a) || !is_finite(b) || !is_finite(c)) continue;
-    triangles.push_back(t);
-    box.add(a), box.add(b), box.add(c);
-  }
-  if (triangles.empty()) throw InputError("envelope_empty", "there is no triangle to wrap");
+  const EnvelopePlan plan = plan_envelope(input, options);
+  const std::vector<Triangle>& triangles = plan.triangles;
+  const VoxelGrid& grid = plan.grid;
+  const double d = plan.d;
   Envelope out;
   EnvelopeReport& report = out.report;
-  report.diagonal = norm(box.hi - box.lo);
-  if (!(report.diagonal > 0) || !std::isfinite(report.diagonal) || !(options.resolution >= 1))
-    throw InputError("envelope_size",
-                     "the envelope needs an input of some extent and a resolution of 1 or more");
-  const double h = report.diagonal / options.resolution;
-  const double d = options.offset > 0            ? options.offset
-                   : options.offset_fraction > 0 ? options.offset_fraction * report.diagonal
-                                                 : options.offset_voxels * h;
-  report.voxel_size = h, report.offset = d;
-  report.fit_distance = options.fit_voxels > 0 ? std::min(d, options.fit_voxels * h) : d;
-  const VoxelGrid grid = layout_grid(box.lo, box.hi, h, d, options.max_voxels);
+  report.diagonal = plan.diagonal;
+  report.voxel_size = plan.h, report.offset = d;
+  report.fit_distance = plan.fit_distance;
   report.grid[0] = grid.nx, report.grid[1] = grid.ny, report.grid[2] = grid.nz;
 
   const std::vector<uint8_t> solid = solid_voxels(grid, input.positions, triangles, d, stop);

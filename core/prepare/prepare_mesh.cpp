@@ -8,6 +8,7 @@
 #include "core/mesh/stop_check.h"
 #include "core/mesh/union_find.h"
 #include "core/prepare/connected_parts.h"
+#include "core/prepare/envelope_plan.h"
 #include "core/prepare/face_cleanup.h"
 #include "core/prepare/handle_closing.h"
 #include "core/prepare/hole_filling.h"
@@ -344,63 +345,47 @@ std::optional<Envelope> part_envelope(const PolygonMesh& part, double asset_diag
   }
 }
 
-// An asset of several parts: each part checked alone (under any method, so a refusal can
-// say what "parts" would do), and under kParts `welded` cut down to the parts that map when
-// some do (the others' input vertices then weld to nothing). Under kAuto each part that
-// does not map is replaced by its envelope instead of being left out.
-void keep_mappable_parts(PreparedMesh& prepared, const PolygonMesh& input,
+// Under kAuto, each part that does not map (keep[k] false) replaced by its envelope, which
+// then maps in its place; a part no envelope can be made of stays left out.
+void wrap_left_out_parts(PreparedMesh& prepared, const PolygonMesh& input,
+                         std::vector<MeshPart>& parts, std::vector<char>& keep,
                          const PrepareOptions& options) {
-  if (options.largest_component || prepared.topology.component_vertices.size() < 2) return;
+  const WeldResult& welded = prepared.welded;
+  const double asset_diagonal = diagonal_of(welded.mesh);
+  // Per welded vertex its part, so each input face finds its part (by its first corner).
+  std::vector<uint32_t> part_of(welded.mesh.vertex_count(), kUnreferenced);
+  for (size_t k = 0; k < parts.size(); ++k)
+    for (uint32_t v : parts[k].vertex) part_of[v] = static_cast<uint32_t>(k);
+  auto faces_of_part = [&](size_t k) {
+    std::vector<uint32_t> faces;
+    for (size_t f = 0; f < input.face_count(); ++f) {
+      const uint32_t w = welded.input_to_welded[input.face(f)[0]];
+      if (w != kUnreferenced && part_of[w] == k) faces.push_back(static_cast<uint32_t>(f));
+    }
+    return faces;
+  };
+  for (size_t k = 0; k < parts.size(); ++k) {
+    if (keep[k]) continue;
+    std::optional<Envelope> envelope = part_envelope(parts[k].mesh, asset_diagonal, options);
+    if (!envelope) continue;
+    PartReport& report = prepared.parts[k];
+    report.wrapped = true;
+    report.wrap_reasons = std::move(report.failures);
+    report.failures.clear();
+    report.envelope = envelope->report;
+    report.original_faces = faces_of_part(k);
+    parts[k].mesh = std::move(envelope->mesh);
+    parts[k].vertex.assign(parts[k].mesh.vertex_count(), kUnreferenced);  // no input vertex
+    keep[k] = true;
+  }
+}
+
+// Under kParts and kAuto, `welded` cut down to the parts kept (keep[k]) when some part maps
+// (the others' input vertices then weld to nothing).
+void cut_to_kept_parts(PreparedMesh& prepared, std::vector<MeshPart>& parts,
+                       const std::vector<char>& keep, const PrepareOptions& options) {
   StopCheck stop(&options.should_stop);
   WeldResult& welded = prepared.welded;
-  std::vector<MeshPart> parts = connected_parts(welded.mesh, &stop);
-  std::vector<char> keep(parts.size());
-  for (size_t k = 0; k < parts.size(); ++k) {
-    PartReport report;
-    report.vertices = parts[k].mesh.vertex_count();
-    report.faces = parts[k].mesh.face_count();
-    report.failures = mapping_failures(analyze_topology(parts[k].mesh, &stop));
-    for (ValidationFailure& f : report.failures)
-      if (f.check == "genus")
-        for (const HandleClosing::Stopped& stopped : prepared.handle_stops)
-          if (std::find(parts[k].vertex.begin(), parts[k].vertex.end(), stopped.vertex) !=
-              parts[k].vertex.end())
-            f.message += "; closing its handles stopped: " + stopped.reason;
-    keep[k] = report.mappable();
-    prepared.parts.push_back(std::move(report));
-  }
-  // Past kMaxWrappedParts the parts are wrapped as one (prepare_input): a soup or a
-  // scatter of fragments is one envelope, not thousands (trimesh's 100-triangle soup.stl
-  // took 35 s part by part, 8 s whole; game-kit models wrap at most 60 parts).
-  if (options.method == PrepareMethod::kAuto && prepared.parts_left_out() <= kMaxWrappedParts) {
-    const double asset_diagonal = diagonal_of(welded.mesh);
-    // Per welded vertex its part, so each input face finds its part (by its first corner).
-    std::vector<uint32_t> part_of(welded.mesh.vertex_count(), kUnreferenced);
-    for (size_t k = 0; k < parts.size(); ++k)
-      for (uint32_t v : parts[k].vertex) part_of[v] = static_cast<uint32_t>(k);
-    auto faces_of_part = [&](size_t k) {
-      std::vector<uint32_t> faces;
-      for (size_t f = 0; f < input.face_count(); ++f) {
-        const uint32_t w = welded.input_to_welded[input.face(f)[0]];
-        if (w != kUnreferenced && part_of[w] == k) faces.push_back(static_cast<uint32_t>(f));
-      }
-      return faces;
-    };
-    for (size_t k = 0; k < parts.size(); ++k) {
-      if (keep[k]) continue;
-      std::optional<Envelope> envelope = part_envelope(parts[k].mesh, asset_diagonal, options);
-      if (!envelope) continue;
-      PartReport& report = prepared.parts[k];
-      report.wrapped = true;
-      report.wrap_reasons = std::move(report.failures);
-      report.failures.clear();
-      report.envelope = envelope->report;
-      report.original_faces = faces_of_part(k);
-      parts[k].mesh = std::move(envelope->mesh);
-      parts[k].vertex.assign(parts[k].mesh.vertex_count(), kUnreferenced);  // no input vertex
-      keep[k] = true;
-    }
-  }
   if (!maps_by_parts(options.method) || prepared.parts_left_out() == parts.size()) return;
   const bool wrapped = std::any_of(prepared.parts.begin(), prepared.parts.end(),
                                    [](const PartReport& p) { return p.wrapped; });
@@ -433,6 +418,45 @@ void keep_mappable_parts(PreparedMesh& prepared, const PolygonMesh& input,
   rename_triangles(prepared.filled, new_id);
   welded.mesh = std::move(kept);
   prepared.topology = analyze_topology(welded.mesh, &stop);
+}
+
+// An asset of several parts: each part checked alone (under any method, so a refusal can
+// say what "parts" would do), and under kParts `welded` cut down to the parts that map when
+// some do (the others' input vertices then weld to nothing). Under kAuto each part that
+// does not map is replaced by its envelope instead of being left out (under
+// defer_envelopes, left to build_envelopes with `welded` uncut).
+void keep_mappable_parts(PreparedMesh& prepared, const PolygonMesh& input,
+                         const PrepareOptions& options) {
+  if (options.largest_component || prepared.topology.component_vertices.size() < 2) return;
+  StopCheck stop(&options.should_stop);
+  WeldResult& welded = prepared.welded;
+  std::vector<MeshPart> parts = connected_parts(welded.mesh, &stop);
+  std::vector<char> keep(parts.size());
+  for (size_t k = 0; k < parts.size(); ++k) {
+    PartReport report;
+    report.vertices = parts[k].mesh.vertex_count();
+    report.faces = parts[k].mesh.face_count();
+    report.failures = mapping_failures(analyze_topology(parts[k].mesh, &stop));
+    for (ValidationFailure& f : report.failures)
+      if (f.check == "genus")
+        for (const HandleClosing::Stopped& stopped : prepared.handle_stops)
+          if (std::find(parts[k].vertex.begin(), parts[k].vertex.end(), stopped.vertex) !=
+              parts[k].vertex.end())
+            f.message += "; closing its handles stopped: " + stopped.reason;
+    keep[k] = report.mappable();
+    prepared.parts.push_back(std::move(report));
+  }
+  // Past kMaxWrappedParts the parts are wrapped as one (prepare_input): a soup or a
+  // scatter of fragments is one envelope, not thousands (trimesh's 100-triangle soup.stl
+  // took 35 s part by part, 8 s whole; game-kit models wrap at most 60 parts).
+  if (options.method == PrepareMethod::kAuto && prepared.parts_left_out() <= kMaxWrappedParts) {
+    if (options.defer_envelopes && prepared.parts_left_out() > 0) {
+      prepared.pending.parts = true;
+      return;
+    }
+    wrap_left_out_parts(prepared, input, parts, keep, options);
+  }
+  cut_to_kept_parts(prepared, parts, keep, options);
 }
 
 // prepare_once, then the parts step.
@@ -511,6 +535,17 @@ PreparedMesh wrap_whole(PolygonMesh& input, GltfAppearance* look, const PrepareO
   return prepared;
 }
 
+// Under defer_envelopes: what build_envelopes needs, once the whole's grid is known to
+// fit. Throws build_envelope's InputError when it does not.
+PendingEnvelopes pending_envelopes(const PolygonMesh& input, const PrepareOptions& options) {
+  PendingEnvelopes pending;
+  pending.method = options.method;
+  pending.envelope = options.envelope;
+  pending.weld_tolerance = options.weld_tolerance;
+  pending.grid_voxels = plan_envelope(input, options.envelope).grid.size();
+  return pending;
+}
+
 }  // namespace
 
 PreparedMesh prepare_input(PolygonMesh& input, GltfAppearance* look,
@@ -518,8 +553,24 @@ PreparedMesh prepare_input(PolygonMesh& input, GltfAppearance* look,
   if (options.method == PrepareMethod::kAuto) {
     // Every part that maps as it is (after the safe cleaning), each other part wrapped.
     PreparedMesh prepared = prepare_parts(input, look, options);
-    if (maps_entirely(prepared) || options.largest_component) {
+    if (!prepared.pending.parts && (maps_entirely(prepared) || options.largest_component)) {
       prepared.preparation.decided = decided(prepared);
+      return prepared;
+    }
+    if (options.defer_envelopes) {
+      const bool parts = prepared.pending.parts;
+      try {
+        prepared.pending = pending_envelopes(input, options);
+      } catch (const InputError&) {
+        // No envelope of the whole: the parts' may still do (their grids are smaller);
+        // without them the refusal says what the parts fail, as below.
+        if (!parts) return prepared;
+        prepared.pending.method = PrepareMethod::kAuto;
+        prepared.pending.envelope = options.envelope;
+        prepared.pending.weld_tolerance = options.weld_tolerance;
+        prepared.pending.grid_voxels = options.envelope.max_voxels;
+      }
+      prepared.pending.parts = parts;
       return prepared;
     }
     // One part that does not map (or parts no envelope could be made of): the whole
@@ -534,7 +585,15 @@ PreparedMesh prepare_input(PolygonMesh& input, GltfAppearance* look,
       return prepared;
     }
   }
-  if (options.method == PrepareMethod::kWrap) return wrap_whole(input, look, options);
+  if (options.method == PrepareMethod::kWrap) {
+    if (!options.defer_envelopes) return wrap_whole(input, look, options);
+    // Nothing is welded here: the worker prepares the envelope (wrap_whole).
+    PreparedMesh prepared;
+    prepared.preparation.method = PrepareMethod::kWrap;
+    prepared.preparation.input_faces = input.face_count();
+    prepared.pending = pending_envelopes(input, options);
+    return prepared;
+  }
   PreparedMesh prepared = prepare_parts(input, look, options);
   try_largest_component(prepared, input, options);
   bool has_boundary = prepared.topology.boundary_edges > 0;
@@ -545,6 +604,56 @@ PreparedMesh prepare_input(PolygonMesh& input, GltfAppearance* look,
   if (options.weld_tolerance == 0 && has_boundary && !maps_entirely(prepared))
     prepared.closing_weld_tolerance = closing_weld_tolerance(input, options);
   return prepared;
+}
+
+void build_envelopes(PreparedMesh& prepared, PolygonMesh& input, GltfAppearance* look,
+                     const std::function<bool()>& should_stop) {
+  const PendingEnvelopes pending = prepared.pending;
+  if (!pending.any()) return;
+  PrepareOptions options;
+  options.method = pending.method;
+  options.envelope = pending.envelope;
+  options.weld_tolerance = pending.weld_tolerance;
+  options.should_stop = should_stop;
+  prepared.pending = {};
+  if (pending.method == PrepareMethod::kWrap) {
+    prepared = wrap_whole(input, look, options);
+    return;
+  }
+  if (pending.parts) {
+    // The parts as prepare_input found them: the same welded mesh gives the same parts, in
+    // the same order as prepared.parts.
+    StopCheck stop(&options.should_stop);
+    std::vector<MeshPart> parts = connected_parts(prepared.welded.mesh, &stop);
+    if (parts.size() != prepared.parts.size())
+      throw InputError("internal", "the parts to wrap are not the parts that were checked");
+    std::vector<char> keep(parts.size());
+    for (size_t k = 0; k < parts.size(); ++k) keep[k] = prepared.parts[k].mappable();
+    wrap_left_out_parts(prepared, input, parts, keep, options);
+    cut_to_kept_parts(prepared, parts, keep, options);
+    if (maps_entirely(prepared)) {
+      prepared.preparation.decided = decided(prepared);
+      return;
+    }
+  }
+  try {
+    PreparedMesh wrapped = wrap_whole(input, look, options);
+    wrapped.preparation.method = PrepareMethod::kAuto;
+    wrapped.preparation.decided = "wrap";
+    prepared = std::move(wrapped);
+  } catch (const InputError& e) {
+    if (e.check() == "stopped") throw;
+    std::string left;
+    for (const ValidationFailure& f : remaining_failures(prepared))
+      left += (left.empty() ? "" : "; ") + f.message;
+    if (left.empty())
+      for (const PartReport& part : prepared.parts)
+        if (!part.mappable() && left.empty())
+          left = "a part of " + std::to_string(part.faces) +
+                 " faces: " + part.failures.front().message;
+    throw InputError(e.check(), std::string("no envelope could be made of it (") + e.what() + ")" +
+                                    (left.empty() ? "" : "; unwrapped, " + left));
+  }
 }
 
 }  // namespace spheremap

@@ -63,6 +63,25 @@ struct PrepareOptions {
   // --time-limit, which must not stop the exact path (a limit that passed there still
   // writes the map reached) but must stop an envelope that would take longer.
   std::function<bool()> envelope_should_stop;
+  // Leave every envelope (kWrap, kAuto) to build_envelopes: prepare_input does the rest,
+  // checks that the whole's envelope grid fits (or refuses as build_envelope would) and
+  // says what is left in PreparedMesh::pending. The server's intake does this, so that an
+  // envelope's seconds and memory are spent in the job's worker, under its time limit and
+  // memory budget, not in the intake threads every submission waits for.
+  bool defer_envelopes = false;
+};
+
+// What prepare_input left to build_envelopes (PrepareOptions::defer_envelopes).
+struct PendingEnvelopes {
+  // kWrap: the whole input's envelope. kAuto: first each part that does not map (when
+  // `parts`), then, when something still does not map, the whole's. kExact: nothing left.
+  PrepareMethod method = PrepareMethod::kExact;
+  bool parts = false;  // `welded` still holds every part (not cut down to those that map)
+  EnvelopeOptions envelope;
+  double weld_tolerance = 0;
+  // The whole's grid (max_voxels when over it): no envelope of the job is larger.
+  size_t grid_voxels = 0;
+  bool any() const { return method != PrepareMethod::kExact; }
 };
 
 // What preparation did to the input, for the metrics ("preparation").
@@ -142,6 +161,7 @@ struct PreparedMesh {
   std::vector<Triangle> filled;
   // Parts whose handles were left (a vertex of each, welded ids before the parts step).
   std::vector<HandleClosing::Stopped> handle_stops;
+  PendingEnvelopes pending;  // under defer_envelopes: the envelopes still to build
 };
 
 // `triangles` in new vertex ids (new_id[old]); those with a corner that has none
@@ -161,5 +181,13 @@ PreparedMesh prepare_mesh(const PolygonMesh& input, const PrepareOptions& option
 // `input` becomes the envelope and `look` (when given) is emptied, both moved to the
 // result's `original`; InputError when the envelope cannot be made (envelope.h).
 PreparedMesh prepare_input(PolygonMesh& input, GltfAppearance* look, const PrepareOptions& options);
+
+// Builds what prepare_input left under defer_envelopes (prepared.pending), so that
+// `prepared`, `input` and `look` are what prepare_input would have made without it.
+// `should_stop` is asked throughout (InputError "stopped"). Throws InputError when no
+// envelope can be made: build_envelope's checks ("envelope_size", "envelope_empty",
+// "envelope_topology"), under kAuto with what the input, unwrapped, still fails.
+void build_envelopes(PreparedMesh& prepared, PolygonMesh& input, GltfAppearance* look,
+                     const std::function<bool()>& should_stop);
 
 }  // namespace spheremap
