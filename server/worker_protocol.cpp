@@ -9,8 +9,10 @@ namespace {
 
 // '2': the requests carry the input's warnings (a worker of the other format refuses them).
 // '3': and the handles closed in preparation. '6': and the envelopes the intake left to
-// the worker (PendingEnvelopes).
-constexpr char kMagic[4] = {'S', 'M', 'W', '6'};
+// the worker (PendingEnvelopes). '7': and the triangles preparation added (holes filled,
+// handles closed: PreparedMesh::filled, which the map weighs down) and the vertices the
+// fills' refinement added.
+constexpr char kMagic[4] = {'S', 'M', 'W', '7'};
 
 static_assert(std::is_trivially_copyable_v<MapOptions>, "MapOptions travels as bytes");
 static_assert(std::is_trivially_copyable_v<Vec3>, "positions travel as bytes");
@@ -226,7 +228,7 @@ std::string encode_request(const JobSpec& spec, double time_limit_seconds, int t
         preparation.duplicate_faces, preparation.flipped_faces, preparation.reoriented_parts,
         preparation.holes_filled, preparation.faces_added, preparation.holes_left,
         preparation.handles_closed, preparation.handles_left, preparation.vertices_split,
-        preparation.t_junctions_zipped})
+        preparation.t_junctions_zipped, preparation.vertices_added})
     w.put<uint64_t>(count);
   w.put<double>(preparation.largest_fill);
   w.put<double>(preparation.largest_handle_cycle);
@@ -259,6 +261,7 @@ std::string encode_request(const JobSpec& spec, double time_limit_seconds, int t
   w.put(pending.envelope);
   w.put<double>(pending.weld_tolerance);
   w.put<uint64_t>(pending.grid_voxels);
+  w.put_vector(spec.prepared.filled);
   return w.take();
 }
 
@@ -304,7 +307,7 @@ WorkerRequest decode_request(const std::string& bytes) {
         &preparation.duplicate_faces, &preparation.flipped_faces, &preparation.reoriented_parts,
         &preparation.holes_filled, &preparation.faces_added, &preparation.holes_left,
         &preparation.handles_closed, &preparation.handles_left, &preparation.vertices_split,
-        &preparation.t_junctions_zipped})
+        &preparation.t_junctions_zipped, &preparation.vertices_added})
     *count = r.get<uint64_t>();
   preparation.largest_fill = r.get<double>();
   preparation.largest_handle_cycle = r.get<double>();
@@ -346,6 +349,12 @@ WorkerRequest decode_request(const std::string& bytes) {
   pending.envelope = r.get<EnvelopeOptions>();
   pending.weld_tolerance = r.get<double>();
   pending.grid_voxels = r.get<uint64_t>();
+  // Corners of welded vertices: the map looks them up by vertex.
+  spec.prepared.filled = r.get_vector<Triangle>();
+  const size_t welded_vertices = spec.prepared.welded.mesh.vertex_count();
+  for (const Triangle& t : spec.prepared.filled)
+    for (uint32_t v : t)
+      if (v >= welded_vertices) throw std::runtime_error("a filled triangle's corner out of range");
   if (!r.done()) throw std::runtime_error("trailing bytes after the request");
   spec.prepared.topology = analyze_topology(spec.prepared.welded.mesh);
   return request;

@@ -166,6 +166,28 @@ TEST(PrepareAuto, AWrappedWholesOriginalCrossesTheWorkerProtocol) {
   EXPECT_EQ(back.spec.prepared.original->mesh.positions, spec.prepared.original->mesh.positions);
 }
 
+// The triangles a fill added (weighed down by the map) and its new vertices' count cross
+// the pipe; a corner that is not a vertex of the mesh is refused, not looked up.
+TEST(PrepareAuto, FilledTrianglesCrossTheWorkerProtocol) {
+  api::JobSpec spec;
+  const PolygonMesh capped = testing::capped_tube(32, 24, 3);
+  spec.input.positions = capped.positions;
+  for (size_t f = 0; f + 1 < capped.face_count(); ++f) spec.input.add_face(capped.face(f));
+  PrepareOptions options;
+  options.method = PrepareMethod::kRepair;
+  options.max_hole_fill = 1;
+  spec.prepared = prepare_input(spec.input, nullptr, options);
+  ASSERT_EQ(spec.prepared.preparation.holes_filled, 1u);
+  ASSERT_FALSE(spec.prepared.filled.empty());
+  ASSERT_GT(spec.prepared.preparation.vertices_added, 0u);
+  const server::WorkerRequest back = server::decode_request(server::encode_request(spec, 10, 1));
+  EXPECT_EQ(back.spec.prepared.filled, spec.prepared.filled);
+  EXPECT_EQ(back.spec.prepared.preparation.vertices_added,
+            spec.prepared.preparation.vertices_added);
+  spec.prepared.filled.back()[1] = static_cast<uint32_t>(spec.prepared.welded.mesh.vertex_count());
+  EXPECT_THROW(server::decode_request(server::encode_request(spec, 10, 1)), std::runtime_error);
+}
+
 // Under defer_envelopes (the server's intake) nothing is wrapped yet; what build_envelopes
 // makes of it after the worker protocol is what prepare_input makes at once.
 void expect_deferred_same_as_eager(const PolygonMesh& mesh, PrepareOptions options) {
@@ -193,6 +215,7 @@ void expect_deferred_same_as_eager(const PolygonMesh& mesh, PrepareOptions optio
   EXPECT_EQ(got.welded.mesh.positions, eager.welded.mesh.positions);
   EXPECT_EQ(got.welded.mesh.indices, eager.welded.mesh.indices);
   EXPECT_EQ(got.welded.input_to_welded, eager.welded.input_to_welded);
+  EXPECT_EQ(got.filled, eager.filled);
   EXPECT_EQ(back.spec.input.positions, eager_input.positions);
   EXPECT_EQ(bool(got.original), bool(eager.original));
   ASSERT_EQ(got.parts.size(), eager.parts.size());
