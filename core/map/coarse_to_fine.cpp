@@ -346,7 +346,8 @@ class CoarseToFine {
 
   // The level's insertions again (the same until the first failure), but a vertex that
   // finds no kernel gets the mesh of the vertices inserted before it stretch-optimized
-  // around its ring, then is tried again. A thin plate's finest level reopens its whole
+  // around its ring, then is tried again, and a kernel insertion that squeezed its star
+  // gets the mesh with it optimized around that star. A thin plate's finest level reopens its whole
   // side band at once (the hierarchy collapsed the thickness first): each twin's kernel is
   // a sliver its neighbour's insertion left, narrower than the fold test's margin, and
   // only moving the neighbours opens it. Only levels with failed insertions run this.
@@ -372,7 +373,28 @@ class CoarseToFine {
       if (outcome == InsertionOutcome::kKernelSearch) ++report.kernel_insertions;
       if (outcome == InsertionOutcome::kFailed) ++report.failed_insertions, fold_free = false;
       partial.split(u, v, ring);
+      if (outcome == InsertionOutcome::kKernelSearch && fold_free && !session_.should_stop() &&
+          squeezed_star(u, ring)) {
+        std::vector<uint32_t> start(ring.begin(), ring.end());
+        start.push_back(u);
+        optimize_stretch(
+            positions_of(u + 1), partial.triangles(), std::span<Vec3>(q_.data(), u + 1), stretch,
+            [&] { return session_.should_stop(); }, start);
+      }
     }
+  }
+
+  // Whether u's star (just inserted, ids <= u) has a triangle below 1e-3 of the mean area
+  // of the map so far (about 2 pi / u; the triple product is twice the area). A kernel
+  // insertion into a squeezed star leaves a smaller one, where the next insertion of the
+  // level often lands: on a thin shell's cut envelope (the beetle's, 20K triangles) one
+  // level of 125 vertices went 5.5e-6 -> 4e-18 in 27 insertions, then they failed. Relieved
+  // as they come, the map never gets there.
+  bool squeezed_star(uint32_t u, std::span<const uint32_t> ring) const {
+    const double bound = 1e-3 * 4 * M_PI / static_cast<double>(u + 1);
+    for (size_t k = 0; k < ring.size(); ++k)
+      if (triple_product(q_[u], q_[ring[k]], q_[ring[(k + 1) % ring.size()]]) < bound) return true;
+    return false;
   }
 
   void map_level(int l, int levels) {

@@ -63,18 +63,22 @@ Envelope build_envelope(const PolygonMesh& input, const EnvelopeOptions& options
   // outside as it is). A cut that changed nothing (the solid is a ball already) cannot lose,
   // so the outside is not grown then: it took 29% of a 97K-triangle horse's envelope.
   BallGrowth ball = grow_ball_inside(grid, solid, stop);
-  BallGrowth filled =
-      ball.voxels_changed == 0 ? BallGrowth{} : shrink_ball_outside(grid, solid, stop);
+  BallGrowth filled = ball.voxels_changed == 0 || options.rule == EnvelopeRule::kCut
+                          ? BallGrowth{}
+                          : shrink_ball_outside(grid, solid, stop);
   // With handles both ways, each handle's smaller change (envelope_topology.h) when that
   // changes fewer voxels than either rule alone.
   size_t fills_kept = 0;
   BallGrowth mixed;
-  if (ball.changes > 0 && filled.changes > 0)
+  if (ball.changes > 0 && filled.changes > 0 && options.rule == EnvelopeRule::kFewestVoxels)
     mixed = grow_ball_mixed(grid, solid, ball, filled, &fills_kept, stop);
   const size_t fewest = std::min(ball.voxels_changed, filled.voxels_changed);
-  report.rule = !mixed.ball.empty() && mixed.voxels_changed < fewest ? "mixed"
-                : filled.voxels_changed < ball.voxels_changed        ? "fill"
-                                                                     : "cut";
+  report.rule =
+      !mixed.ball.empty() && mixed.voxels_changed < fewest          ? "mixed"
+      : options.rule == EnvelopeRule::kFill && !filled.ball.empty() ? "fill"
+      : options.rule == EnvelopeRule::kFewestVoxels && filled.voxels_changed < ball.voxels_changed
+          ? "fill"
+          : "cut";
   if (report.rule == "fill") std::swap(ball, filled);
   if (report.rule == "mixed") std::swap(ball, mixed);
   filled = {}, mixed = {};

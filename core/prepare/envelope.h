@@ -18,6 +18,11 @@
 
 namespace spheremap {
 
+// Which change of the solid's handles is kept: the one that changes fewest voxels (the
+// default), or the cut or the fill alone (tests and experiments: the cut envelope of a thin
+// sheet with handles is a thin two-sided shell with slits, tests/thin_shells.h).
+enum class EnvelopeRule { kFewestVoxels, kCut, kFill };
+
 struct EnvelopeOptions {
   // Voxels across the bounding-box diagonal (h = diagonal / this). 256, not the issue's
   // 512: a 252-triangle coin took 4.5 s at 256 and 43 s at 512 on the shared 2-core
@@ -43,6 +48,7 @@ struct EnvelopeOptions {
   size_t target_faces = 0;
   // The grid's voxels at most (counted before allocating; about 12 bytes each at the peak).
   size_t max_voxels = size_t{1} << 26;
+  EnvelopeRule rule = EnvelopeRule::kFewestVoxels;
 };
 
 struct EnvelopeReport {
