@@ -241,10 +241,8 @@ TEST(WrappedLook, AutoWrapsAnOpenPartAndColoursItsRemeshFromThatPart) {
   EXPECT_GE(colours.colours.size(), 2u);
 }
 
-TEST(WrappedLook, VertexColoursAreBakedByClosestPoint) {
-  // A torus whose vertices are red where x < 0 and blue elsewhere (COLOR_0, no material).
-  PolygonMesh input = testing::torus(32, 16);
-  const PolygonMesh original = input;
+// A look for `input`: its vertices red where x < 0 and blue elsewhere (COLOR_0, no material).
+GltfAppearance two_colours(const PolygonMesh& input) {
   GltfAppearance look;
   GltfAppearance::Primitive primitive;
   primitive.vertex_count = static_cast<uint32_t>(input.vertex_count());
@@ -256,6 +254,13 @@ TEST(WrappedLook, VertexColoursAreBakedByClosestPoint) {
     for (float c : p.x < 0 ? std::array<float, 3>{1, 0, 0} : std::array<float, 3>{0, 0, 1})
       colours.values.push_back(c);
   look.attributes = {colours};
+  return look;
+}
+
+TEST(WrappedLook, VertexColoursAreBakedByClosestPoint) {
+  PolygonMesh input = testing::torus(32, 16);
+  const PolygonMesh original = input;
+  GltfAppearance look = two_colours(input);
   const MappedMesh mapped =
       map_prepared(prepare_input(input, &look, options(PrepareMethod::kWrap)), {});
   const std::optional<OriginalSurface> surface = wrapped_original(mapped);
@@ -282,22 +287,6 @@ TEST(WrappedLook, VertexColoursAreBakedByClosestPoint) {
   EXPECT_GT(red, 100u);
   EXPECT_GT(checked - red, 100u);
   EXPECT_GE(matched, checked * 95 / 100);
-}
-
-// A torus red where x < 0 and blue elsewhere (COLOR_0, no material).
-GltfAppearance two_colours(const PolygonMesh& input) {
-  GltfAppearance look;
-  GltfAppearance::Primitive primitive;
-  primitive.vertex_count = static_cast<uint32_t>(input.vertex_count());
-  primitive.face_count = static_cast<uint32_t>(input.face_count());
-  primitive.attributes = {"COLOR_0"};
-  look.primitives = {primitive};
-  GltfAppearance::Attribute colours{"COLOR_0", 3, {}};
-  for (const Vec3& p : input.positions)
-    for (float c : p.x < 0 ? std::array<float, 3>{1, 0, 0} : std::array<float, 3>{0, 0, 1})
-      colours.values.push_back(c);
-  look.attributes = {colours};
-  return look;
 }
 
 struct VertexColourCheck {
