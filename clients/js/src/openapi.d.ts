@@ -288,7 +288,7 @@ export interface components {
              */
             prepare: "exact" | "repair" | "parts" | "wrap" | "auto";
             /**
-             * @description wrap: voxels across the bounding-box diagonal; a grid of more than 2^26 voxels is refused (envelope_size)
+             * @description wrap: voxels across the bounding-box diagonal; a grid of more than the server's max_envelope_voxels voxels (default 2^24) is refused (envelope_size)
              * @default 256
              */
             wrap_resolution: number;
