@@ -12,6 +12,7 @@
 #include "core/mesh/input_error.h"
 #include "core/outputs/asset_builders.h"
 #include "core/outputs/report_json.h"
+#include "core/prepare/envelope_plan.h"
 #include "core/prepare/prepare_mesh.h"
 #include "server/worker_protocol.h"
 #include "tests/mesh_generators.h"
@@ -255,6 +256,31 @@ TEST(PrepareAuto, DeferringChecksTheGridAndLeavesMappableMeshesAlone) {
   options.method = PrepareMethod::kAuto;
   PolygonMesh sphere = testing::icosphere(2);
   EXPECT_FALSE(prepare_input(sphere, nullptr, options).pending.any());
+}
+
+// The whole's grid over the cap: the intake leaves the parts' envelopes to the worker when
+// each part's own grid fits, and refuses at once (nothing pending, the part left out) when
+// one does not, as the eager path would: the job must not be accepted only to fail.
+TEST(PrepareAuto, AWholeOverTheCapIsAcceptedOnlyWhenEveryPartFits) {
+  auto input = [] {
+    return assembled({{testing::dome(2), {0, 0, 0}}, {testing::icosphere(2), {12, 0, 0}}});
+  };
+  PrepareOptions options = automatic();
+  options.defer_envelopes = true;
+  PolygonMesh whole = input();
+  options.envelope.max_voxels = plan_envelope(whole, options.envelope).grid.size() - 1;
+  PreparedMesh accepted = prepare_input(whole, nullptr, options);
+  ASSERT_TRUE(accepted.pending.any());
+  EXPECT_TRUE(accepted.pending.parts);
+  build_envelopes(accepted, whole, nullptr, [] { return false; });
+  EXPECT_EQ(accepted.preparation.decided, "parts+wrap");
+  EXPECT_EQ(accepted.parts_left_out(), 0u);
+
+  options.envelope.max_voxels = 64;  // under the dome's own grid
+  PolygonMesh again = input();
+  const PreparedMesh refused = prepare_input(again, nullptr, options);
+  EXPECT_FALSE(refused.pending.any());
+  EXPECT_EQ(refused.parts_left_out(), 1u);
 }
 
 // The worker's envelope asks its stop check (the job's time limit and cancel).

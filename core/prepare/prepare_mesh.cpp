@@ -312,12 +312,12 @@ double diagonal_of(const PolygonMesh& mesh) {
   return norm(high - low);
 }
 
-// The envelope of one part of an asset under kAuto: the asset's voxel size and offset (so a
-// small part gets a small grid, and every part the same offset), at least 16 voxels across
-// the part, and about twice the part's faces (256 to 20,000). Nothing when it cannot be
-// made (a part of no extent, a grid over the cap): the part is then left out as it was.
-std::optional<Envelope> part_envelope(const PolygonMesh& part, double asset_diagonal,
-                                      const PrepareOptions& options) {
+// The envelope options of one part of an asset under kAuto: the asset's voxel size and
+// offset (so a small part gets a small grid, and every part the same offset), at least 16
+// voxels across the part, and about twice the part's faces (256 to 20,000). Nothing for a
+// part of no extent.
+std::optional<EnvelopeOptions> part_envelope_options(const PolygonMesh& part, double asset_diagonal,
+                                                     const PrepareOptions& options) {
   EnvelopeOptions wrap = options.envelope;
   const double diagonal = diagonal_of(part);
   if (!(diagonal > 0) || !(asset_diagonal > 0)) return std::nullopt;
@@ -328,6 +328,18 @@ std::optional<Envelope> part_envelope(const PolygonMesh& part, double asset_diag
   wrap.resolution = std::max(16.0, diagonal / voxel);
   if (wrap.target_faces == 0)
     wrap.target_faces = std::clamp<size_t>(2 * part.face_count(), 256, 20000);
+  return wrap;
+}
+
+// The envelope of one part of an asset under kAuto, with part_envelope_options. Nothing
+// when it cannot be made (a part of no extent, a grid over the cap): the part is then left
+// out as it was.
+std::optional<Envelope> part_envelope(const PolygonMesh& part, double asset_diagonal,
+                                      const PrepareOptions& options) {
+  const std::optional<EnvelopeOptions> options_of_part =
+      part_envelope_options(part, asset_diagonal, options);
+  if (!options_of_part) return std::nullopt;
+  const EnvelopeOptions& wrap = *options_of_part;
   try {
     const std::function<bool()> stop = envelope_stop(options);
     Envelope envelope = build_envelope(part, wrap, &stop);
@@ -535,6 +547,27 @@ PreparedMesh wrap_whole(PolygonMesh& input, GltfAppearance* look, const PrepareO
   return prepared;
 }
 
+// Under defer_envelopes, when the whole's grid is over the cap: whether every part that does
+// not map has an envelope grid within it (counted, nothing allocated).
+bool every_left_out_part_fits(const PreparedMesh& prepared, const PrepareOptions& options) {
+  StopCheck stop(&options.should_stop);
+  const std::vector<MeshPart> parts = connected_parts(prepared.welded.mesh, &stop);
+  if (parts.size() != prepared.parts.size()) return false;
+  const double asset_diagonal = diagonal_of(prepared.welded.mesh);
+  for (size_t k = 0; k < parts.size(); ++k) {
+    if (prepared.parts[k].mappable()) continue;
+    const std::optional<EnvelopeOptions> wrap =
+        part_envelope_options(parts[k].mesh, asset_diagonal, options);
+    if (!wrap) return false;
+    try {
+      plan_envelope(parts[k].mesh, *wrap);
+    } catch (const InputError&) {
+      return false;
+    }
+  }
+  return true;
+}
+
 // Under defer_envelopes: what build_envelopes needs, once the whole's grid is known to
 // fit. Throws build_envelope's InputError when it does not.
 PendingEnvelopes pending_envelopes(const PolygonMesh& input, const PrepareOptions& options) {
@@ -563,8 +596,13 @@ PreparedMesh prepare_input(PolygonMesh& input, GltfAppearance* look,
         prepared.pending = pending_envelopes(input, options);
       } catch (const InputError&) {
         // No envelope of the whole: the parts' may still do (their grids are smaller);
-        // without them the refusal says what the parts fail, as below.
-        if (!parts) return prepared;
+        // without them the refusal says what the parts fail, as below. A part whose own
+        // grid is over the cap too would stay out, and the job would then fail in its
+        // worker: refused here instead, as the eager path refuses it.
+        if (!parts || !every_left_out_part_fits(prepared, options)) {
+          prepared.pending = {};
+          return prepared;
+        }
         prepared.pending.method = PrepareMethod::kAuto;
         prepared.pending.envelope = options.envelope;
         prepared.pending.weld_tolerance = options.weld_tolerance;
