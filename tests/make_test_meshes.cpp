@@ -2,8 +2,11 @@
 // (no corpus needed): make_test_meshes OUTDIR -> OUTDIR/{icosphere2,icosphere4,horseshoe,
 // torus,textured_horseshoe,ellipsoid}.glb; with --stress [--million], the stress set as OBJ
 // (bench/quality); with --stress-glb, the stress set as GLB (the service's slow jobs in tests and
-// benches); with --random COUNT SEED, random_stress_meshes as OBJ (the stress probe).
+// benches); with --random COUNT SEED, random_stress_meshes as OBJ (the stress probe). OUTDIR
+// is made when missing.
 #include <cstdio>
+#include <exception>
+#include <filesystem>
 #include <string>
 
 #include "core/io/glb_writer.h"
@@ -11,11 +14,14 @@
 #include "tests/mesh_generators.h"
 #include "tests/thin_plates.h"
 
-int main(int argc, char** argv) {
+namespace {
+
+int write_meshes(int argc, char** argv) {
   using namespace spheremap;
   const std::string flag = argc >= 3 ? argv[2] : "";
   // An OUTDIR that looks like an option (--help, -h) is a request for the usage, not a folder.
   const bool asks_usage = argc >= 2 && argv[1][0] == '-';
+  if (argc >= 2 && !asks_usage) std::filesystem::create_directories(argv[1]);
   if (flag == "--random" && argc == 5) {
     const std::string dir = argv[1];
     for (const testing::NamedMesh& m : testing::random_stress_meshes(
@@ -62,4 +68,15 @@ int main(int argc, char** argv) {
   // Seams on every edge, TEXCOORD_0 and an embedded texture: outputs must keep them.
   write_binary_file(dir + "/textured_horseshoe.glb", testing::textured_glb(testing::horseshoe()));
   return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  try {
+    return write_meshes(argc, argv);
+  } catch (const std::exception& e) {  // a folder that cannot be made or written, a bad count
+    std::fprintf(stderr, "make_test_meshes: %s\n", e.what());
+    return 1;
+  }
 }

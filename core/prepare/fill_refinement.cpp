@@ -16,10 +16,6 @@ namespace {
 constexpr size_t kMaxPasses = 64;
 constexpr size_t kMaxRelaxRounds = 32;
 
-uint64_t directed(uint32_t a, uint32_t b) {
-  return (uint64_t{a} << 32) | b;
-}
-
 Vec3 normal(const std::vector<Vec3>& p, const Triangle& t) {
   return cross(p[t[1]] - p[t[0]], p[t[2]] - p[t[0]]);
 }
@@ -61,11 +57,11 @@ class Fill {
   // sum to more than pi (not Delaunay), the other diagonal is not an edge yet and the two
   // new triangles face the way the old did. Returns whether it swapped.
   bool relax(uint32_t a, uint32_t b) {
-    const auto i = at_.find(directed(a, b)), j = at_.find(directed(b, a));
+    const auto i = at_.find(directed_edge_key(a, b)), j = at_.find(directed_edge_key(b, a));
     if (i == at_.end() || j == at_.end()) return false;  // a boundary edge
     const uint32_t k1 = i->second, k2 = j->second;
     const uint32_t c = third(t_[k1], a, b), d = third(t_[k2], a, b);
-    if (c == d || at_.count(directed(c, d)) || at_.count(directed(d, c)) ||
+    if (c == d || at_.count(directed_edge_key(c, d)) || at_.count(directed_edge_key(d, c)) ||
         edges_.count(undirected_edge_key(c, d)))
       return false;
     if (!(angle_at(p_[c], p_[a], p_[b]) + angle_at(p_[d], p_[a], p_[b]) > std::numbers::pi + 1e-9))
@@ -96,10 +92,10 @@ class Fill {
 
  private:
   void link(uint32_t k) {
-    for (int e = 0; e < 3; ++e) at_[directed(t_[k][e], t_[k][(e + 1) % 3])] = k;
+    for (int e = 0; e < 3; ++e) at_[directed_edge_key(t_[k][e], t_[k][(e + 1) % 3])] = k;
   }
   void unlink(uint32_t k) {
-    for (int e = 0; e < 3; ++e) at_.erase(directed(t_[k][e], t_[k][(e + 1) % 3]));
+    for (int e = 0; e < 3; ++e) at_.erase(directed_edge_key(t_[k][e], t_[k][(e + 1) % 3]));
   }
 
   std::vector<Triangle>& t_;
@@ -183,9 +179,9 @@ bool fair(PolygonMesh& mesh, uint32_t base, const std::vector<Triangle>& fill,
     const double length = norm(nt);
     if (!(length > 1e-12 * scale)) folds = true;
     for (int e = 0; e < 3 && !folds; ++e) {
-      const auto it = facing.find(directed(t[(e + 1) % 3], t[e]));
+      const auto it = facing.find(directed_edge_key(t[(e + 1) % 3], t[e]));
       if (it != facing.end() && !(dot(it->second, nt * (1 / length)) > 0)) folds = true;
-      facing[directed(t[e], t[(e + 1) % 3])] = nt * (1 / length);
+      facing[directed_edge_key(t[e], t[(e + 1) % 3])] = nt * (1 / length);
     }
     if (folds) break;
   }

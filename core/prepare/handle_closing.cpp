@@ -21,10 +21,6 @@ constexpr size_t kRoots = 3;
 // to kMaxHoleCorners^3 / 6 steps): when none of them can be cut, the part is left.
 constexpr size_t kMaxTries = 8;
 
-uint64_t directed(uint32_t a, uint32_t b) {
-  return (uint64_t{a} << 32) | b;
-}
-
 std::string number(double x) {
   char text[32];
   std::snprintf(text, sizeof text, "%.3g", x);
@@ -49,7 +45,7 @@ uint32_t before(const PolygonMesh& mesh, uint32_t slot) {
 struct PartSurface {
   bool closable = false;
   long long genus = 0;
-  std::unordered_map<uint64_t, uint32_t> corner_at;  // directed(a, b) -> the slot of a
+  std::unordered_map<uint64_t, uint32_t> corner_at;  // directed_edge_key(a, b) -> the slot of a
 };
 
 PartSurface part_surface(const PolygonMesh& mesh, const std::vector<uint32_t>& faces,
@@ -63,21 +59,22 @@ PartSurface part_surface(const PolygonMesh& mesh, const std::vector<uint32_t>& f
       const uint32_t a = mesh.indices[slot], b = mesh.indices[mesh.offsets[f] + (k + 1) % size];
       // Twice the same way: inconsistent orientation, a non-manifold edge or a repeated
       // corner.
-      if (a == b || !s.corner_at.emplace(directed(a, b), slot).second) return s;
+      if (a == b || !s.corner_at.emplace(directed_edge_key(a, b), slot).second) return s;
       auto& [count, some_slot] = corners.try_emplace(a, 0u, slot).first->second;
       ++count;
     }
   }
   if (stop) stop->check();
   for (const auto& [key, slot] : s.corner_at)
-    if (!s.corner_at.count(directed(static_cast<uint32_t>(key), static_cast<uint32_t>(key >> 32))))
+    if (!s.corner_at.count(
+            directed_edge_key(static_cast<uint32_t>(key), static_cast<uint32_t>(key >> 32))))
       return s;  // a boundary edge
   // Each vertex's faces form one fan: turning about it from one corner meets them all.
   for (const auto& [v, count_slot] : corners) {
     const auto [count, start] = count_slot;
     uint32_t slot = start, steps = 0;
     do {
-      slot = s.corner_at.at(directed(v, before(mesh, slot)));
+      slot = s.corner_at.at(directed_edge_key(v, before(mesh, slot)));
       if (++steps > count) return s;
     } while (slot != start);
     if (steps != count) return s;
@@ -105,7 +102,8 @@ bool leaves_connected(const PolygonMesh& mesh, const PartSurface& s,
     const uint32_t a = static_cast<uint32_t>(key >> 32), b = static_cast<uint32_t>(key);
     if (a > b || cut.count(undirected_edge_key(a, b))) continue;
     const uint32_t x = sets.find(local.at(face_of_slot(mesh, slot))),
-                   y = sets.find(local.at(face_of_slot(mesh, s.corner_at.at(directed(b, a)))));
+                   y = sets.find(
+                       local.at(face_of_slot(mesh, s.corner_at.at(directed_edge_key(b, a)))));
     if (x != y) sets.unite(x, y), ++joined;
   }
   return joined + 1 == faces.size();
@@ -127,7 +125,7 @@ size_t cut_and_fill(PolygonMesh& mesh, std::vector<uint32_t>& faces, const PartS
   std::vector<std::pair<uint32_t, uint32_t>> left;
   for (uint32_t i = 0; i < n; ++i) {
     const uint32_t v = cycle[i], next = cycle[(i + 1) % n], prev = cycle[(i + n - 1) % n];
-    const auto it = s.corner_at.find(directed(v, next));
+    const auto it = s.corner_at.find(directed_edge_key(v, next));
     if (it == s.corner_at.end()) return 0;
     uint32_t slot = it->second;
     for (size_t steps = 0;; ++steps) {
@@ -135,7 +133,7 @@ size_t cut_and_fill(PolygonMesh& mesh, std::vector<uint32_t>& faces, const PartS
       left.push_back({slot, i});
       const uint32_t a = before(mesh, slot);
       if (a == prev) break;
-      slot = s.corner_at.at(directed(v, a));
+      slot = s.corner_at.at(directed_edge_key(v, a));
     }
   }
   const uint32_t first_copy = static_cast<uint32_t>(mesh.vertex_count());

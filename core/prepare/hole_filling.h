@@ -48,6 +48,11 @@ inline uint64_t undirected_edge_key(uint32_t a, uint32_t b) {
   return (uint64_t{a < b ? a : b} << 32) | (a < b ? b : a);
 }
 
+// The key of the directed edge a -> b (a half-edge), distinct from b -> a.
+inline uint64_t directed_edge_key(uint32_t a, uint32_t b) {
+  return (uint64_t{a} << 32) | b;
+}
+
 // A fill triangle smaller than this share of its part's surface spans a crack.
 inline constexpr double kCrackArea = 1e-9;
 
