@@ -60,9 +60,12 @@ if ! $engine image inspect debian:bookworm-slim > /dev/null 2>&1 &&
 fi
 
 build_start=$(date +%s)
-network=()
-[ "$engine" = podman ] && network=(--network=host --format docker)  # docker format keeps HEALTHCHECK
-$engine build "${network[@]}" -q -f docker/Dockerfile -t $image . > /dev/null
+build_options=()
+[ "$engine" = podman ] && build_options=(--network=host --format docker)  # docker format keeps HEALTHCHECK
+# podman build can mount the host's compiler cache (scripts/compiler-cache.sh): the image's
+# Release build of the sources the host just built is then mostly cache hits.
+[ "$engine" = podman ] && [ -d "${CCACHE_DIR:-}" ] && build_options+=(-v "$CCACHE_DIR:/ccache")
+$engine build "${build_options[@]}" -q -f docker/Dockerfile -t $image . > /dev/null
 echo "built $image in $(( $(date +%s) - build_start )) s"
 size=$($engine image inspect $image --format '{{.Size}}')
 echo "image size: $(( size / 1024 / 1024 )) MiB"

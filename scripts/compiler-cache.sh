@@ -12,6 +12,9 @@ if command -v ccache > /dev/null; then
     # The test programs precompile gtest's header: ccache caches such compiles only
     # with these two relaxations (its manual, "Precompiled headers").
     CCACHE_SLOPPINESS=pch_defines,time_macros
-    export CCACHE_BASEDIR CCACHE_SLOPPINESS
+    # Compilers compared by content, not file time, so the container's build of the same
+    # Debian compiler (docker/Dockerfile, with this cache mounted) hits what this one cached.
+    CCACHE_COMPILERCHECK=content
+    export CCACHE_BASEDIR CCACHE_SLOPPINESS CCACHE_COMPILERCHECK
   fi
 fi
