@@ -244,22 +244,22 @@ void bake_texels(BakedBaseColor& baked, const SphereLocator& locator, int size, 
                  const std::function<bool()>* should_stop, ColorOf color_of) {
   std::vector<uint16_t> rgb(static_cast<size_t>(size) * size * 3, 128);
   std::vector<char> missed(static_cast<size_t>(size) * size, 0);
-  // Asked every row (at most 2048 texels: milliseconds).
-  ParallelStop row_stop(should_stop, 1);
-  parallel_for(static_cast<size_t>(size), threads, [&](size_t row) {
-    if (row_stop.skip(row)) return;
-    for (int column = 0; column < size; ++column) {
-      const double u = (column + 0.5) / size, v = (row + 0.5) / size;
-      const SphereHit hit = locator.locate(octahedral_decode({2 * u - 1, 1 - 2 * v}));
-      const size_t texel = row * static_cast<size_t>(size) + column;
-      Rgba color;
-      if (hit.triangle == UINT32_MAX || !color_of(hit, color)) {
-        missed[texel] = hit.triangle == UINT32_MAX;
-        continue;
-      }
-      for (int k = 0; k < 3; ++k)
-        rgb[texel * 3 + k] = static_cast<uint16_t>(std::lround(255 * linear_to_srgb(color[k])));
+  // Over texels, not rows (a few thousand rows stay under parallel_for's threshold, so a
+  // 2048 square ran on one thread); the stop asked once a row (milliseconds).
+  ParallelStop row_stop(should_stop, static_cast<size_t>(size));
+  parallel_for(rgb.size() / 3, resolve_threads(threads), [&](size_t texel) {
+    if (row_stop.skip(texel)) return;
+    const size_t row = texel / static_cast<size_t>(size);
+    const size_t column = texel % static_cast<size_t>(size);
+    const double u = (column + 0.5) / size, v = (row + 0.5) / size;
+    const SphereHit hit = locator.locate(octahedral_decode({2 * u - 1, 1 - 2 * v}));
+    Rgba color;
+    if (hit.triangle == UINT32_MAX || !color_of(hit, color)) {
+      missed[texel] = hit.triangle == UINT32_MAX;
+      return;
     }
+    for (int k = 0; k < 3; ++k)
+      rgb[texel * 3 + k] = static_cast<uint16_t>(std::lround(255 * linear_to_srgb(color[k])));
   });
   row_stop.throw_if_stopped();
   baked.unlocated_texels = static_cast<size_t>(std::count(missed.begin(), missed.end(), 1));
