@@ -64,7 +64,13 @@ build_options=()
 [ "$engine" = podman ] && build_options=(--network=host --format docker)  # docker format keeps HEALTHCHECK
 # podman build can mount the host's compiler cache (scripts/compiler-cache.sh): the image's
 # Release build of the sources the host just built is then mostly cache hits.
-[ "$engine" = podman ] && [ -d "${CCACHE_DIR:-}" ] && build_options+=(-v "$CCACHE_DIR:/ccache")
+# ccache hashes the locale, so the host's goes in too (only what is set).
+if [ "$engine" = podman ] && [ -d "${CCACHE_DIR:-}" ]; then
+  build_options+=(-v "$CCACHE_DIR:/ccache")
+  for variable in LANG LC_ALL LC_CTYPE LC_MESSAGES; do
+    [ -n "${!variable+set}" ] && build_options+=(--build-arg "$variable=${!variable}")
+  done
+fi
 $engine build "${build_options[@]}" -q -f docker/Dockerfile -t $image . > /dev/null
 echo "built $image in $(( $(date +%s) - build_start )) s"
 size=$($engine image inspect $image --format '{{.Size}}')
