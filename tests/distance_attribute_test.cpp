@@ -37,15 +37,17 @@ ReadGlb read_glb(const std::string& glb) {
   return out;
 }
 
-// The floats of the primitive's attribute `name` (empty when it has none).
-std::vector<float> attribute(const ReadGlb& glb, const std::string& name) {
-  const nlohmann::json& attributes = glb.json["meshes"][0]["primitives"][0]["attributes"];
+// The floats of mesh `mesh`'s attribute `name` (empty when it has none): SCALAR, or VEC3
+// (x, y, z of each vertex in turn) when `components` is 3.
+std::vector<float> attribute(const ReadGlb& glb, const std::string& name, size_t mesh = 0,
+                             size_t components = 1) {
+  const nlohmann::json& attributes = glb.json["meshes"][mesh]["primitives"][0]["attributes"];
   if (!attributes.contains(name)) return {};
   const nlohmann::json& accessor = glb.json["accessors"][attributes[name].get<size_t>()];
   EXPECT_EQ(accessor["componentType"], 5126);
-  EXPECT_EQ(accessor["type"], "SCALAR");
+  EXPECT_EQ(accessor["type"], components == 3 ? "VEC3" : "SCALAR");
   const nlohmann::json& view = glb.json["bufferViews"][accessor["bufferView"].get<size_t>()];
-  std::vector<float> values(accessor["count"].get<size_t>());
+  std::vector<float> values(accessor["count"].get<size_t>() * components);
   std::memcpy(values.data(), glb.bin.data() + view.value("byteOffset", size_t{0}),
               values.size() * 4);
   return values;
@@ -103,6 +105,64 @@ TEST(DistanceAttribute, AWrappedMorphCarriesEachVertexDistanceToTheOriginal) {
   // filled hole is within a few voxels' reach of the original.
   EXPECT_GT(brute_max, 0.5 / 96);
   EXPECT_LT(brute_max, 0.5);
+}
+
+// Auto wraps an open dome beside a sphere: the dome's mesh carries _DISTANCE to the dome's
+// own faces (relative to their diagonal), the sphere's none.
+TEST(DistanceAttribute, OnlyTheWrappedPartOfSeveralCarriesIt) {
+  const PolygonMesh sphere = testing::icosphere(2), dome = testing::dome(3);
+  PolygonMesh input = testing::assembled({{sphere, {0, 0, 0}}, {dome, {3, 0, 0}}});
+  const PolygonMesh original = input;
+  PrepareOptions prepare;
+  prepare.method = PrepareMethod::kAuto;
+  prepare.envelope.resolution = 96;
+  prepare.envelope.target_faces = 3000;
+  const MappedMesh mapped = map_prepared(prepare_input(input, nullptr, prepare), {});
+  ASSERT_EQ(mapped.prepared.preparation.decided, "parts+wrap");
+  ASSERT_EQ(mapped.parts.size(), 2u);
+  const MorphAsset morph = morph_asset(mapped, 4, &original, nullptr);
+  const ReadGlb glb = read_glb(morph.glb);
+  ASSERT_EQ(glb.json["meshes"].size(), 2u);
+  size_t with = 0;
+  for (size_t k = 0; k < 2; ++k) {
+    const std::vector<float> distances = attribute(glb, "_DISTANCE", k);
+    if (distances.empty()) continue;
+    ++with;
+    const std::vector<float> xyz = attribute(glb, "POSITION", k, 3);
+    ASSERT_EQ(xyz.size(), 3 * distances.size());
+    // Brute force against the dome's faces of the input (the sphere's come first).
+    std::vector<Triangle> faces;
+    Vec3 lo = original.positions[original.face(sphere.face_count())[0]], hi = lo;
+    for (size_t f = sphere.face_count(); f < original.face_count(); ++f) {
+      const auto c = original.face(f);
+      for (size_t i = 1; i + 1 < c.size(); ++i) faces.push_back({c[0], c[i], c[i + 1]});
+      for (uint32_t v : c) {
+        const Vec3& p = original.positions[v];
+        lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
+        hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
+      }
+    }
+    const double diagonal = norm(hi - lo);
+    double brute_max = 0, attribute_max = 0;
+    for (size_t v = 0; v < distances.size(); ++v) {
+      const Vec3 p{xyz[3 * v], xyz[3 * v + 1], xyz[3 * v + 2]};
+      double best = std::numeric_limits<double>::max();
+      for (const Triangle& t : faces)
+        best = std::min(best, norm(p - closest_on_triangle(p, original.positions[t[0]],
+                                                           original.positions[t[1]],
+                                                           original.positions[t[2]])));
+      brute_max = std::max(brute_max, best / diagonal);
+      attribute_max = std::max(attribute_max, static_cast<double>(distances[v]));
+    }
+    std::printf("wrapped part: %zu vertices, max %.5f (brute force %.5f)\n", distances.size(),
+                attribute_max, brute_max);
+    EXPECT_NEAR(attribute_max, brute_max, 1e-5);
+    EXPECT_GT(brute_max, 0);
+    ASSERT_TRUE(morph.metrics.contains("vertex_distances"));
+    EXPECT_NEAR(morph.metrics["vertex_distances"]["max"].get<double>(), attribute_max, 1e-6);
+    EXPECT_EQ(morph.metrics["vertex_distances"]["wrapped_parts"], 1);
+  }
+  EXPECT_EQ(with, 1u);
 }
 
 TEST(DistanceAttribute, AnExactMorphCarriesNone) {

@@ -3,7 +3,8 @@
 # to 100K faces (generated meshes without the corpus): each written by the tool, checked
 # by the Khronos glTF validator (0 errors) and decoded by gltf-transform; the remesh read
 # back by `spheremap info` (our own validator: closed, manifold, genus 0); the UV map has
-# no flipped triangle; a wrapped torus's morph (with _DISTANCE) too. Usage: validate_assets.sh SPHEREMAP MAKE_TEST_MESHES CORPUS
+# no flipped triangle; a wrapped torus's morph (with _DISTANCE) too.
+# Usage: validate_assets.sh SPHEREMAP MAKE_TEST_MESHES CORPUS
 set -uo pipefail
 spheremap=$1 make_meshes=$2 corpus=$3
 here=$(cd "$(dirname "$0")" && pwd)
