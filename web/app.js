@@ -5,11 +5,15 @@ import * as THREE from 'three';
 import { GLTFLoader } from 'three/addons/loaders/GLTFLoader.js';
 import { DRACOLoader } from 'three/addons/loaders/DRACOLoader.js';
 import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
+import { OBJLoader } from 'three/addons/loaders/OBJLoader.js';
+import { STLLoader } from 'three/addons/loaders/STLLoader.js';
+import { PLYLoader } from 'three/addons/loaders/PLYLoader.js';
 import { MeshoptDecoder } from 'three/addons/libs/meshopt_decoder.module.js';
 
 const $ = (id) => document.getElementById(id);
 const state = {
   files: [], extraOptions: {}, events: null, poll: null, models: {}, view: null,
+  compare: null,  // a wrapped job: { original, envelope } drawn side by side (either may be null)
   submission: 0,  // counts submissions: a late answer to an earlier one is ignored
   newJob: true,  // the next view framed picks its own direction (side-on), not the current one
   fitted: null,  // the last fit's box, redone when the canvas changes shape
@@ -56,15 +60,38 @@ function resize() {
   if (canvas.width === Math.floor(w * renderer.getPixelRatio()) &&
       canvas.height === Math.floor(h * renderer.getPixelRatio())) return false;
   renderer.setSize(w, h, false);
-  camera.aspect = w / Math.max(h, 1);
-  camera.updateProjectionMatrix();
+  setAspect();
   return true;
+}
+// The side-by-side view draws each half of the canvas with the one camera.
+function setAspect() {
+  const { clientWidth: w, clientHeight: h } = canvas;
+  camera.aspect = (state.view === 'compare' ? 0.5 : 1) * w / Math.max(h, 1);
+  camera.updateProjectionMatrix();
+}
+// The original on the left half, the envelope on the right, seen by the same camera and
+// controls, so both turn together.
+function renderCompare() {
+  const { clientWidth: w, clientHeight: h } = canvas;
+  const half = Math.floor(w / 2);
+  const { original, envelope } = state.compare;
+  renderer.setScissorTest(true);
+  for (const [shown, x, width] of [[original, 0, half], [envelope, half, w - half]]) {
+    if (original) original.visible = shown === original;
+    if (envelope) envelope.visible = shown === envelope;
+    renderer.setViewport(x, 0, width, h);
+    renderer.setScissor(x, 0, width, h);
+    renderer.render(scene, camera);
+  }
+  renderer.setScissorTest(false);
+  renderer.setViewport(0, 0, w, h);
 }
 renderer.setAnimationLoop(() => {
   // A canvas of a new shape frames the object again, unless the person moved the camera.
   if (resize() && state.fitted && !state.touched) fit(state.fitted);
   controls.update();
-  renderer.render(scene, camera);
+  if (state.view === 'compare' && state.compare) renderCompare();
+  else renderer.render(scene, camera);
 });
 
 const draco = new DRACOLoader().setDecoderPath('/web/three/examples/jsm/libs/draco/');
@@ -176,6 +203,15 @@ function clearModels() {
     disposeModel(object);
   }
   state.models = {};
+  for (const object of Object.values(state.compare ?? {})) {
+    if (!object) continue;
+    scene.remove(object);
+    disposeModel(object);
+  }
+  state.compare = null;
+  const compare = document.querySelector('#views [data-view="compare"]');
+  compare.hidden = true;
+  $('compare-labels').hidden = $('distance-legend').hidden = true;
   state.view = null;
   state.newJob = true;
   for (const button of document.querySelectorAll('#views button')) {
@@ -211,19 +247,24 @@ function updateHeatToggle() {
   $('heat').disabled = !possible;
   $('heat-toggle').title = possible ? 'Colour each triangle by how much the map grows or shrinks it'
     : !state.models.morph ? 'Map a mesh with the mesh-to-sphere morph output first'
+    : state.view === 'compare' ? 'This view colours the envelope by its distance to the original'
     : 'The remesh resamples the sphere on a grid of its own: the distortion shows in the other views';
 }
 
 function show(name) {
   state.view = name;
+  setAspect();
   const heat = $('heat').checked && heatPossible(name);
   const shown = heat ? 'morph' : name;
   for (const [key, object] of Object.entries(state.models)) object.visible = key === shown;
   for (const button of document.querySelectorAll('#views button'))
     button.setAttribute('aria-selected', String(button.dataset.view === name));
   $('morph-control').hidden = name !== 'morph';
+  $('compare-labels').hidden = $('distance-legend').hidden = name !== 'compare';
+  for (const object of Object.values(state.compare ?? {})) if (object) object.visible = false;
   updateHeatToggle();
   applyHeat(heat);
+  if (name === 'compare') return showCompare();
   const object = state.models[shown];
   if (!object) return;
   // The morph view fits its mesh and its sphere at once, so the slider never leaves the
@@ -242,6 +283,19 @@ function show(name) {
     radius = Math.max(radius, radiusAbout(object, center));
   }
   if (name === 'morph') setInfluence(Number($('morph').value));
+  fit({ box, radius }, state.newJob ? sideOn(box) : undefined);
+  state.newJob = false;
+}
+
+// Both halves framed alike: each model is already centred in the unit ball (framed()), and
+// the camera fits the larger.
+function showCompare() {
+  const objects = Object.values(state.compare ?? {}).filter((o) => o);
+  if (!objects.length) return;
+  const box = new THREE.Box3();
+  for (const object of objects) box.union(boxOf(object));
+  const center = box.getCenter(new THREE.Vector3());
+  const radius = Math.max(...objects.map((object) => radiusAbout(object, center)));
   fit({ box, radius }, state.newJob ? sideOn(box) : undefined);
   state.newJob = false;
 }
@@ -335,6 +389,93 @@ function applyHeat(on) {
   });
 }
 $('heat').addEventListener('change', () => { if (state.view) show(state.view); });
+
+// ---- distance heat map of a wrapped job: each envelope vertex's distance to the original
+// (the morph's _DISTANCE attribute, a share of the original's bounding-box diagonal);
+// blue = on it, yellow = 1%, red = 2% or more.
+const DISTANCE_SCALE = 0.02;
+const NEAR = new THREE.Color(0x2c7bb6), MID = new THREE.Color(0xffffbf), FAR = new THREE.Color(0xd7191c);
+
+// Colours `object` (a copy of the morph, at its mesh end) by distance; returns the largest.
+// A part mapped as it is has no _DISTANCE: it is the original there (distance 0).
+function distanceColored(object) {
+  let max = 0;
+  const c = new THREE.Color();
+  object.traverse((o) => {
+    if (!o.isMesh) return;
+    const distance = o.geometry.attributes._distance;
+    const count = o.geometry.attributes.position.count;
+    const colors = new Float32Array(3 * count);
+    for (let v = 0; v < count; ++v) {
+      const d = distance ? distance.getX(v) : 0;
+      max = Math.max(max, d);
+      const t = Math.min(d / DISTANCE_SCALE, 1);
+      if (t < 0.5) c.copy(NEAR).lerp(MID, 2 * t); else c.copy(MID).lerp(FAR, 2 * t - 1);
+      colors.set([c.r, c.g, c.b], 3 * v);
+    }
+    o.geometry.setAttribute('color', new THREE.BufferAttribute(colors, 3));
+    // The mesh end only: without its sphere target the model is framed as the envelope.
+    o.geometry.morphAttributes = {};
+    o.geometry.boundingBox = o.geometry.boundingSphere = null;
+    delete o.morphTargetInfluences;
+    delete o.morphTargetDictionary;
+    o.material = new THREE.MeshStandardMaterial({
+      vertexColors: true, roughness: 0.65, metalness: 0, side: THREE.DoubleSide });
+  });
+  return max;
+}
+
+// The asset as uploaded, read by three.js's own loaders from the chosen files; throws
+// with the reason when the browser cannot show it.
+async function originalModel() {
+  const main = state.files.find((f) => MESH_FILE.test(f.name));
+  if (!main) throw new Error('no file chosen');
+  const type = main.name.split('.').pop().toLowerCase();
+  if (type === 'glb' || type === 'gltf') {
+    const urls = new Map(state.files.map((f) => [f.name, URL.createObjectURL(f)]));
+    const manager = new THREE.LoadingManager();
+    manager.setURLModifier((url) => urls.get(decodeURIComponent(url.split('/').pop())) ?? url);
+    try {
+      return (await gltfLoader(manager).parseAsync(await main.arrayBuffer(), '')).scene;
+    } finally {
+      setTimeout(() => urls.forEach((u) => URL.revokeObjectURL(u)), 60000);
+    }
+  }
+  if (type === 'obj') return new OBJLoader().parse(await main.text());
+  let geometry;
+  if (type === 'stl') geometry = new STLLoader().parse(await main.arrayBuffer());
+  else if (type === 'ply') geometry = new PLYLoader().parse(await main.arrayBuffer());
+  else throw new Error(`the browser has no reader for .${type} files`);
+  if (!geometry.attributes.normal) geometry.computeVertexNormals();
+  return new THREE.Mesh(geometry);
+}
+
+// A wrapped job: the original and the envelope (a second copy of the morph) for the side
+// by side view, and its button.
+async function prepareCompare(morph, ticket) {
+  const envelope = await loadGlb(morph.href);
+  let original = null, note = '';
+  try {
+    original = framed(surface(await originalModel(), 0xc8c8c8));
+  } catch (error) {
+    note = `Not shown: ${error.message}.`;
+  }
+  if (ticket !== state.submission) return;
+  const max = distanceColored(envelope);
+  state.compare = { original, envelope: framed(envelope) };
+  for (const object of Object.values(state.compare)) {
+    if (!object) continue;
+    object.visible = false;
+    scene.add(object);
+  }
+  $('compare-note').hidden = !note;
+  $('compare-note').textContent = note;
+  $('distance-max').textContent = `${(100 * max).toFixed(2)}%`;
+  $('distance-legend').dataset.max = String(max);
+  $('canvas-box').dataset.compareModels = String(Object.values(state.compare).filter((o) => o).length);
+  const button = document.querySelector('#views [data-view="compare"]');
+  button.hidden = button.disabled = false;
+}
 
 async function loadGlb(url) {
   const bytes = await (await api(url)).arrayBuffer();
@@ -588,6 +729,9 @@ async function finished(job, ticket) {
       if (!state.models.input)
         setModel('input', framed(surface(await load('morph.glb'), 0xc8c8c8)));
     }
+    // A wrapped job (its morph carries _DISTANCE): the original beside the envelope.
+    if (artifacts['morph.glb'] && metrics.morph?.vertex_distances)
+      await prepareCompare(artifacts['morph.glb'], ticket);
     if (state.models.sphere) show('sphere');
   } catch (error) {
     console.warn('could not show a result:', error.message);

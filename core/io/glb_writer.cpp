@@ -107,8 +107,9 @@ struct MaterialTable {
 // One glTF mesh (a single primitive) of `mesh`, its data appended to `b`.
 nlohmann::json add_mesh(GlbBuilder& b, MaterialTable& table, const GlbMesh& mesh) {
   const bool draco = mesh.draco_position_bits > 0;
-  if (draco && (!mesh.texcoords.empty() || !mesh.morph_positions.empty() ||
-                !mesh.base_color_png.empty() || !mesh.normal_png.empty()))
+  if (draco &&
+      (!mesh.texcoords.empty() || !mesh.morph_positions.empty() || !mesh.base_color_png.empty() ||
+       !mesh.normal_png.empty() || !mesh.distances.empty()))
     throw std::invalid_argument(
         "build_glb: Draco output carries positions, normals and colours only");
   const size_t n = mesh.positions.size();
@@ -117,6 +118,8 @@ nlohmann::json add_mesh(GlbBuilder& b, MaterialTable& table, const GlbMesh& mesh
         "build_glb: a normal map needs a tangent and a texcoord per vertex");
   if (!mesh.colors.empty() && mesh.colors.size() != n)
     throw std::invalid_argument("build_glb: one colour per vertex");
+  if (!mesh.distances.empty() && mesh.distances.size() != n)
+    throw std::invalid_argument("build_glb: one distance per vertex");
   GlbBuilder::require_float32_positions(mesh.positions);
   // With Draco, accessors describe the decoded data and have no bufferView.
   auto vec3 = [&](const std::vector<Vec3>& values, bool bounds) {
@@ -134,6 +137,7 @@ nlohmann::json add_mesh(GlbBuilder& b, MaterialTable& table, const GlbMesh& mesh
     attributes["COLOR_0"] =
         draco ? b.add_accessor({{"componentType", 5126}, {"count", n}, {"type", "VEC3"}})
               : b.add_floats({mesh.colors.data()->data(), 3 * n}, 3);
+  if (!mesh.distances.empty()) attributes["_DISTANCE"] = b.add_floats(mesh.distances, 1);
   nlohmann::json targets = nlohmann::json::array();
   if (!mesh.morph_positions.empty()) {
     nlohmann::json target;

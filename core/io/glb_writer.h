@@ -1,5 +1,6 @@
 // Writing a triangle mesh as a self-contained GLB (glTF 2.0 binary): float32 POSITION
-// (with the min/max glTF requires), optional NORMAL, TANGENT, TEXCOORD_0 and COLOR_0,
+// (with the min/max glTF requires), optional NORMAL, TANGENT, TEXCOORD_0, COLOR_0 and
+// _DISTANCE,
 // uint32 indices, one node, `extras` on the mesh (our metrics); optionally a textured
 // material (base colour, normal map), a morph target and its animation.
 #pragma once
@@ -33,6 +34,10 @@ struct GlbMesh {
   std::vector<std::array<float, 4>> tangents;
   // COLOR_0 (linear RGB in [0, 1]): empty, or one per position. Draco encodes it too.
   std::vector<std::array<float, 3>> colors;
+  // `_DISTANCE` (float SCALAR, an application-specific attribute glTF allows): empty, or
+  // one per position; a wrapped morph's distance of each vertex to the original. Not
+  // with Draco.
+  std::vector<float> distances;
   std::string material_name = "checker";
   // One morph target: a displacement per position (and per normal, when given), the mesh's
   // weight 0; with morph_seconds > 0, an animation plays the weight 0 -> 1 -> 0 over it.

@@ -27,15 +27,22 @@ std::vector<Vec3> samples_of(std::span<const Vec3> positions, std::span<const Tr
   return out;
 }
 
-// {sum of squared distances, max distance} of the samples to the tree.
-std::pair<double, double> one_way(const std::vector<Vec3>& samples, const TriangleTree& tree,
-                                  int threads, const std::function<bool()>* should_stop) {
+// The squared distance of each sample to the tree: one closest-point query each.
+std::vector<double> squared_distances(std::span<const Vec3> samples, const TriangleTree& tree,
+                                      int threads, const std::function<bool()>* should_stop) {
   std::vector<double> d2(samples.size());
   ParallelStop stop(should_stop, 4096);  // a few milliseconds of queries
   parallel_for(samples.size(), resolve_threads(threads), [&](size_t i) {
     if (!stop.skip(i)) d2[i] = tree.squared_distance(samples[i]);
   });
   stop.throw_if_stopped();
+  return d2;
+}
+
+// {sum of squared distances, max distance} of the samples to the tree.
+std::pair<double, double> one_way(const std::vector<Vec3>& samples, const TriangleTree& tree,
+                                  int threads, const std::function<bool()>* should_stop) {
+  const std::vector<double> d2 = squared_distances(samples, tree, threads, should_stop);
   double sum = 0, max = 0;
   for (double x : d2) sum += x, max = std::max(max, x);
   return {sum, std::sqrt(max)};
@@ -79,6 +86,29 @@ SurfaceDistance surface_distance(std::span<const Vec3> a_positions,
   out.hausdorff = std::max(out.max_a_to_b, out.max_b_to_a);
   out.samples = a_samples.size() + b_samples.size();
   out.rms = std::sqrt((a_sum + b_sum) / out.samples) / d;
+  return out;
+}
+
+PointDistances point_distances(std::span<const Vec3> a_positions,
+                               std::span<const Triangle> a_triangles, std::span<const Vec3> points,
+                               int threads, const std::function<bool()>* should_stop) {
+  PointDistances out;
+  // In a's unit frame, as surface_distance measures.
+  const UnitFrame frame = unit_frame(a_positions);
+  std::vector<Vec3> a_unit(a_positions.size()), p_unit(points.size());
+  for (size_t k = 0; k < a_unit.size(); ++k) a_unit[k] = frame.apply(a_positions[k]);
+  for (size_t k = 0; k < p_unit.size(); ++k) p_unit[k] = frame.apply(points[k]);
+  AxisBox box;
+  for (const Triangle& t : a_triangles)
+    for (uint32_t v : t) box.add(a_unit[v]);
+  const double d = a_triangles.empty() ? 0 : norm(box.hi - box.lo);
+  out.diagonal = frame.length_in_input_units(d);
+  out.relative.assign(points.size(), 0.0);
+  if (!(d > 0)) return out;
+  StopCheck(should_stop).check();  // before the tree: a million triangles take a while
+  const std::vector<double> d2 =
+      squared_distances(p_unit, TriangleTree(a_unit, a_triangles), threads, should_stop);
+  for (size_t k = 0; k < d2.size(); ++k) out.relative[k] = std::sqrt(d2[k]) / d;
   return out;
 }
 

@@ -6,6 +6,7 @@
 
 #include <functional>
 #include <span>
+#include <vector>
 
 #include "core/mesh/mesh.h"
 
@@ -25,5 +26,18 @@ SurfaceDistance surface_distance(std::span<const Vec3> a_positions,
                                  std::span<const Vec3> b_positions,
                                  std::span<const Triangle> b_triangles, int threads = 0,
                                  const std::function<bool()>* should_stop = nullptr);
+
+// The distance of each of `points` to the closest point of a's triangles (one query each,
+// the same tree and frame as surface_distance), relative to a's bounding-box diagonal:
+// e.g. a heat map of how far an envelope's vertices lie from the original. All 0 when a
+// has no extent. `should_stop` (may be null) is asked every 4096 points; true throws
+// InputError("stopped").
+struct PointDistances {
+  std::vector<double> relative;  // one per point
+  double diagonal = 0;           // of a's bounding box, in a's units
+};
+PointDistances point_distances(std::span<const Vec3> a_positions,
+                               std::span<const Triangle> a_triangles, std::span<const Vec3> points,
+                               int threads = 0, const std::function<bool()>* should_stop = nullptr);
 
 }  // namespace spheremap

@@ -347,11 +347,17 @@ MorphAsset morph_asset(const MappedMesh& mapped, double seconds, const PolygonMe
   if (!mapped.parts.empty()) return parts_morph_asset(mapped, seconds, input, appearance);
   const auto start = std::chrono::steady_clock::now();
   BuiltMorph built = build_morph(mapped, seconds);
-  if (const std::optional<OriginalSurface> original = wrapped_original(mapped))
+  if (const std::optional<OriginalSurface> original = wrapped_original(mapped)) {
     if (auto colors = colors_closest(*original, built.glb.positions, 0, nullptr)) {
       built.glb.colors = std::move(*colors);
       built.metrics["vertex_colors"] = "COLOR_0: the original's base colour at the closest point";
     }
+    // Each envelope vertex's distance to the original, for the page's heat map.
+    VertexDistances distances = vertex_distances(*original, built.glb.positions, 0, nullptr);
+    built.glb.distances = std::move(distances.relative);
+    built.metrics["vertex_distances"] = distances.metrics;
+    built.glb.extras["spheremap_morph"]["vertex_distances"] = without_timings(distances.metrics);
+  }
   MorphAsset asset;
   asset.metrics = std::move(built.metrics);
   if (input && appearance && !appearance->empty()) {

@@ -1,5 +1,9 @@
 #include "core/outputs/original_surface.h"
 
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
 #include "core/mesh/surface_distance.h"
 
 namespace spheremap {
@@ -45,6 +49,29 @@ nlohmann::json distance_to_original(const OriginalSurface& original,
           {"output_to_original", {{"rms", d.rms_b_to_a}, {"max", d.max_b_to_a}}},
           {"original_triangles", original.triangles.size()},
           {"samples", d.samples}};
+}
+
+VertexDistances vertex_distances(const OriginalSurface& original, std::span<const Vec3> points,
+                                 int threads, const std::function<bool()>* should_stop) {
+  const auto start = std::chrono::steady_clock::now();
+  const PointDistances d =
+      point_distances(original.mesh->positions, original.triangles, points, threads, should_stop);
+  VertexDistances out;
+  double max = 0, sum2 = 0;
+  for (double x : d.relative) {
+    out.relative.push_back(static_cast<float>(x));
+    max = std::max(max, x);
+    sum2 += x * x;
+  }
+  const std::chrono::duration<double> seconds = std::chrono::steady_clock::now() - start;
+  out.metrics = {{"attribute", "_DISTANCE"},
+                 {"relative_to", "bounding-box diagonal of the original triangles"},
+                 {"diagonal", d.diagonal},
+                 {"max", max},
+                 {"rms", points.empty() ? 0.0 : std::sqrt(sum2 / points.size())},
+                 {"vertices", points.size()},
+                 {"seconds", seconds.count()}};
+  return out;
 }
 
 }  // namespace spheremap

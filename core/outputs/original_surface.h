@@ -40,4 +40,17 @@ nlohmann::json distance_to_original(const OriginalSurface& original,
                                     std::span<const Triangle> triangles, int threads,
                                     const std::function<bool()>* should_stop);
 
+// Per point of an envelope (its vertices, in the original's units), the distance to the
+// closest point of `original` (one query each, core/mesh/surface_distance), relative to
+// the original's bounding-box diagonal as distance_to_original: the `_DISTANCE` vertex
+// attribute of a wrapped morph, which the page draws as a heat map. `metrics`: the
+// attribute's name, its max and RMS, the diagonal and the seconds taken.
+// `should_stop` (may be null) is asked every 4096 points; true throws InputError("stopped").
+struct VertexDistances {
+  std::vector<float> relative;  // one per point
+  nlohmann::json metrics;
+};
+VertexDistances vertex_distances(const OriginalSurface& original, std::span<const Vec3> points,
+                                 int threads, const std::function<bool()>* should_stop);
+
 }  // namespace spheremap

@@ -285,7 +285,8 @@ MorphAsset parts_morph_asset(const MappedMesh& mapped, double seconds, const Pol
   DecodedImages decoded;  // each base-colour image decoded once for all parts
   std::vector<GlbMesh> meshes;
   nlohmann::json parts = nlohmann::json::array();
-  size_t vertices = 0, triangles = 0;
+  size_t vertices = 0, triangles = 0, wrapped = 0;
+  double max_distance = 0, distance_seconds = 0;  // over the wrapped parts' vertices
   for (size_t k = 0; k < mapped.parts.size(); ++k) {
     BuiltMorph built = build_morph(mapped.parts[k].mapped, seconds);
     if (input && reports[k] && reports[k]->wrapped) {
@@ -295,6 +296,12 @@ MorphAsset parts_morph_asset(const MappedMesh& mapped, double seconds, const Pol
         built.glb.colors = std::move(*colors);
         built.metrics["vertex_colors"] = "COLOR_0: the original's base colour at the closest point";
       }
+      VertexDistances distances = vertex_distances(original, built.glb.positions, 0, nullptr);
+      built.glb.distances = std::move(distances.relative);
+      built.metrics["vertex_distances"] = distances.metrics;
+      max_distance = std::max(max_distance, distances.metrics["max"].get<double>());
+      distance_seconds += distances.metrics["seconds"].get<double>();
+      ++wrapped;
     }
     vertices += built.metrics["vertices"].get<size_t>();
     triangles += built.metrics["triangles"].get<size_t>();
@@ -309,6 +316,14 @@ MorphAsset parts_morph_asset(const MappedMesh& mapped, double seconds, const Pol
                    {"animation_seconds", seconds},
                    {"kept_appearance", false},
                    {"parts", parts}};
+  // The wrapped parts carry _DISTANCE (each relative to its own original faces'
+  // diagonal); the others are their original faces, at distance 0.
+  if (wrapped > 0)
+    asset.metrics["vertex_distances"] = {{"attribute", "_DISTANCE"},
+                                         {"relative_to", "each wrapped part's original faces"},
+                                         {"max", max_distance},
+                                         {"wrapped_parts", wrapped},
+                                         {"seconds", distance_seconds}};
   GlbParts glb = build_glb(meshes, part_nodes(meshes.size()));
   glb.json["meshes"][0]["extras"] = {{"spheremap_morph", without_timings(asset.metrics)}};
   asset.glb = serialize_glb(glb);

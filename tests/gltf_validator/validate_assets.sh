@@ -3,7 +3,8 @@
 # to 100K faces (generated meshes without the corpus): each written by the tool, checked
 # by the Khronos glTF validator (0 errors) and decoded by gltf-transform; the remesh read
 # back by `spheremap info` (our own validator: closed, manifold, genus 0); the UV map has
-# no flipped triangle. Usage: validate_assets.sh SPHEREMAP MAKE_TEST_MESHES CORPUS
+# no flipped triangle; a wrapped torus's morph (with _DISTANCE) too.
+# Usage: validate_assets.sh SPHEREMAP MAKE_TEST_MESHES CORPUS
 set -uo pipefail
 spheremap=$1 make_meshes=$2 corpus=$3
 here=$(cd "$(dirname "$0")" && pwd)
@@ -45,5 +46,13 @@ for input in "${inputs[@]}"; do
     echo "FAIL: $name has flipped UV triangles"; failed=1
   fi
 done
+# The morph of an envelope carries the application-specific _DISTANCE attribute: still clean.
+if "$spheremap" morph "$out/torus.glb" --prepare wrap -o "$out/torus.wrap.morph.glb" \
+    --metrics "$out/torus.wrap.morph.json" --quiet; then
+  grep -q '"_DISTANCE"' "$out/torus.wrap.morph.json" || { echo "FAIL: wrapped morph without _DISTANCE"; failed=1; }
+  files+=("$out/torus.wrap.morph.glb")
+else
+  echo "FAIL: morph torus --prepare wrap"; failed=1
+fi
 node "$here/validate.mjs" "${files[@]}" || failed=1
 exit $failed

@@ -80,6 +80,10 @@ try {
     if (red < 50 || green < 50) fail('the sphere does not show the input\'s texture');
   }
 
+  // A mesh mapped as it is (not wrapped) has no original-beside-envelope view.
+  if (!(await page.locator('#views [data-view="compare"]').isHidden()))
+    fail('the "Original | envelope" view is offered for a mesh that was not wrapped');
+
   // Every view draws, and the heat map and the morph slider work.
   for (const view of ['input', 'remesh', 'morph']) {
     const button = page.locator(`#views [data-view="${view}"]`);

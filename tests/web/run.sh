@@ -5,7 +5,8 @@
 # chosen with its .bin and textures must end `succeeded` with a drawn canvas and no
 # console error, and so must an OBJ; every view must frame its object (framing_test.mjs) and the "Try an
 # example" button must map the built-in example; a file chosen while the previous one is
-# being submitted wins (resubmit_test.mjs). Exit 77 (skipped) without chromium or npm.
+# being submitted wins (resubmit_test.mjs); a wrapped torus shows beside its envelope
+# (compare_test.mjs). Exit 77 (skipped) without chromium or npm.
 set -uo pipefail
 spheremap=$1 make_meshes=$2 corpus=$3
 here=$(cd "$(dirname "$0")" && pwd)
@@ -38,6 +39,9 @@ CHROMIUM=$chromium node "$here/page_test.mjs" "$url" "$obj" || fail "page test o
 # Every view fits its object, on an elongated mesh and on a unit sphere; the example button.
 CHROMIUM=$chromium node "$here/framing_test.mjs" "$url" "$work/ellipsoid.glb" "$work/icosphere4.glb" ||
   fail "framing test"
+# A wrapped torus: the original beside its envelope, coloured by distance, the legend's
+# max as metrics.json states it.
+CHROMIUM=$chromium node "$here/compare_test.mjs" "$url" "$work/torus.glb" || fail "side-by-side test"
 # A second file chosen before the first submission is answered: the page shows the second.
 CHROMIUM=$chromium node "$here/resubmit_test.mjs" "$url" "$work/icosphere4.glb" "$work/ellipsoid.glb" ||
   fail "resubmit test"
