@@ -54,18 +54,7 @@ TriangleTree::TriangleTree(std::span<const Vec3> positions, std::span<const Tria
 }
 
 TriangleTree::Closest TriangleTree::closest(const Vec3& p) const {
-  return search(p, Closest{});
-}
-
-TriangleTree::Closest TriangleTree::closest(const Vec3& p, uint32_t hint) const {
-  if (hint >= triangles_.size()) return search(p, Closest{});
-  const Triangle& t = triangles_[hint];
-  const Vec3 q = closest_on_triangle(p, positions_[t[0]], positions_[t[1]], positions_[t[2]]);
-  return search(p, Closest{squared_norm(q - p), q, hint});
-}
-
-// The closest point, starting from `best` (a triangle's answer, or none).
-TriangleTree::Closest TriangleTree::search(const Vec3& p, Closest best) const {
+  Closest best;
   if (nodes_.empty()) return best;
   // A stack on the stack: this runs millions of times (distances, fits, remesh), and a
   // heap vector per query cost as much as the search on small trees. The median split

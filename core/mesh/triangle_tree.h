@@ -35,11 +35,6 @@ class TriangleTree {
     uint32_t triangle = 0;
   };
   Closest closest(const Vec3& p) const;
-  // The same answer (up to ties between equally near triangles), found faster when triangle
-  // `hint` is near p: its distance bounds the search from the start. For queries that move
-  // little (a fit's rounds) or come in spatial order (a mesh's samples). hint must be a
-  // triangle of the tree (< its triangle count).
-  Closest closest(const Vec3& p, uint32_t hint) const;
   double squared_distance(const Vec3& p) const { return closest(p).squared_distance; }
 
  private:
@@ -49,7 +44,6 @@ class TriangleTree {
     uint32_t count = 0;  // leaf: triangles; 0 for an inner node
   };
   void build(uint32_t index, size_t begin, size_t end);
-  Closest search(const Vec3& p, Closest best) const;
   // Deeper than any median-split tree of up to 2^62 triangles (leaves of 1-4).
   static constexpr int kMaxDepth = 64;
 

@@ -72,17 +72,12 @@ size_t fit_to_offset(PolygonMesh& mesh, const TriangleTree& original, double off
   const std::vector<Triangle> triangles = triangles_of(mesh);
   const VertexTriangles around = vertex_triangles(triangles, mesh.vertex_count());
   size_t moved = 0;
-  // Each vertex's closest triangle of the round before: the vertices move little between
-  // rounds, so it bounds the next search tightly (the same answers up to ties between
-  // equally near triangles, fewer nodes visited).
-  std::vector<uint32_t> hint(mesh.vertex_count(), 0);
   for (int k = 0; k < iterations; ++k) {
     moved = 0;
     for (uint32_t v = 0; v < mesh.vertex_count(); ++v) {
       stop.tick();
       const Vec3 p = mesh.positions[v];
-      const TriangleTree::Closest q = k == 0 ? original.closest(p) : original.closest(p, hint[v]);
-      hint[v] = q.triangle;
+      const TriangleTree::Closest q = original.closest(p);
       const double distance = std::sqrt(q.squared_distance);
       if (!(distance > 0)) continue;
       const Vec3 target = q.point + (p - q.point) * (offset / distance);
