@@ -9,7 +9,8 @@
 //        vdb-udf   openvdb::tools::meshToUnsignedDistanceField, half-width d / h voxels
 //        vdb-sdf   openvdb::tools::meshToLevelSet, half-width d / h + 1 voxels, then
 //                  sdfInteriorMask at d (the band plus OpenVDB's own interior fill)
-//     T: OpenVDB's TBB threads (default 1: our grid runs on one thread).
+//     T: OpenVDB's TBB threads, and the envelope's (its distance for the metrics) (default
+//        1: our grid runs on one thread).
 //     One JSON line: the grid, voxels touched, seconds (min and median of N, default 3),
 //     the containers' bytes where known, the peak RSS after reading and at the end.
 #include <sys/resource.h>
@@ -35,6 +36,7 @@
 #include "core/prepare/envelope_check.h"
 #include "core/prepare/envelope_fit.h"
 #include "core/prepare/envelope_grid.h"
+#include "core/prepare/envelope_plan.h"
 #include "core/prepare/envelope_reduce.h"
 #include "core/prepare/envelope_surface.h"
 #include "core/prepare/envelope_topology.h"
@@ -104,6 +106,24 @@ double cpu_seconds() {
   return double(t.tv_sec) + 1e-9 * double(t.tv_nsec);
 }
 
+// FNV-1a over the envelope's positions' and faces' bytes: whether a change left the
+// envelope bit-identical.
+std::string envelope_hash(const PolygonMesh& mesh) {
+  uint64_t h = 1469598103934665603ull;
+  const auto add = [&](const void* data, size_t bytes) {
+    for (size_t k = 0; k < bytes; ++k)
+      h = (h ^ static_cast<const uint8_t*>(data)[k]) * 1099511628211ull;
+  };
+  add(mesh.positions.data(), mesh.positions.size() * sizeof(Vec3));
+  for (size_t f = 0; f < mesh.face_count(); ++f) {
+    const auto c = mesh.face(f);
+    for (const uint32_t v : c) add(&v, sizeof v);
+  }
+  char text[17];
+  std::snprintf(text, sizeof text, "%016llx", static_cast<unsigned long long>(h));
+  return text;
+}
+
 struct Timing {
   double min = 0, median = 0, cpu_min = 0;
 };
@@ -125,7 +145,8 @@ Timing time_runs(int repeat, Run&& run) {
 }
 
 // build_envelope's stages one after the other (as envelope.cpp calls them), each timed.
-Json envelope_stages(const Input& in, const VoxelGrid& grid, double d) {
+Json envelope_stages(const Input& in, const VoxelGrid& grid, double d, double fit_distance,
+                     int threads) {
   StopCheck stop(nullptr);
   Json stages;
   auto t = Clock::now();
@@ -162,7 +183,7 @@ Json envelope_stages(const Input& in, const VoxelGrid& grid, double d) {
       reduce_surface(voxels, std::clamp<size_t>(in.triangles.size(), 20000, 200000), stop);
   lap("reduce");
   (void)envelope_failures(mesh);
-  fit_to_offset(mesh, original, d, 5, stop);
+  fit_to_offset(mesh, original, fit_distance, 5, stop);
   (void)envelope_failures(mesh);
   lap("fit");
   std::vector<Triangle> triangles(mesh.face_count());
@@ -170,7 +191,7 @@ Json envelope_stages(const Input& in, const VoxelGrid& grid, double d) {
     const auto c = mesh.face(f);
     triangles[f] = {c[0], c[1], c[2]};
   }
-  (void)surface_distance(in.mesh.positions, in.triangles, mesh.positions, triangles);
+  (void)surface_distance(in.mesh.positions, in.triangles, mesh.positions, triangles, threads);
   lap("distance");
   return stages;
 }
@@ -216,12 +237,13 @@ Json vdb_run(const Input& in, const VoxelGrid& grid, double d, bool sdf) {
 #endif
 
 int run(const std::string& path, const std::string& variant, double resolution, int repeat,
-        [[maybe_unused]] int threads) {
+        int threads) {
   const Input in = read_input(path);
   const long long rss_read = peak_rss();
   const double diagonal = norm(in.box.hi - in.box.lo);
   EnvelopeOptions options;
   options.resolution = resolution;
+  options.threads = threads;
   const double h = diagonal / resolution, d = options.offset_voxels * h;
   const VoxelGrid grid = layout_grid(in.box.lo, in.box.hi, h, d, options.max_voxels);
 
@@ -265,8 +287,23 @@ int run(const std::string& path, const std::string& variant, double resolution, 
     out["solid_voxels"] = envelope.report.solid_voxels;
     out["faces"] = envelope.report.faces;
     out["hausdorff"] = envelope.report.hausdorff;
+    out["rms"] = envelope.report.rms;
+    out["envelope_hash"] = envelope_hash(envelope.mesh);
     envelope = {};
-    out["stages_seconds"] = envelope_stages(in, grid, d);
+    // The stages, min of the repeats (wall and CPU each): on a shared machine one run's
+    // stage times vary by a third.
+    const double fit_distance = plan_envelope(in.mesh, options).fit_distance;
+    Json stages;
+    for (int r = 0; r < repeat; ++r) {
+      const Json once = envelope_stages(in, grid, d, fit_distance, threads);
+      for (const auto& [name, value] : once.items())
+        if (!value.is_array() || !stages.contains(name))
+          stages[name] = value;
+        else
+          for (int k = 0; k < 2; ++k)
+            stages[name][k] = std::min(stages[name][k].get<double>(), value[k].get<double>());
+    }
+    out["stages_seconds"] = stages;
 #ifdef SPHEREMAP_WITH_OPENVDB
   } else if (variant == "vdb-udf" || variant == "vdb-sdf") {
     openvdb::initialize();

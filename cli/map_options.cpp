@@ -198,6 +198,7 @@ void read_map_options(const Arguments& args, PrepareOptions& prepare, MapOptions
       args.number("wrap-resolution", prepare.envelope.resolution, 8, 4096);
   prepare.envelope.offset_fraction = args.number("wrap-offset", 0, 0, 0.25);
   prepare.envelope.target_faces = static_cast<size_t>(args.integer("wrap-faces", 0, 0, 10000000));
+  prepare.envelope.threads = options.smoothing.threads;  // --threads bounds the wrap too
 }
 
 PrepareMethod parse_prepare_method(const std::string& name) {

@@ -120,8 +120,9 @@ Envelope build_envelope(const PolygonMesh& input, const EnvelopeOptions& options
     const auto c = out.mesh.face(f);
     envelope_triangles[f] = {c[0], c[1], c[2]};
   }
-  const SurfaceDistance distance = surface_distance(input.positions, triangles, out.mesh.positions,
-                                                    envelope_triangles, 0, should_stop);
+  const SurfaceDistance distance =
+      surface_distance(input.positions, triangles, out.mesh.positions, envelope_triangles,
+                       options.threads, should_stop);
   report.hausdorff = distance.hausdorff;
   report.rms = distance.rms;
   report.envelope_to_original = distance.max_b_to_a;

@@ -49,6 +49,8 @@ struct EnvelopeOptions {
   // The grid's voxels at most (counted before allocating; about 12 bytes each at the peak).
   size_t max_voxels = size_t{1} << 26;
   EnvelopeRule rule = EnvelopeRule::kFewestVoxels;
+  // Threads for the two-sided distance of the report (0: all cores); the rest runs on one.
+  int threads = 0;
 };
 
 struct EnvelopeReport {
