@@ -90,6 +90,30 @@ TEST(Remesh, OfASphereIsAClosedGenusZeroSphere) {
                std::invalid_argument);
 }
 
+// A gap in the sphere's triangles (samples no triangle holds): each such sample is counted
+// and put on the triangle next to it, not at the origin (a spike across a model far from
+// it: PrusaSlicer's PETG_recycling_symbol.stl, 3.65 diagonals, before).
+TEST(Remesh, PutsSamplesInAGapOnTheNearestTriangle) {
+  const PolygonMesh sphere = testing::icosphere(3);
+  std::vector<Triangle> triangles = fan_triangulate(sphere).triangles;
+  triangles.erase(triangles.begin() + 17);  // the gap
+  const Vec3 offset{100, 50, 0};
+  std::vector<Vec3> surface = sphere.positions;
+  for (Vec3& p : surface) p += offset;
+  const OctahedralRemesh remesh = octahedral_remesh(surface, sphere.positions, triangles, 128);
+  EXPECT_GT(remesh.unlocated, 0u);
+  for (const Vec3& p : remesh.positions) EXPECT_NEAR(norm(p - offset), 1, 0.05);
+  const SphereLocator locator(sphere.positions, triangles);
+  const Triangle& gone = fan_triangulate(sphere).triangles[17];
+  const Vec3 sum =
+      sphere.positions[gone[0]] + sphere.positions[gone[1]] + sphere.positions[gone[2]];
+  const Vec3 inside = sum * (1 / norm(sum));
+  EXPECT_EQ(locator.locate(inside).triangle, UINT32_MAX);
+  const SphereHit hit = locator.nearest(inside);
+  ASSERT_NE(hit.triangle, UINT32_MAX);
+  for (double w : hit.barycentric) EXPECT_GE(w, 0);
+}
+
 // A time limit or a cancel stops the sampling, not only the stages around it.
 TEST(Remesh, SamplingAsksTheStopCheck) {
   const PolygonMesh sphere = testing::icosphere(3);

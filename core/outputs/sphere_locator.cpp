@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "core/mesh/sphere_geometry.h"
 
@@ -82,6 +83,26 @@ SphereHit SphereLocator::locate(const Vec3& p) const {
     for (uint32_t i = cell_start_[cell]; i < cell_start_[cell + 1]; ++i)
       if (contains(cell_triangles_[i], p, tolerance)) return hit(cell_triangles_[i], p);
   return {};
+}
+
+SphereHit SphereLocator::nearest(const Vec3& p) const {
+  auto outside = [&](uint32_t t) {  // the smallest edge-plane value: >= 0 inside
+    const Vec3 &a = sphere_[triangles_[t][0]], &b = sphere_[triangles_[t][1]],
+               &c = sphere_[triangles_[t][2]];
+    if (dot(a + b + c, p) <= 0) return -std::numeric_limits<double>::infinity();
+    return std::min({triple_product(a, b, p), triple_product(b, c, p), triple_product(c, a, p)});
+  };
+  uint32_t best = UINT32_MAX;
+  double best_value = -std::numeric_limits<double>::infinity();
+  auto consider = [&](uint32_t t) {
+    const double value = outside(t);
+    if (best == UINT32_MAX || value > best_value) best = t, best_value = value;
+  };
+  const size_t cell = cell_of(p);
+  for (uint32_t i = cell_start_[cell]; i < cell_start_[cell + 1]; ++i) consider(cell_triangles_[i]);
+  if (best == UINT32_MAX || best_value == -std::numeric_limits<double>::infinity())
+    for (uint32_t t = 0; t < triangles_.size(); ++t) consider(t);
+  return best == UINT32_MAX ? SphereHit{} : hit(best, p);
 }
 
 }  // namespace spheremap
