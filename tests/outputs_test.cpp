@@ -90,6 +90,26 @@ TEST(Remesh, OfASphereIsAClosedGenusZeroSphere) {
                std::invalid_argument);
 }
 
+// A large, obtuse spherical triangle (one edge over 90 degrees, as coarse parts' certified
+// maps have): a point near its far corner is on the far side of its corners' sum, and
+// was left unlocated by a test that asked for the near side.
+TEST(SphereLocator, FindsPointsOfALargeObtuseTriangle) {
+  const Vec3 a{1, 0, 0.08}, b{1, 0, -0.08}, c{-0.6, 0.3, -0.74};
+  const Vec3 d{-0.6, -0.3, 0.74};  // a tetrahedron-like cover: 4 triangles
+  std::vector<Vec3> sphere;
+  for (const Vec3& v : {a, b, c, d}) sphere.push_back(v * (1 / norm(v)));
+  std::vector<Triangle> triangles = {{0, 1, 2}, {0, 3, 1}, {1, 3, 2}, {0, 2, 3}};
+  for (Triangle& t : triangles)
+    if (triple_product(sphere[t[0]], sphere[t[1]], sphere[t[2]]) < 0) std::swap(t[1], t[2]);
+  const SphereLocator locator(sphere, triangles);
+  std::mt19937 rng(5);
+  for (int i = 0; i < 20000; ++i)
+    ASSERT_NE(locator.locate(random_direction(rng)).triangle, UINT32_MAX);
+  const Vec3 near_c = sphere[0] * 0.02 + sphere[1] * 0.02 + sphere[2] * 0.96;
+  ASSERT_LT(dot(sphere[0] + sphere[1] + sphere[2], near_c), 0);  // the case that was missed
+  EXPECT_NE(locator.locate(near_c * (1 / norm(near_c))).triangle, UINT32_MAX);
+}
+
 // A gap in the sphere's triangles (samples no triangle holds): each such sample is counted
 // and put on the triangle next to it, not at the origin (a spike across a model far from
 // it: PrusaSlicer's PETG_recycling_symbol.stl, 3.65 diagonals, before).

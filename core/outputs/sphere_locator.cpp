@@ -7,6 +7,20 @@
 #include "core/mesh/sphere_geometry.h"
 
 namespace spheremap {
+namespace {
+
+// Whether `p` may be in the spherical triangle (a, b, c) as far as the edge-plane tests
+// (with locate's tolerances, up to 1e-9) cannot tell: for a clearly positive triangle
+// they are exact (the cone of a, b and c), so nothing more is asked. A thin one (its
+// corners nearly on one great circle, where the tests with a tolerance hold near the
+// antipodes too) also needs p on its corners' side. Asking that of every triangle wrongly
+// left out points of large, obtuse ones (an edge over 90 degrees: dot(a + b + c, p) < 0
+// near the far corner), which certified maps of coarse parts have: samples went unlocated.
+bool in_front(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& p) {
+  return triple_product(a, b, c) > 1e-6 || dot(a + b + c, p) > 0;
+}
+
+}  // namespace
 
 SphereLocator::SphereLocator(std::span<const Vec3> sphere, std::span<const Triangle> triangles)
     : sphere_(sphere), triangles_(triangles) {
@@ -56,7 +70,7 @@ size_t SphereLocator::cell_of(const Vec3& p) const {
 bool SphereLocator::contains(uint32_t t, const Vec3& p, double tolerance) const {
   const Vec3 &a = sphere_[triangles_[t][0]], &b = sphere_[triangles_[t][1]],
              &c = sphere_[triangles_[t][2]];
-  if (dot(a + b + c, p) <= 0) return false;  // the antipodal patch
+  if (!in_front(a, b, c, p)) return false;
   return triple_product(a, b, p) >= -tolerance && triple_product(b, c, p) >= -tolerance &&
          triple_product(c, a, p) >= -tolerance;
 }
@@ -89,7 +103,7 @@ SphereHit SphereLocator::nearest(const Vec3& p) const {
   auto outside = [&](uint32_t t) {  // the smallest edge-plane value: >= 0 inside
     const Vec3 &a = sphere_[triangles_[t][0]], &b = sphere_[triangles_[t][1]],
                &c = sphere_[triangles_[t][2]];
-    if (dot(a + b + c, p) <= 0) return -std::numeric_limits<double>::infinity();
+    if (!in_front(a, b, c, p)) return -std::numeric_limits<double>::infinity();
     return std::min({triple_product(a, b, p), triple_product(b, c, p), triple_product(c, a, p)});
   };
   uint32_t best = UINT32_MAX;
