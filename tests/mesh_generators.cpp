@@ -220,6 +220,24 @@ PolygonMesh pinched_tetrahedra() {
   return m;
 }
 
+PolygonMesh cube_and_corner_tetrahedron(bool fin) {
+  PolygonMesh m;
+  for (int k = 0; k < 8; ++k)
+    m.positions.push_back({double(k >> 2), double(k >> 1 & 1), double(k & 1)});
+  const Triangle cube[12] = {{0, 6, 4}, {0, 2, 6}, {0, 3, 2}, {0, 1, 3}, {2, 7, 6}, {2, 3, 7},
+                             {4, 6, 7}, {4, 7, 5}, {0, 4, 5}, {0, 5, 1}, {1, 5, 7}, {1, 7, 3}};
+  for (const Triangle& t : cube) m.add_face(t);
+  for (const Vec3& p : {Vec3{0, 0, 0}, Vec3{1, 0, 0}, Vec3{0, 1, 0}, Vec3{0, 0, 1}})
+    m.positions.push_back(p);
+  const Triangle tetra[4] = {{8, 10, 9}, {8, 11, 10}, {9, 11, 8}, {9, 10, 11}};
+  for (const Triangle& t : tetra) m.add_face(t);
+  if (fin) {
+    m.positions.push_back({2, 2, 0.5});
+    m.add_face(Triangle{6, 7, 12});
+  }
+  return m;
+}
+
 PolygonMesh reversed(PolygonMesh mesh) {
   for (size_t f = 0; f < mesh.face_count(); ++f)
     std::reverse(mesh.indices.begin() + mesh.offsets[f],

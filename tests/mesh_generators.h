@@ -63,6 +63,11 @@ PolygonMesh torus(int around, int along);
 PolygonMesh two_tetrahedra();
 // Two tetrahedra sharing exactly one vertex (every edge manifold, that vertex is not).
 PolygonMesh pinched_tetrahedra();
+// A unit cube (12 triangles) and a tetrahedron in its corner at the origin, each with
+// vertices of its own: welded, they share 4 vertices and 3 edges of 4 faces, and the
+// tetrahedron's slanted face is inside the cube. With `fin`, also a triangle hanging off
+// the cube's edge at x = y = 1 (an edge of 3 faces, which no split can share out).
+PolygonMesh cube_and_corner_tetrahedron(bool fin = false);
 // The mesh with every face reversed (inward orientation).
 PolygonMesh reversed(PolygonMesh mesh);
 // The mesh without face f (a hole).

@@ -90,6 +90,50 @@ TEST(Remesh, OfASphereIsAClosedGenusZeroSphere) {
                std::invalid_argument);
 }
 
+// A large, obtuse spherical triangle (one edge over 90 degrees, as coarse parts' certified
+// maps have): a point near its far corner is on the far side of its corners' sum, and
+// was left unlocated by a test that asked for the near side.
+TEST(SphereLocator, FindsPointsOfALargeObtuseTriangle) {
+  const Vec3 a{1, 0, 0.08}, b{1, 0, -0.08}, c{-0.6, 0.3, -0.74};
+  const Vec3 d{-0.6, -0.3, 0.74};  // a tetrahedron-like cover: 4 triangles
+  std::vector<Vec3> sphere;
+  for (const Vec3& v : {a, b, c, d}) sphere.push_back(v * (1 / norm(v)));
+  std::vector<Triangle> triangles = {{0, 1, 2}, {0, 3, 1}, {1, 3, 2}, {0, 2, 3}};
+  for (Triangle& t : triangles)
+    if (triple_product(sphere[t[0]], sphere[t[1]], sphere[t[2]]) < 0) std::swap(t[1], t[2]);
+  const SphereLocator locator(sphere, triangles);
+  std::mt19937 rng(5);
+  for (int i = 0; i < 20000; ++i)
+    ASSERT_NE(locator.locate(random_direction(rng)).triangle, UINT32_MAX);
+  const Vec3 near_c = sphere[0] * 0.02 + sphere[1] * 0.02 + sphere[2] * 0.96;
+  ASSERT_LT(dot(sphere[0] + sphere[1] + sphere[2], near_c), 0);  // the case that was missed
+  EXPECT_NE(locator.locate(near_c * (1 / norm(near_c))).triangle, UINT32_MAX);
+}
+
+// A gap in the sphere's triangles (samples no triangle holds): each such sample is counted
+// and put on the triangle next to it, not at the origin (a spike across a model far from
+// it: PrusaSlicer's PETG_recycling_symbol.stl, 3.65 diagonals, before).
+TEST(Remesh, PutsSamplesInAGapOnTheNearestTriangle) {
+  const PolygonMesh sphere = testing::icosphere(3);
+  std::vector<Triangle> triangles = fan_triangulate(sphere).triangles;
+  triangles.erase(triangles.begin() + 17);  // the gap
+  const Vec3 offset{100, 50, 0};
+  std::vector<Vec3> surface = sphere.positions;
+  for (Vec3& p : surface) p += offset;
+  const OctahedralRemesh remesh = octahedral_remesh(surface, sphere.positions, triangles, 128);
+  EXPECT_GT(remesh.unlocated, 0u);
+  for (const Vec3& p : remesh.positions) EXPECT_NEAR(norm(p - offset), 1, 0.05);
+  const SphereLocator locator(sphere.positions, triangles);
+  const Triangle& gone = fan_triangulate(sphere).triangles[17];
+  const Vec3 sum =
+      sphere.positions[gone[0]] + sphere.positions[gone[1]] + sphere.positions[gone[2]];
+  const Vec3 inside = sum * (1 / norm(sum));
+  EXPECT_EQ(locator.locate(inside).triangle, UINT32_MAX);
+  const SphereHit hit = locator.nearest(inside);
+  ASSERT_NE(hit.triangle, UINT32_MAX);
+  for (double w : hit.barycentric) EXPECT_GE(w, 0);
+}
+
 // A time limit or a cancel stops the sampling, not only the stages around it.
 TEST(Remesh, SamplingAsksTheStopCheck) {
   const PolygonMesh sphere = testing::icosphere(3);

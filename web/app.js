@@ -681,6 +681,7 @@ async function finished(job, ticket) {
       [prepared.t_junctions_zipped, 'T-junctions zipped'],
       [prepared.faces_flipped, 'faces flipped'],
       [prepared.non_manifold_vertices_split, 'non-manifold vertices split'],
+      [prepared.non_manifold_edges_split, 'non-manifold edges split'],
       [prepared.holes_filled, 'holes filled'],
       [prepared.handles_closed, 'handles closed'],
       [prepared.faces_added, 'faces added by the fills'],

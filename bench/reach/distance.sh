@@ -4,10 +4,11 @@
 # its two-sided distance to the ORIGINAL file (bench/remesh_distance), relative to the
 # original's diagonal. Files: the ones the auto run wrapped (decided wrap or parts+wrap in
 # RESULTS), sorted by path, every STEP-th (default 3, from the first). One at a time.
+# DECIDED=exact,repair,parts (comma-separated) takes the files auto decided so instead.
 # Prints one TSV line per file, then: certified share, share within 2% (certified and
 # Hausdorff <= 0.02), median/p90/max Hausdorff, median/max seconds. KEEP=DIR keeps each
 # file's metrics JSON and distances in DIR.
-# Usage: [STEP=3] [KEEP=DIR] [TIME_LIMIT=30] bench/reach/distance.sh SPHEREMAP REMESH_DISTANCE SETDIR RESULTS
+# Usage: [STEP=3] [DECIDED=wrap,parts+wrap] [KEEP=DIR] [TIME_LIMIT=30] bench/reach/distance.sh SPHEREMAP REMESH_DISTANCE SETDIR RESULTS
 set -euo pipefail
 spheremap=$(realpath "$1")
 distance=$(realpath "$2")
@@ -19,10 +20,11 @@ spheremap, distance, setdir, results = sys.argv[1:5]
 step = int(os.environ.get("STEP", "3"))
 limit = os.environ.get("TIME_LIMIT", "30")  # seconds; a loaded machine needs more
 keep = os.environ.get("KEEP", "")  # a folder: each file's metrics and distances kept there
+decided = os.environ.get("DECIDED", "wrap,parts+wrap").split(",")
 files = []
 for line in open(results):
     f = line.rstrip("\n").split("\t")
-    if len(f) > 12 and f[12] in ("wrap", "parts+wrap"):
+    if len(f) > 12 and f[12] in decided:
         files.append(os.path.join(setdir, f[0], f[1], f[2]))
 files = sorted(files)[::step]
 print("exit\tseconds\thausdorff\torig->out\tout->orig\trms\tfile")

@@ -61,10 +61,14 @@ OctahedralRemesh octahedral_remesh(std::span<const Vec3> surface, std::span<cons
   ParallelStop stop(should_stop, 4096);
   parallel_for(out.vertex_count, resolve_threads(threads), [&](size_t v) {
     if (stop.skip(v)) return;
-    const SphereHit hit = locator.locate(octahedral_decode(out.square[representative[v]]));
+    const Vec3 point = octahedral_decode(out.square[representative[v]]);
+    SphereHit hit = locator.locate(point);
     if (hit.triangle == UINT32_MAX) {
+      // Counted, and put on the triangle next to the gap rather than at the origin (a
+      // sample at (0,0,0) of a model far from it is a spike across the scene).
       unlocated.fetch_add(1, std::memory_order_relaxed);
-      return;
+      hit = locator.nearest(point);
+      if (hit.triangle == UINT32_MAX) return;
     }
     const Triangle& t = triangles[hit.triangle];
     at_vertex[v] = surface[t[0]] * hit.barycentric[0] + surface[t[1]] * hit.barycentric[1] +

@@ -22,7 +22,7 @@ struct OctahedralRemesh {
   std::vector<uint32_t> vertex;     // the stitched vertex: samples the border identifies share one
   size_t vertex_count = 0;          // distinct stitched vertices
   std::vector<Triangle> triangles;  // over samples, outward (counter-clockwise in (u, v))
-  size_t unlocated = 0;             // samples no map triangle held (0 for a bijective map)
+  size_t unlocated = 0;  // samples no map triangle held (0 for a bijective map): put on the nearest
 };
 
 // `surface` and `sphere`: positions of the same vertices on the original surface and on

@@ -49,6 +49,7 @@ nlohmann::json preparation_json(const PreparationReport& p) {
                         {"faces_flipped", p.flipped_faces},
                         {"parts_reoriented", p.reoriented_parts},
                         {"non_manifold_vertices_split", p.vertices_split},
+                        {"non_manifold_edges_split", p.edges_split},
                         {"holes_filled", p.holes_filled},
                         {"faces_added", p.faces_added},
                         {"vertices_added", p.vertices_added},

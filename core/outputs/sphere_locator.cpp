@@ -2,10 +2,25 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "core/mesh/sphere_geometry.h"
 
 namespace spheremap {
+namespace {
+
+// Whether `p` may be in the spherical triangle (a, b, c) as far as the edge-plane tests
+// (with locate's tolerances, up to 1e-9) cannot tell: for a clearly positive triangle
+// they are exact (the cone of a, b and c), so nothing more is asked. A thin one (its
+// corners nearly on one great circle, where the tests with a tolerance hold near the
+// antipodes too) also needs p on its corners' side. Asking that of every triangle wrongly
+// left out points of large, obtuse ones (an edge over 90 degrees: dot(a + b + c, p) < 0
+// near the far corner), which certified maps of coarse parts have: samples went unlocated.
+bool in_front(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& p) {
+  return triple_product(a, b, c) > 1e-6 || dot(a + b + c, p) > 0;
+}
+
+}  // namespace
 
 SphereLocator::SphereLocator(std::span<const Vec3> sphere, std::span<const Triangle> triangles)
     : sphere_(sphere), triangles_(triangles) {
@@ -55,7 +70,7 @@ size_t SphereLocator::cell_of(const Vec3& p) const {
 bool SphereLocator::contains(uint32_t t, const Vec3& p, double tolerance) const {
   const Vec3 &a = sphere_[triangles_[t][0]], &b = sphere_[triangles_[t][1]],
              &c = sphere_[triangles_[t][2]];
-  if (dot(a + b + c, p) <= 0) return false;  // the antipodal patch
+  if (!in_front(a, b, c, p)) return false;
   return triple_product(a, b, p) >= -tolerance && triple_product(b, c, p) >= -tolerance &&
          triple_product(c, a, p) >= -tolerance;
 }
@@ -82,6 +97,26 @@ SphereHit SphereLocator::locate(const Vec3& p) const {
     for (uint32_t i = cell_start_[cell]; i < cell_start_[cell + 1]; ++i)
       if (contains(cell_triangles_[i], p, tolerance)) return hit(cell_triangles_[i], p);
   return {};
+}
+
+SphereHit SphereLocator::nearest(const Vec3& p) const {
+  auto outside = [&](uint32_t t) {  // the smallest edge-plane value: >= 0 inside
+    const Vec3 &a = sphere_[triangles_[t][0]], &b = sphere_[triangles_[t][1]],
+               &c = sphere_[triangles_[t][2]];
+    if (!in_front(a, b, c, p)) return -std::numeric_limits<double>::infinity();
+    return std::min({triple_product(a, b, p), triple_product(b, c, p), triple_product(c, a, p)});
+  };
+  uint32_t best = UINT32_MAX;
+  double best_value = -std::numeric_limits<double>::infinity();
+  auto consider = [&](uint32_t t) {
+    const double value = outside(t);
+    if (best == UINT32_MAX || value > best_value) best = t, best_value = value;
+  };
+  const size_t cell = cell_of(p);
+  for (uint32_t i = cell_start_[cell]; i < cell_start_[cell + 1]; ++i) consider(cell_triangles_[i]);
+  if (best == UINT32_MAX || best_value == -std::numeric_limits<double>::infinity())
+    for (uint32_t t = 0; t < triangles_.size(); ++t) consider(t);
+  return best == UINT32_MAX ? SphereHit{} : hit(best, p);
 }
 
 }  // namespace spheremap

@@ -26,6 +26,12 @@ class SphereLocator {
   SphereLocator(std::span<const Vec3> sphere, std::span<const Triangle> triangles);
 
   SphereHit locate(const Vec3& point) const;
+  // When locate finds nothing (a gap between triangles): the triangle the point is least
+  // outside of (the largest of its three edge-plane distances' smallest), over the point's
+  // cell, else over all triangles; its barycentric coordinates clamped to it. UINT32_MAX
+  // only without triangles. So a sample in a gap lands on the surface next to it, not at
+  // the model's origin.
+  SphereHit nearest(const Vec3& point) const;
 
  private:
   size_t cell_of(const Vec3& p) const;

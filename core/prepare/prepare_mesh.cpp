@@ -8,6 +8,7 @@
 #include "core/mesh/stop_check.h"
 #include "core/mesh/union_find.h"
 #include "core/prepare/connected_parts.h"
+#include "core/prepare/edge_split.h"
 #include "core/prepare/envelope_plan.h"
 #include "core/prepare/face_cleanup.h"
 #include "core/prepare/handle_closing.h"
@@ -258,6 +259,21 @@ void split_pinched_vertices(PreparedMesh& prepared, PolygonMesh& input, GltfAppe
   prepared.topology = analyze_topology(welded.mesh, &stop);
 }
 
+// Non-manifold edges where closed surfaces meet split between them (edge_split.h), on the
+// welded mesh; the input's vertices there follow, as for pinched vertices.
+void split_shared_edges(PreparedMesh& prepared, PolygonMesh& input, GltfAppearance* look,
+                        const PrepareOptions& options) {
+  if (prepared.topology.non_manifold_edges == 0) return;
+  WeldResult& welded = prepared.welded;
+  if (!input_faces_lead(input, welded)) return;
+  StopCheck stop(&options.should_stop);
+  const EdgeSplit split = split_non_manifold_edges(welded.mesh, &stop);
+  prepared.preparation.edges_split = split.edges_split;
+  if (split.vertices_added == 0) return;
+  copy_cut_input_vertices(input, look, welded);
+  prepared.topology = analyze_topology(welded.mesh, &stop);
+}
+
 PreparedMesh prepare_once(PolygonMesh& input, GltfAppearance* look, const PrepareOptions& options) {
   PreparedMesh as_given = prepare_mesh(input, options);
   // A mesh that maps as it is has nothing to clean (a duplicate face, a collapsed one or a
@@ -286,6 +302,7 @@ PreparedMesh prepare_once(PolygonMesh& input, GltfAppearance* look, const Prepar
   report.flipped_faces = cleanup.flipped_faces;
   report.reoriented_parts = cleanup.reoriented_parts;
   report.t_junctions_zipped = cleanup.t_junctions_zipped;
+  split_shared_edges(prepared, input, look, options);
   split_pinched_vertices(prepared, input, look, options);
   const size_t own_faces = prepared.welded.mesh.face_count();
   fill_small_holes(prepared, options);

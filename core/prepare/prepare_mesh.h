@@ -92,6 +92,7 @@ struct PreparationReport {
   size_t reoriented_parts = 0;
   size_t t_junctions_zipped = 0;  // T-junction vertices inserted into cracks' edges
   size_t vertices_split = 0;      // non-manifold vertices made one vertex per fan
+  size_t edges_split = 0;         // non-manifold edges shared out between closed surfaces
   size_t holes_filled = 0, holes_left = 0;
   size_t faces_added = 0;     // by hole fills and handle closings together
   size_t vertices_added = 0;  // inside hole fills (refinement), after the input's own

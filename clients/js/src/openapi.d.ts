@@ -364,7 +364,7 @@ export interface components {
                 parts?: number;
                 elapsed_seconds?: number;
             };
-            /** @description as metrics.json: bijective (the certified verdict: no fold and no degenerate triangle in double, float32 and as written), bijective_double, bijective_as_written, problem, quality, folds, distortion (area_distortion.mean_abs_log), stretch, seconds per stage, preparation (method, the faces dropped, shortened and flipped, t_junctions_zipped, non_manifold_vertices_split, and holes_filled, faces_added, vertices_added, holes_left, largest_fill, handles_closed, handles_left, largest_handle_cycle); for an asset of several parts, parts (each part: mapped, or its check and reason), parts_mapped and parts_left_out; input_warnings when the input was read leniently (a glTF bufferView with byteStride 0 read as packed) */
+            /** @description as metrics.json: bijective (the certified verdict: no fold and no degenerate triangle in double, float32 and as written), bijective_double, bijective_as_written, problem, quality, folds, distortion (area_distortion.mean_abs_log), stretch, seconds per stage, preparation (method, the faces dropped, shortened and flipped, t_junctions_zipped, non_manifold_vertices_split, non_manifold_edges_split, and holes_filled, faces_added, vertices_added, holes_left, largest_fill, handles_closed, handles_left, largest_handle_cycle); for an asset of several parts, parts (each part: mapped, or its check and reason), parts_mapped and parts_left_out; input_warnings when the input was read leniently (a glTF bufferView with byteStride 0 read as packed) */
             metrics?: Record<string, never>;
             artifacts?: {
                 [key: string]: {
