@@ -688,7 +688,13 @@ async function finished(job, ticket) {
       [prepared.vertices_added, 'vertices added inside the fills'],
       [prepared.holes_left, 'holes left open'],
     ].filter(([count]) => count > 0).map(([count, what]) => `${count.toLocaleString()} ${what}`);
-    rows.push([`preparation (${prepared.method})`, changes.length ? changes.join(', ') : 'none needed']);
+    // A wrapped whole: the envelope is the change (its repairs above are the envelope's own).
+    if (prepared.envelope_faces !== undefined)
+      changes.unshift(`replaced by an envelope of ${prepared.envelope_faces.toLocaleString()} faces ` +
+        `(handles cut ${prepared.handles_cut ?? 0}, filled ${prepared.handles_filled ?? 0}; ` +
+        `within ${number(100 * prepared.envelope_hausdorff, 2)}% of the diagonal of the original)`);
+    const method = prepared.decided ? `${prepared.method}: ${prepared.decided}` : prepared.method;
+    rows.push([`preparation (${method})`, changes.length ? changes.join(', ') : 'none needed']);
   }
   if (metrics.parts) {
     const left = metrics.parts.filter((part) => !part.mapped);

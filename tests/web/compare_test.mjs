@@ -56,6 +56,10 @@ async function check(file, models) {
   const status = await page.evaluate(() => document.body.dataset.status);
   if (status !== 'succeeded') throw new Error(`${name}: job ended ${status}: ${await page.locator('#error').textContent()}`);
 
+  // The metrics table says the envelope is what preparation did (not "none needed").
+  const preparation = await page.locator('#metrics tr', { hasText: 'preparation (wrap)' }).textContent();
+  if (!/replaced by an envelope of [\d,]+ faces/.test(preparation)) failHere(`the preparation row reads: ${preparation}`);
+
   const button = page.locator('#views [data-view="compare"]');
   if (await button.isHidden() || await button.isDisabled()) throw new Error(`${name}: no "Original | envelope" view`);
   await button.click();
