@@ -4,18 +4,12 @@
 // metrics.json does (morph.vertex_distances.max). MESH (a GLB), then a torus generated as
 // binary STL (read by three.js's loader too) and as OFF (no reader in the browser: the
 // left half says so). Usage: node compare_test.mjs URL MESH.
-import { chromium } from 'playwright-core';
+import { launchBrowser } from './browser.mjs';
 
 const [url, mesh] = process.argv.slice(2);
 const fail = (message) => { console.error(`FAIL: ${message}`); process.exitCode = 1; };
 
-const browser = await chromium.launch({
-  executablePath: process.env.CHROMIUM ?? '/usr/bin/chromium',
-  headless: true,
-  args: ['--no-sandbox', '--disable-gpu', '--use-angle=swiftshader', '--enable-unsafe-swiftshader',
-    '--disable-quic', '--no-first-run', '--disable-background-networking',
-    '--disable-component-update', '--disable-sync'],
-});
+const browser = await launchBrowser();
 // A torus (genus 1: wrapped) written as binary STL or OFF, for the other readers.
 function torusFile(type) {
   const n = 24, m = 12, v = [], f = [];

@@ -14,7 +14,7 @@
 // map changes the input and sphere views and is disabled (with a reason) in Remesh; the
 // "Try an example" button maps examples/spot.glb and shows its sphere. With SCREENSHOTS=DIR,
 // the example's views are saved as DIR/page-{input,sphere,remesh,morph}.png.
-import { chromium } from 'playwright-core';
+import { launchBrowser } from './browser.mjs';
 
 const [url, elongated, round] = process.argv.slice(2);
 let failures = 0;
@@ -94,13 +94,7 @@ async function show(page, view) {
 const selectedView = (page) =>
   page.evaluate(() => document.querySelector('#views [aria-selected="true"]')?.dataset.view);
 
-const browser = await chromium.launch({
-  executablePath: process.env.CHROMIUM ?? '/usr/bin/chromium',
-  headless: true,
-  args: ['--no-sandbox', '--disable-gpu', '--use-angle=swiftshader', '--enable-unsafe-swiftshader',
-    '--disable-quic', '--no-first-run', '--disable-background-networking',
-    '--disable-component-update', '--disable-sync'],
-});
+const browser = await launchBrowser();
 try {
   const page = await browser.newPage({ viewport: WIDE });
   const errors = [];

@@ -4,18 +4,12 @@
 // succeeded, a blank canvas, or missing downloads. With EXPECT_TEXTURE=1 (the generated
 // textured mesh: red, green, blue and white squares) the sphere view must show the
 // texture's red and green, which the page's plain colours do not have.
-import { chromium } from 'playwright-core';
+import { launchBrowser } from './browser.mjs';
 
 const [url, ...files] = process.argv.slice(2);
 const fail = (message) => { console.error(`FAIL: ${message}`); process.exitCode = 1; };
 
-const browser = await chromium.launch({
-  executablePath: process.env.CHROMIUM ?? '/usr/bin/chromium',
-  headless: true,
-  args: ['--no-sandbox', '--disable-gpu', '--use-angle=swiftshader', '--enable-unsafe-swiftshader',
-    '--disable-quic', '--no-first-run', '--disable-background-networking',
-    '--disable-component-update', '--disable-sync'],
-});
+const browser = await launchBrowser();
 try {
   const page = await browser.newPage({ viewport: { width: 1280, height: 900 } });
   const errors = [];
