@@ -124,7 +124,7 @@ TEST(Remesh, PutsSamplesInAGapOnTheNearestTriangle) {
   EXPECT_GT(remesh.unlocated, 0u);
   for (const Vec3& p : remesh.positions) EXPECT_NEAR(norm(p - offset), 1, 0.05);
   const SphereLocator locator(sphere.positions, triangles);
-  const Triangle& gone = fan_triangulate(sphere).triangles[17];
+  const Triangle gone = fan_triangulate(sphere).triangles[17];  // a copy: the list is a temporary
   const Vec3 sum =
       sphere.positions[gone[0]] + sphere.positions[gone[1]] + sphere.positions[gone[2]];
   const Vec3 inside = sum * (1 / norm(sum));
