@@ -48,6 +48,21 @@ std::pair<double, double> one_way(const std::vector<Vec3>& samples, const Triang
   return {sum, std::sqrt(max)};
 }
 
+// `positions` moved into `frame`.
+std::vector<Vec3> in_frame(const UnitFrame& frame, std::span<const Vec3> positions) {
+  std::vector<Vec3> out(positions.size());
+  for (size_t k = 0; k < out.size(); ++k) out[k] = frame.apply(positions[k]);
+  return out;
+}
+
+// The diagonal of the box of the triangles' corners (0 without a triangle).
+double corner_diagonal(std::span<const Vec3> positions, std::span<const Triangle> triangles) {
+  AxisBox box;
+  for (const Triangle& t : triangles)
+    for (uint32_t v : t) box.add(positions[v]);
+  return triangles.empty() ? 0 : norm(box.hi - box.lo);
+}
+
 }  // namespace
 
 SurfaceDistance surface_distance(std::span<const Vec3> a_positions,
@@ -60,13 +75,9 @@ SurfaceDistance surface_distance(std::span<const Vec3> a_positions,
   // similarity does not change them, and a mesh at 1e-300 units no longer underflows to
   // distance 0 (nor one at 1e200 overflows).
   const UnitFrame frame = unit_frame(a_positions);
-  std::vector<Vec3> a_unit(a_positions.size()), b_unit(b_positions.size());
-  for (size_t k = 0; k < a_unit.size(); ++k) a_unit[k] = frame.apply(a_positions[k]);
-  for (size_t k = 0; k < b_unit.size(); ++k) b_unit[k] = frame.apply(b_positions[k]);
-  AxisBox box;
-  for (const Triangle& t : a_triangles)
-    for (uint32_t v : t) box.add(a_unit[v]);
-  const double d = a_triangles.empty() ? 0 : norm(box.hi - box.lo);
+  const std::vector<Vec3> a_unit = in_frame(frame, a_positions);
+  const std::vector<Vec3> b_unit = in_frame(frame, b_positions);
+  const double d = corner_diagonal(a_unit, a_triangles);
   out.diagonal = frame.length_in_input_units(d);
   if (!(d > 0) || b_triangles.empty()) return out;
   const std::vector<Vec3> a_samples = samples_of(a_unit, a_triangles);
@@ -95,13 +106,9 @@ PointDistances point_distances(std::span<const Vec3> a_positions,
   PointDistances out;
   // In a's unit frame, as surface_distance measures.
   const UnitFrame frame = unit_frame(a_positions);
-  std::vector<Vec3> a_unit(a_positions.size()), p_unit(points.size());
-  for (size_t k = 0; k < a_unit.size(); ++k) a_unit[k] = frame.apply(a_positions[k]);
-  for (size_t k = 0; k < p_unit.size(); ++k) p_unit[k] = frame.apply(points[k]);
-  AxisBox box;
-  for (const Triangle& t : a_triangles)
-    for (uint32_t v : t) box.add(a_unit[v]);
-  const double d = a_triangles.empty() ? 0 : norm(box.hi - box.lo);
+  const std::vector<Vec3> a_unit = in_frame(frame, a_positions);
+  const std::vector<Vec3> p_unit = in_frame(frame, points);
+  const double d = corner_diagonal(a_unit, a_triangles);
   out.diagonal = frame.length_in_input_units(d);
   out.relative.assign(points.size(), 0.0);
   if (!(d > 0)) return out;
