@@ -20,6 +20,7 @@
 #include <thread>
 
 #include "api/log.h"
+#include "core/mesh/address_sanitizer.h"
 #include "server/worker_protocol.h"
 
 namespace spheremap::server {
@@ -27,17 +28,7 @@ namespace {
 
 // Under AddressSanitizer a process reserves terabytes of shadow address space, so an
 // RLIMIT_AS would stop the worker before it starts; sanitizer builds run without it.
-#if defined(__SANITIZE_ADDRESS__)
-constexpr bool kAddressSpaceLimitUsable = false;
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer)
-constexpr bool kAddressSpaceLimitUsable = false;
-#else
-constexpr bool kAddressSpaceLimitUsable = true;
-#endif
-#else
-constexpr bool kAddressSpaceLimitUsable = true;
-#endif
+constexpr bool kAddressSpaceLimitUsable = !kAddressSanitizer;
 
 bool write_all(int fd, const char* data, size_t size) {
   while (size > 0) {

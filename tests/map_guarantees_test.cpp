@@ -9,6 +9,7 @@
 #include "core/io/mesh_file.h"
 #include "core/map/certification.h"
 #include "core/map/pipeline.h"
+#include "core/mesh/address_sanitizer.h"
 #include "core/mesh/sphere_geometry.h"
 #include "tests/corpus.h"
 #include "tests/mesh_generators.h"
@@ -142,11 +143,7 @@ TEST(MapGuarantees, ZeroAreaSurfaceTriangleStillMapsCertified) {
 // stretch-optimized path. Under the sanitizers the first 10 (the same code paths, at three
 // times the cost each: the 30 took 87 s in the plain pass), to keep CI within its time.
 TEST(MapGuarantees, RandomLimbedShapesAreCertified) {
-#if defined(__SANITIZE_ADDRESS__)
-  constexpr int kShapes = 10;
-#else
-  constexpr int kShapes = 30;
-#endif
+  constexpr int kShapes = kAddressSanitizer ? 10 : 30;
   for (const testing::NamedMesh& shape : testing::random_stress_meshes(kShapes, 0)) {
     const MappedMesh m = map_mesh(shape.mesh, {}, {});
     const Certification verdict = certify(m, m.float32_check);

@@ -160,7 +160,8 @@ nlohmann::json add_mesh(GlbBuilder& b, MaterialTable& table, const GlbMesh& mesh
     primitive["extensions"] = {
         {"KHR_draco_mesh_compression", {{"bufferView", b.add_view(stream)}, {"attributes", ids}}}};
   }
-  nlohmann::json out = {{"primitives", {primitive}}, {"extras", mesh.extras}};
+  nlohmann::json out = {{"primitives", nlohmann::json::array({primitive})},
+                        {"extras", mesh.extras}};
   if (!targets.empty()) out["weights"] = {0.0};
   return out;
 }
@@ -214,8 +215,11 @@ GlbParts build_glb(std::span<const GlbMesh> meshes, std::span<const GlbNode> nod
     json["textures"] = table.textures;
     json["materials"] = table.materials;
   }
+  // array(), not braces: `= {x}` with x a json is a copy of x under clang (CWG 2137), an
+  // array of x under gcc.
   if (!morphing.empty())
-    json["animations"] = {morph_animation(b, morph_seconds, morphing.get<std::vector<size_t>>())};
+    json["animations"] = nlohmann::json::array(
+        {morph_animation(b, morph_seconds, morphing.get<std::vector<size_t>>())});
   json["accessors"] = b.accessors();
   json["bufferViews"] = b.views();
   json["buffers"] = {{{"byteLength", b.bin().size()}}};

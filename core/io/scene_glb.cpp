@@ -119,7 +119,7 @@ nlohmann::json write_primitive(GlbBuilder& b, const GltfAppearance& look,
         offsets[i] = frame.normal_to_local(g.morph_normals[first + i]) - normals[i];
       target["NORMAL"] = b.add_vec3(offsets, false);
     }
-    primitive["targets"] = {target};
+    primitive["targets"] = nlohmann::json::array({target});
   }
   return primitive;
 }
@@ -176,7 +176,7 @@ GlbParts build_scene_glb(const GltfAppearance& look, const SceneGeometry& g,
   if (!look.scene_name.empty()) scene["name"] = look.scene_name;
   nlohmann::json json = {{"asset", {{"version", "2.0"}, {"generator", "spheremap"}}},
                          {"scene", 0},
-                         {"scenes", {scene}},
+                         {"scenes", nlohmann::json::array({scene})},
                          {"nodes", nodes},
                          {"meshes", meshes}};
   for (const auto& [key, value] :
@@ -187,7 +187,8 @@ GlbParts build_scene_glb(const GltfAppearance& look, const SceneGeometry& g,
         {"images", images}})
     if (!value.empty()) json[key] = value;
   if (!g.morph_positions.empty() && g.morph_seconds > 0)
-    json["animations"] = {morph_animation(b, g.morph_seconds, drawing_nodes)};
+    json["animations"] =
+        nlohmann::json::array({morph_animation(b, g.morph_seconds, drawing_nodes)});
   if (!look.extensions_used.empty()) json["extensionsUsed"] = look.extensions_used;
   if (!look.extensions_required.empty()) json["extensionsRequired"] = look.extensions_required;
   json["accessors"] = b.accessors();
