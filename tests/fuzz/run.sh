@@ -1,35 +1,30 @@
 #!/usr/bin/env bash
-# Builds a libFuzzer target with clang (ASan + UBSan) and runs it for SECONDS (default 60)
-# from a seed corpus taken from the shared corpus (or, without it, from examples/): GLB and Draco GLB files for
+# Builds a libFuzzer target with clang (ASan + UBSan, in build-sanitized/:
+# scripts/build-sanitized.sh) and runs it for SECONDS (default 60) from a seed corpus taken from the shared corpus (or, without it, from examples/): GLB and Draco GLB files for
 # gltf_fuzzer (with truncated, garbage and external-URI files like the hostile-file
 # tests), small OBJ files for mesh_text_fuzzer, option sets for options_fuzzer; STL and
 # PLY files written here (a tetrahedron in every encoding) for mesh_binary_fuzzer.
 # Crashes land in
-# build-fuzz/crashes/; turn each into a regression test.
+# build-sanitized/crashes/; turn each into a regression test.
 # Several targets (comma-separated) are built in one go and run side by side, as many at
 # a time as there are cores (a libFuzzer process uses one), each for SECONDS; their
 # output is printed target by target, and the run fails if any of them found a crash.
 # Usage: tests/fuzz/run.sh [SECONDS] [TARGET[,TARGET...]] [CORPUS_DIR]
 set -euo pipefail
 cd "$(dirname "$0")/../.."
-source scripts/compiler-cache.sh
 seconds=${1:-60}
 IFS=, read -r -a targets <<< "${2:-gltf_fuzzer}"
 corpus=${3:-../shared/meshes}
 # A clone without the shared corpus seeds from the meshes it ships (examples/).
 [ -d "$corpus" ] || corpus=examples
-# Line tables only (-g1): enough for the crash reports' stacks, and a faster build.
-CC=clang CXX=clang++ cmake -S . -B build-fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-  -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 -g1 -DNDEBUG" -DSPHEREMAP_FUZZ=ON -DSPHEREMAP_BUILD_TESTS=OFF > /dev/null
-build_args=()
-for target in "${targets[@]}"; do build_args+=(--target "$target"); done
-cmake --build build-fuzz "${build_args[@]}" > /dev/null
-mkdir -p build-fuzz/crashes build-fuzz/logs
+# The fuzzers are built in build-sanitized/, with the sanitizer pass's tests if it ran.
+scripts/build-sanitized.sh "${targets[@]}" > /dev/null
+mkdir -p build-sanitized/crashes build-sanitized/logs
 
-# make_seeds TARGET: writes the seed corpus of TARGET into build-fuzz/seeds/TARGET.
+# make_seeds TARGET: writes the seed corpus of TARGET into build-sanitized/seeds/TARGET.
 make_seeds() {
   local target=$1
-  local seeds=build-fuzz/seeds/$target
+  local seeds=build-sanitized/seeds/$target
   mkdir -p "$seeds"
   local pattern='*.glb'
   [ "$target" = mesh_text_fuzzer ] && pattern='*.obj'
@@ -99,16 +94,16 @@ for target in "${targets[@]}"; do make_seeds "$target"; done
 pids=() names=() status=0
 for target in "${targets[@]}"; do
   while [ "$(jobs -rp | wc -l)" -ge "$(nproc)" ]; do wait -n || true; done
-  "build-fuzz/tests/fuzz/$target" -max_total_time="$seconds" -max_len=4000000 -rss_limit_mb=2048 \
-    -artifact_prefix=build-fuzz/crashes/ -print_final_stats=1 "build-fuzz/seeds/$target" \
-    > "build-fuzz/logs/$target.log" 2>&1 &
+  "build-sanitized/tests/fuzz/$target" -max_total_time="$seconds" -max_len=4000000 -rss_limit_mb=2048 \
+    -artifact_prefix=build-sanitized/crashes/ -print_final_stats=1 "build-sanitized/seeds/$target" \
+    > "build-sanitized/logs/$target.log" 2>&1 &
   pids+=($!) names+=("$target")
 done
 for i in "${!pids[@]}"; do
   result=0
   wait "${pids[$i]}" || result=$?
   echo "== ${names[$i]} (exit $result)"
-  tail -25 "build-fuzz/logs/${names[$i]}.log"
+  tail -25 "build-sanitized/logs/${names[$i]}.log"
   [ $result -eq 0 ] || status=1
 done
 exit $status
