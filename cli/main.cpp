@@ -8,6 +8,7 @@
 #include "cli/arguments.h"
 #include "cli/commands.h"
 #include "cli/map_options.h"
+#include "cli/openmp_wait.h"
 #include "core/io/mesh_file.h"
 #include "core/mesh/input_error.h"
 #include "server/worker_process.h"
@@ -36,6 +37,7 @@ Exit codes: 0 success; 1 usage error; 2 invalid input; 3 no bijective map reache
 
 int main(int argc, char** argv) {
   using namespace spheremap::cli;
+  prefer_passive_openmp_wait(argv);
   const std::string command = argc > 1 ? argv[1] : "--help";
   try {
     if (command == "map") return run_map(argc, argv);

@@ -46,6 +46,31 @@ TEST(Metrics, FoldedTrianglesAreSkippedNotNaN) {
   EXPECT_TRUE(std::isfinite(m.area_log_ratio.max));
 }
 
+TEST(Metrics, AreTheSameForAnyThreadCount) {
+  // 81,920 triangles: two of compute_metrics' blocks, each computed in parallel and summed
+  // in order, so 1 and 2 threads must give the same bits; a fold adds skipped triangles.
+  const PolygonMesh sphere = testing::icosphere(6);
+  const PolygonMesh surface = testing::swirled(testing::scaled(sphere, {1, 1, 0.5}), 1.0);
+  std::vector<Vec3> map = sphere.positions;
+  map[map.size() - 1] = -map[map.size() - 1];
+  const auto tris = oriented_triangles(sphere).triangles;
+  ASSERT_GT(tris.size(), size_t{1} << 16);
+  const QualityMetrics one = compute_metrics(surface.positions, map, tris, 1);
+  const QualityMetrics two = compute_metrics(surface.positions, map, tris, 2);
+  EXPECT_GT(one.skipped_triangles, 0u);
+  EXPECT_EQ(one.skipped_triangles, two.skipped_triangles);
+  EXPECT_EQ(one.measured_triangles, two.measured_triangles);
+  EXPECT_EQ(one.stretch_l2, two.stretch_l2);
+  EXPECT_EQ(one.stretch_linf, two.stretch_linf);
+  EXPECT_EQ(one.angle_error_degrees, two.angle_error_degrees);
+  for (auto summary : {&QualityMetrics::area_log_ratio, &QualityMetrics::dilatation}) {
+    EXPECT_EQ((one.*summary).mean, (two.*summary).mean);
+    EXPECT_EQ((one.*summary).p99, (two.*summary).p99);
+    EXPECT_EQ((one.*summary).max, (two.*summary).max);
+  }
+  EXPECT_GT(one.dilatation.mean, 1.0);
+}
+
 }  // namespace
 }  // namespace spheremap
 

@@ -52,8 +52,9 @@ class CoarseToFine {
       : mesh_(mesh), session_(session), options_(session.options()), result_(result) {
     session_.report({.stage = "hierarchy"});
     const double start = session_.elapsed();
-    h_ = build_hierarchy(mesh.positions, triangles, level_growth,
-                         [&] { return session_.should_stop(); });
+    h_ = build_hierarchy(
+        mesh.positions, triangles, level_growth, [&] { return session_.should_stop(); },
+        options_.smoothing.threads);
     result_.hierarchy_seconds = session_.elapsed() - start;
     result_.hierarchy_rounds = h_.rounds;
     fine_triangles_.assign(triangles.begin(), triangles.end());

@@ -51,8 +51,10 @@ class HierarchyStopped : public std::runtime_error {
 // level_growth: vertices of a level over those of the next coarser one (about).
 // should_stop (may be empty) is asked every few thousand vertices: ~3 s of rounds on 1.3M
 // triangles had no way to stop.
+// threads: for the re-keying of each round (0 = all cores); the hierarchy is the same for
+// any value.
 CollapseHierarchy build_hierarchy(std::span<const Vec3> positions,
                                   std::span<const Triangle> triangles, double level_growth = 4.0,
-                                  const std::function<bool()>& should_stop = {});
+                                  const std::function<bool()>& should_stop = {}, int threads = 0);
 
 }  // namespace spheremap

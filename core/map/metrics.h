@@ -28,8 +28,9 @@ struct QualityMetrics {
   size_t skipped_triangles = 0;  // zero surface or spherical area: no finite ratio
 };
 
-// Triangles oriented so a valid map has positive determinants.
+// Triangles oriented so a valid map has positive determinants. threads: 0 = all cores;
+// the metrics are the same for any value.
 QualityMetrics compute_metrics(std::span<const Vec3> surface, std::span<const Vec3> sphere,
-                               std::span<const Triangle> triangles);
+                               std::span<const Triangle> triangles, int threads = 0);
 
 }  // namespace spheremap

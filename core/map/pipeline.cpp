@@ -41,8 +41,8 @@ MappedMesh map_prepared(PreparedMesh prepared, const MapOptions& options,
   // The metrics are ratios that do not depend on placement or units; their sums of areas
   // would (overflow at 1e200, underflow at 1e-200), so they are taken on the mesh
   // centred and scaled.
-  out.quality =
-      compute_metrics(centered_and_scaled(mesh.positions), out.map.sphere, oriented.triangles);
+  out.quality = compute_metrics(centered_and_scaled(mesh.positions), out.map.sphere,
+                                oriented.triangles, options.smoothing.threads);
   out.float32_check =
       verify_map(rounded_to_float32(out.map.sphere), oriented.triangles, mesh, oriented.inward);
   out.metrics_seconds = seconds_since(start);
