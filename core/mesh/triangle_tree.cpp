@@ -1,6 +1,7 @@
 #include "core/mesh/triangle_tree.h"
 
 #include <algorithm>
+#include <cmath>
 #include <numeric>
 
 namespace spheremap {
@@ -40,81 +41,125 @@ double AxisBox::squared_distance(const Vec3& p) const {
 }
 
 TriangleTree::TriangleTree(std::span<const Vec3> positions, std::span<const Triangle> triangles)
-    : positions_(positions), triangles_(triangles), order_(triangles.size()) {
+    : order_(triangles.size()) {
   std::iota(order_.begin(), order_.end(), 0u);
-  centroids_.resize(triangles.size());
-  for (size_t t = 0; t < triangles.size(); ++t)
-    centroids_[t] =
-        (positions[triangles[t][0]] + positions[triangles[t][1]] + positions[triangles[t][2]]) *
-        (1.0 / 3);
   if (triangles.empty()) return;
-  nodes_.reserve(2 * triangles.size() / 4 + 2);
-  nodes_.emplace_back();
-  build(0, 0, triangles.size());
+  std::vector<Vec3> centroids(triangles.size());
+  corners_.resize(3 * triangles.size());
+  for (size_t t = 0; t < triangles.size(); ++t) {
+    for (int i = 0; i < 3; ++i) corners_[3 * t + i] = positions[triangles[t][i]];
+    centroids[t] = (corners_[3 * t] + corners_[3 * t + 1] + corners_[3 * t + 2]) * (1.0 / 3);
+  }
+  children_.reserve(triangles.size() / 2 + 1);
+  root_ = build(0, triangles.size(), centroids, root_box_);
+  // The corners in leaf order (they were in input order while building).
+  std::vector<Vec3> by_leaf(corners_.size());
+  for (size_t k = 0; k < order_.size(); ++k)
+    for (int i = 0; i < 3; ++i) by_leaf[3 * k + i] = corners_[3 * size_t{order_[k]} + i];
+  corners_ = std::move(by_leaf);
+  for (int a = 0; a < 3; ++a)
+    magnitude_ = std::max({magnitude_, std::abs(root_box_.lo[a]), std::abs(root_box_.hi[a])});
+}
+
+double TriangleTree::slack_at(const Vec3& p) const {
+  return 1e-13 * std::max({magnitude_, std::abs(p.x), std::abs(p.y), std::abs(p.z)});
 }
 
 TriangleTree::Closest TriangleTree::closest(const Vec3& p) const {
   Closest best;
-  if (nodes_.empty()) return best;
+  if (order_.empty()) return best;
+  const double slack = slack_at(p);
+  double skip_above = std::numeric_limits<double>::infinity();
   // A stack on the stack: this runs millions of times (distances, fits, remesh), and a
   // heap vector per query cost as much as the search on small trees. The median split
   // keeps the depth at most log2(triangles) + 1, and a search holds at most depth + 1
-  // entries; each entry keeps its box's distance, computed once.
+  // entries; each entry keeps its box's distance, computed once. The arithmetic is
+  // AxisBox::squared_distance's, term for term, so the visiting order (and with it which
+  // of equally near triangles answers) is that of a tree of AxisBox nodes.
   struct Entry {
-    uint32_t node;
+    Node node;
     double box_distance;
   };
   Entry stack[kMaxDepth + 2];
   int size = 0;
-  stack[size++] = {0, nodes_[0].box.squared_distance(p)};
+  stack[size++] = {root_, root_box_.squared_distance(p)};
+  const double q[3] = {p.x, p.y, p.z};
   while (size > 0) {
     const Entry entry = stack[--size];
     if (entry.box_distance >= best.squared_distance) continue;
-    const Node& node = nodes_[entry.node];
+    const Node node = entry.node;
     if (node.count) {
       for (uint32_t k = node.first; k < node.first + node.count; ++k) {
-        const Triangle& t = triangles_[order_[k]];
-        const Vec3 q = closest_on_triangle(p, positions_[t[0]], positions_[t[1]], positions_[t[2]]);
-        const double d2 = squared_norm(q - p);
-        if (d2 < best.squared_distance) best = {d2, q, order_[k]};
+        const Vec3* c = &corners_[3 * size_t{k}];
+        // The triangle's own box first: one farther than the best so far (with the slack)
+        // holds no nearer point, and costs a fraction of closest_on_triangle.
+        double box_distance = 0;
+        for (int axis = 0; axis < 3; ++axis) {
+          const double a = c[0][axis], b = c[1][axis], e = c[2][axis];
+          const double gap =
+              std::max(std::max(std::min({a, b, e}) - q[axis], 0.0), q[axis] - std::max({a, b, e}));
+          box_distance += gap * gap;
+        }
+        if (box_distance > skip_above) continue;
+        const Vec3 point = closest_on_triangle(p, c[0], c[1], c[2]);
+        const double d2 = squared_norm(point - p);
+        if (d2 < best.squared_distance) {
+          best = {d2, point, order_[k]};
+          skip_above = (std::sqrt(d2) + slack) * (std::sqrt(d2) + slack);
+        }
       }
       continue;
     }
+    const Children& boxes = children_[node.first];
+    double d[2];
+    for (int lane = 0; lane < 2; ++lane) {
+      double sum = 0;
+      for (int axis = 0; axis < 3; ++axis) {
+        const double below = boxes.lo[axis][lane] - q[axis];
+        const double above = q[axis] - boxes.hi[axis][lane];
+        const double gap = std::max(std::max(below, 0.0), above);
+        sum = axis == 0 ? gap * gap : sum + gap * gap;
+      }
+      d[lane] = sum;
+    }
     // Nearer child last, so it is searched first.
-    const uint32_t l = node.first, r = node.first + 1;
-    const double dl = nodes_[l].box.squared_distance(p), dr = nodes_[r].box.squared_distance(p);
-    const bool left_nearer = dl < dr;
-    stack[size++] = left_nearer ? Entry{r, dr} : Entry{l, dl};
-    stack[size++] = left_nearer ? Entry{l, dl} : Entry{r, dr};
+    const bool left_nearer = d[0] < d[1];
+    const Entry l{boxes.node[0], d[0]}, r{boxes.node[1], d[1]};
+    stack[size++] = left_nearer ? r : l;
+    stack[size++] = left_nearer ? l : r;
   }
   return best;
 }
 
-// Fills node `index` (already allocated) with triangles order_[begin, end).
-void TriangleTree::build(uint32_t index, size_t begin, size_t end) {
-  AxisBox box, centres;
+// The node of triangles order_[begin, end), whose box goes to `box`; corners_ and
+// centroids are still in input order.
+TriangleTree::Node TriangleTree::build(size_t begin, size_t end, std::vector<Vec3>& centroids,
+                                       AxisBox& box) {
+  AxisBox centres;
   for (size_t k = begin; k < end; ++k) {
-    for (uint32_t v : triangles_[order_[k]]) box.add(positions_[v]);
-    centres.add(centroids_[order_[k]]);
+    for (int i = 0; i < 3; ++i) box.add(corners_[3 * size_t{order_[k]} + i]);
+    centres.add(centroids[order_[k]]);
   }
-  nodes_[index].box = box;
-  if (end - begin <= 4) {
-    nodes_[index].first = static_cast<uint32_t>(begin);
-    nodes_[index].count = static_cast<uint32_t>(end - begin);
-    return;
-  }
+  if (end - begin <= 4) return {static_cast<uint32_t>(begin), static_cast<uint32_t>(end - begin)};
   const Vec3 extent = centres.hi - centres.lo;
   const int axis =
       extent.x >= extent.y && extent.x >= extent.z ? 0 : (extent.y >= extent.z ? 1 : 2);
   const size_t mid = (begin + end) / 2;
-  std::nth_element(
-      order_.begin() + begin, order_.begin() + mid, order_.begin() + end,
-      [&](uint32_t a, uint32_t b) { return centroids_[a][axis] < centroids_[b][axis]; });
-  const uint32_t left = static_cast<uint32_t>(nodes_.size());  // the right child is left + 1
-  nodes_.resize(nodes_.size() + 2);
-  nodes_[index].first = left;
-  build(left, begin, mid);
-  build(left + 1, mid, end);
+  std::nth_element(order_.begin() + begin, order_.begin() + mid, order_.begin() + end,
+                   [&](uint32_t a, uint32_t b) { return centroids[a][axis] < centroids[b][axis]; });
+  const uint32_t index = static_cast<uint32_t>(children_.size());
+  children_.emplace_back();
+  AxisBox boxes[2];
+  const Node left = build(begin, mid, centroids, boxes[0]);
+  const Node right = build(mid, end, centroids, boxes[1]);
+  Children& children = children_[index];
+  children.node[0] = left, children.node[1] = right;
+  for (int lane = 0; lane < 2; ++lane)
+    for (int a = 0; a < 3; ++a) {
+      children.lo[a][lane] = boxes[lane].lo[a];
+      children.hi[a][lane] = boxes[lane].hi[a];
+    }
+  return {index, 0};
 }
 
 }  // namespace spheremap

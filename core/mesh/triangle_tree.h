@@ -1,5 +1,7 @@
 // Closest-point queries on a set of triangles: an AABB tree (median split on the longest
-// axis of the centroids, leaves of at most 4 triangles).
+// axis of the centroids, leaves of at most 4 triangles). Laid out for the query: an inner
+// node keeps both children's boxes side by side (one visit measures both), and the leaves'
+// corners are copied in leaf order (no index chase per triangle).
 #pragma once
 
 #include <cstdint>
@@ -24,7 +26,7 @@ struct AxisBox {
   double squared_distance(const Vec3& p) const;  // 0 inside
 };
 
-// positions and triangles must outlive the tree.
+// The tree copies the corners it needs: positions and triangles may go after construction.
 class TriangleTree {
  public:
   TriangleTree(std::span<const Vec3> positions, std::span<const Triangle> triangles);
@@ -38,20 +40,31 @@ class TriangleTree {
   double squared_distance(const Vec3& p) const { return closest(p).squared_distance; }
 
  private:
+  // A leaf is triangles order_[first, first + count); an inner node (count 0) is
+  // children_[first], which holds both children and their boxes (axis by axis, lane 0
+  // the left child), so that a visit reads one record and pushes children without
+  // reading them.
   struct Node {
-    AxisBox box;
-    uint32_t first = 0;  // leaf: first triangle in order_; inner: left child (right = +1)
-    uint32_t count = 0;  // leaf: triangles; 0 for an inner node
+    uint32_t first = 0;
+    uint32_t count = 0;
   };
-  void build(uint32_t index, size_t begin, size_t end);
+  struct Children {
+    double lo[3][2], hi[3][2];
+    Node node[2];
+  };
+  // How far (in distance) a computed closest point may stray outside its triangle's box
+  // by rounding, with a wide margin, for a query at p.
+  double slack_at(const Vec3& p) const;
+  Node build(size_t begin, size_t end, std::vector<Vec3>& centroids, AxisBox& box);
   // Deeper than any median-split tree of up to 2^62 triangles (leaves of 1-4).
   static constexpr int kMaxDepth = 64;
 
-  std::span<const Vec3> positions_;
-  std::span<const Triangle> triangles_;
-  std::vector<uint32_t> order_;
-  std::vector<Vec3> centroids_;
-  std::vector<Node> nodes_;
+  std::vector<uint32_t> order_;  // the triangles in leaf order
+  std::vector<Vec3> corners_;    // corners_[3k + i]: corner i of triangle order_[k]
+  double magnitude_ = 0;         // the largest absolute corner coordinate
+  AxisBox root_box_;
+  Node root_;
+  std::vector<Children> children_;
 };
 
 }  // namespace spheremap

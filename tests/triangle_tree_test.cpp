@@ -1,0 +1,103 @@
+// TriangleTree against brute force (every triangle): the same least squared distance for
+// every query, and an answer (point, triangle) that attains it, on generated meshes, for
+// random points and points on corners, edges and faces (where several triangles tie).
+#include <gtest/gtest.h>
+
+#include <array>
+#include <random>
+#include <vector>
+
+#include "core/mesh/mesh.h"
+#include "core/mesh/triangle_tree.h"
+#include "tests/mesh_generators.h"
+
+namespace spheremap {
+namespace {
+
+using namespace spheremap::testing;
+
+double brute_force(const std::vector<Vec3>& positions, const std::vector<Triangle>& triangles,
+                   const Vec3& p) {
+  double best = std::numeric_limits<double>::max();
+  for (const Triangle& t : triangles)
+    best = std::min(
+        best, squared_norm(
+                  closest_on_triangle(p, positions[t[0]], positions[t[1]], positions[t[2]]) - p));
+  return best;
+}
+
+// Queries near and on the mesh: random points in its box grown by half, its corners, edge
+// midpoints, centroids, and centroids pushed off the surface either way.
+std::vector<Vec3> queries(const std::vector<Vec3>& positions,
+                          const std::vector<Triangle>& triangles, unsigned seed) {
+  AxisBox box;
+  for (const Vec3& p : positions) box.add(p);
+  const Vec3 size = box.hi - box.lo;
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> unit(-0.25, 1.25);
+  std::vector<Vec3> out;
+  for (int k = 0; k < 2000; ++k)
+    out.push_back({box.lo.x + size.x * unit(rng), box.lo.y + size.y * unit(rng),
+                   box.lo.z + size.z * unit(rng)});
+  for (const Vec3& p : positions) out.push_back(p);
+  for (const Triangle& t : triangles) {
+    const Vec3 &a = positions[t[0]], &b = positions[t[1]], &c = positions[t[2]];
+    const Vec3 centroid = (a + b + c) * (1.0 / 3), normal = cross(b - a, c - a);
+    out.push_back((a + b) * 0.5);
+    out.push_back(centroid);
+    out.push_back(centroid + normal * 0.3);
+    out.push_back(centroid - normal * 0.3);
+  }
+  return out;
+}
+
+void expect_as_brute_force(const PolygonMesh& mesh, unsigned seed) {
+  const std::vector<Triangle> triangles = fan_triangulate(mesh).triangles;
+  const TriangleTree tree(mesh.positions, triangles);
+  size_t checked = 0;
+  for (const Vec3& p : queries(mesh.positions, triangles, seed)) {
+    const TriangleTree::Closest answer = tree.closest(p);
+    ASSERT_EQ(answer.squared_distance, brute_force(mesh.positions, triangles, p))
+        << "query " << p.x << " " << p.y << " " << p.z;
+    ASSERT_LT(answer.triangle, triangles.size());
+    const Triangle& t = triangles[answer.triangle];
+    const Vec3 point =
+        closest_on_triangle(p, mesh.positions[t[0]], mesh.positions[t[1]], mesh.positions[t[2]]);
+    ASSERT_EQ(answer.point, point);
+    ASSERT_EQ(answer.squared_distance, squared_norm(point - p));
+    ++checked;
+  }
+  EXPECT_GT(checked, 2000u);
+}
+
+TEST(TriangleTree, AnswersAsBruteForceOnASphere) {
+  expect_as_brute_force(icosphere(3), 1);
+}
+
+TEST(TriangleTree, AnswersAsBruteForceOnATwistedTorus) {
+  expect_as_brute_force(twisted(torus(24, 12), 0.7), 2);
+}
+
+TEST(TriangleTree, AnswersAsBruteForceOnAFlatSquashedShape) {
+  // Thin boxes along one axis: many children boxes at equal distance from a query.
+  expect_as_brute_force(scaled(quad_sphere(6), {1, 1, 1e-3}), 3);
+}
+
+TEST(TriangleTree, KeepsNoReferenceToItsInput) {
+  const PolygonMesh mesh = icosphere(2);
+  std::vector<Vec3> positions = mesh.positions;
+  std::vector<Triangle> triangles = fan_triangulate(mesh).triangles;
+  const TriangleTree tree(positions, triangles);
+  const Vec3 p{2, 0.1, 0.2};
+  const double expected = brute_force(positions, triangles, p);
+  positions = {}, triangles = {};
+  EXPECT_EQ(tree.closest(p).squared_distance, expected);
+}
+
+TEST(TriangleTree, AnEmptyTreeAnswersTheLargestDistance) {
+  const TriangleTree tree({}, {});
+  EXPECT_EQ(tree.closest({1, 2, 3}).squared_distance, std::numeric_limits<double>::max());
+}
+
+}  // namespace
+}  // namespace spheremap
