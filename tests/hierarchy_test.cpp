@@ -47,6 +47,51 @@ TEST(IncidenceLists, KeepTheirOrderThroughMovesAndErases) {
   EXPECT_EQ(as_vector(lists[2]), (std::vector<uint32_t>{7}));
 }
 
+// As the hierarchy uses them: collapse targets grow (their lists move again and again),
+// collapsed vertices are cleared. The lists stay what vectors would hold, and the array
+// stays within a small multiple of what the lists hold: compacted, not grown without bound
+// by the slices that moved and cleared lists leave behind.
+TEST(IncidenceLists, StayCompactThroughManyMovesAndClears) {
+  constexpr uint32_t kVertices = 2000, kTargets = 16;
+  std::vector<Triangle> triangles;
+  for (uint32_t t = 0; t < kVertices; ++t)
+    triangles.push_back({t, (t + 1) % kVertices, (t + 7) % kVertices});
+  IncidenceLists lists(kVertices, triangles);
+  std::vector<std::vector<uint32_t>> expected(kVertices);
+  for (uint32_t t = 0; t < kVertices; ++t)
+    for (uint32_t v : triangles[t]) expected[v].push_back(t);
+  std::vector<uint32_t> alive(kVertices);
+  std::iota(alive.begin(), alive.end(), 0u);
+  uint64_t state = 12345;
+  auto random = [&](size_t below) {
+    state = state * 6364136223846793005ull + 1442695040888963407ull;
+    return static_cast<size_t>((state >> 33) % below);
+  };
+  uint32_t next_triangle = kVertices;
+  while (alive.size() > kTargets) {
+    for (int k = 0; k < 50; ++k) {  // appends to the first few vertices: their lists move
+      const uint32_t v = alive[random(kTargets)];
+      lists.append(v, next_triangle);
+      expected[v].push_back(next_triangle++);
+    }
+    const uint32_t v = alive[random(alive.size())];
+    if (!expected[v].empty()) {
+      const uint32_t gone = expected[v][random(expected[v].size())];
+      lists.erase(v, gone);
+      expected[v].erase(std::find(expected[v].begin(), expected[v].end(), gone));
+    }
+    // A collapse: a vertex other than the targets has its list cleared for good.
+    const size_t victim = kTargets + random(alive.size() - kTargets);
+    lists.clear(alive[victim]);
+    expected[alive[victim]].clear();
+    alive.erase(alive.begin() + static_cast<std::ptrdiff_t>(victim));
+    size_t held = 0;
+    for (uint32_t w : alive) held += expected[w].size() + 4;
+    ASSERT_LE(lists.slot_count(), 3 * held) << alive.size() << " lists alive";
+  }
+  for (uint32_t v = 0; v < kVertices; ++v) ASSERT_EQ(as_vector(lists[v]), expected[v]) << v;
+}
+
 // Every level of the hierarchy is a closed, oriented genus-0 triangle mesh on a prefix of
 // the new ids, and every collapse record names a target in its ring of older vertices.
 void expect_valid_hierarchy(const PolygonMesh& input) {

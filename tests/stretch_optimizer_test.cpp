@@ -1,10 +1,12 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <random>
 
 #include "core/map/map_check.h"
 #include "core/map/metrics.h"
 #include "core/map/stretch_optimizer.h"
+#include "core/map/vertex_coloring.h"
 #include "core/mesh/sphere_geometry.h"
 #include "tests/mesh_generators.h"
 
@@ -13,6 +15,36 @@ namespace {
 
 std::vector<Triangle> triangles_of(const PolygonMesh& mesh) {
   return fan_triangulate(mesh).triangles;
+}
+
+// The colour classes the optimizer moves in parallel: every vertex in exactly one class,
+// ascending within it, and no triangle with two corners of one class (so the threads of a
+// class never write one star), with few classes on a mesh of valence 5 and 6.
+TEST(VertexColoring, NoTriangleHasTwoCornersOfOneClass) {
+  const PolygonMesh mesh = testing::icosphere(3);
+  const std::vector<Triangle> triangles = triangles_of(mesh);
+  const size_t n = mesh.vertex_count();
+  std::vector<std::vector<uint32_t>> neighbors(n);
+  for (const Triangle& t : triangles)
+    for (int k = 0; k < 3; ++k) neighbors[t[k]].push_back(t[(k + 1) % 3]);
+  const auto classes = color_classes(n, [&](uint32_t v, auto&& visit) {
+    for (uint32_t w : neighbors[v]) visit(w);
+  });
+  std::vector<int> class_of(n, -1);
+  for (size_t c = 0; c < classes.size(); ++c) {
+    EXPECT_TRUE(std::is_sorted(classes[c].begin(), classes[c].end()));
+    for (uint32_t v : classes[c]) {
+      ASSERT_EQ(class_of[v], -1) << v << " is in two classes";
+      class_of[v] = static_cast<int>(c);
+    }
+  }
+  for (size_t v = 0; v < n; ++v) ASSERT_NE(class_of[v], -1) << v << " has no class";
+  for (const Triangle& t : triangles) {
+    EXPECT_NE(class_of[t[0]], class_of[t[1]]);
+    EXPECT_NE(class_of[t[1]], class_of[t[2]]);
+    EXPECT_NE(class_of[t[2]], class_of[t[0]]);
+  }
+  EXPECT_LE(classes.size(), 7u);  // at most max valence + 1
 }
 
 // An ellipsoid mapped by central projection: fold-free but stretched; the optimizer must

@@ -279,19 +279,26 @@ std::vector<Triangle> renumbered(std::vector<Triangle> triangles,
   return triangles;
 }
 
-}  // namespace
+// What the collapses leave: their log, the level snapshots (input ids, finest first) and
+// sizes, the vertices never collapsed, and the round counts.
+struct Collapsed {
+  CollapseLog log;
+  std::vector<std::vector<Triangle>> snapshots;
+  std::vector<uint32_t> sizes;
+  std::vector<uint32_t> survivors;  // ascending input ids: the tetrahedron
+  size_t rounds = 0, round_geometry_dropped = 0;
+};
 
-CollapseHierarchy build_hierarchy(std::span<const Vec3> positions,
-                                  std::span<const Triangle> triangles, double level_growth,
-                                  const std::function<bool()>& should_stop, int threads) {
-  HierarchyClock clock(should_stop);
-  threads = resolve_threads(threads);
+// Collapses down to the tetrahedron. Its working data (the collapsible mesh, quadrics,
+// order and keys: most of the hierarchy's memory) is gone when it returns, before the
+// hierarchy is assembled beside the log (at 17M triangles the two together were the peak
+// of the whole map).
+Collapsed collapse_all(std::span<const Vec3> positions, std::span<const Triangle> triangles,
+                       double level_growth, HierarchyClock& clock, int threads) {
   const size_t n = positions.size();
   CollapsibleMesh mesh(positions, triangles);
-  CollapseHierarchy h;
-  CollapseLog log;
-  std::vector<std::vector<Triangle>> snapshots;  // input ids, finest first
-  std::vector<uint32_t> sizes{static_cast<uint32_t>(n)};
+  Collapsed out;
+  out.sizes.push_back(static_cast<uint32_t>(n));
   bool geometric_test = true;
   std::vector<char> touched(n, 0), stale(n, 0);
   CollapseCost cost(positions, triangles);
@@ -305,47 +312,62 @@ CollapseHierarchy build_hierarchy(std::span<const Vec3> positions,
   }
   std::sort(order.begin(), order.end());
   while (mesh.alive_vertices() > 4) {
-    const size_t collapsed = collapse_round(mesh, cost, geometric_test, log, touched, stale, order,
-                                            keys, clock, threads);
+    const size_t collapsed = collapse_round(mesh, cost, geometric_test, out.log, touched, stale,
+                                            order, keys, clock, threads);
     if (collapsed == 0) {
       if (!geometric_test) throw std::runtime_error("hierarchy: no collapsible edge left");
       geometric_test = false;
-      h.round_geometry_dropped = h.rounds + 1;
+      out.round_geometry_dropped = out.rounds + 1;
       continue;
     }
-    ++h.rounds;
+    ++out.rounds;
     const size_t alive = mesh.alive_vertices();
-    if (alive == 4 || static_cast<double>(alive) * level_growth <= sizes.back()) {
-      sizes.push_back(static_cast<uint32_t>(alive));
-      snapshots.push_back(mesh.alive_triangles());
+    if (alive == 4 || static_cast<double>(alive) * level_growth <= out.sizes.back()) {
+      out.sizes.push_back(static_cast<uint32_t>(alive));
+      out.snapshots.push_back(mesh.alive_triangles());
     }
   }
-  if (snapshots.empty()) snapshots.push_back(mesh.alive_triangles());  // input is a tetrahedron
-  if (sizes.back() != 4) sizes.push_back(4);
+  if (out.snapshots.empty()) out.snapshots.push_back(mesh.alive_triangles());  // a tetrahedron
+  if (out.sizes.back() != 4) out.sizes.push_back(4);
+  for (uint32_t v = 0; v < n; ++v)
+    if (mesh.alive(v)) out.survivors.push_back(v);
+  return out;
+}
+
+}  // namespace
+
+CollapseHierarchy build_hierarchy(std::span<const Vec3> positions,
+                                  std::span<const Triangle> triangles, double level_growth,
+                                  const std::function<bool()>& should_stop, int threads) {
+  HierarchyClock clock(should_stop);
+  const size_t n = positions.size();
+  Collapsed c = collapse_all(positions, triangles, level_growth, clock, resolve_threads(threads));
+  CollapseHierarchy h;
+  h.rounds = c.rounds;
+  h.round_geometry_dropped = c.round_geometry_dropped;
 
   // New ids: the tetrahedron (ascending input id), then reverse removal order.
   h.old_to_new.assign(n, 0);
-  for (uint32_t v = 0; v < n; ++v)
-    if (mesh.alive(v)) h.new_to_old.push_back(v);
-  for (auto it = log.entries.rbegin(); it != log.entries.rend(); ++it)
+  h.new_to_old = std::move(c.survivors);
+  for (auto it = c.log.entries.rbegin(); it != c.log.entries.rend(); ++it)
     h.new_to_old.push_back(it->u);
   for (uint32_t id = 0; id < n; ++id) h.old_to_new[h.new_to_old[id]] = id;
 
-  h.level_sizes.assign(sizes.rbegin(), sizes.rend());
-  for (auto it = snapshots.rbegin(); it != snapshots.rend(); ++it)
+  h.level_sizes.assign(c.sizes.rbegin(), c.sizes.rend());
+  for (auto it = c.snapshots.rbegin(); it != c.snapshots.rend(); ++it)
     h.level_triangles.push_back(renumbered(std::move(*it), h.old_to_new));
 
   h.collapse_target.assign(n, 0);
   h.ring_offsets.assign(n + 1, 0);
   for (uint32_t id = 4; id < n; ++id) {
-    const CollapseLog::Entry& c = log.entries[n - 1 - id];
-    h.collapse_target[id] = h.old_to_new[c.v];
-    h.ring_offsets[id + 1] = c.ring_end - c.ring_begin;
+    const CollapseLog::Entry& e = c.log.entries[n - 1 - id];
+    h.collapse_target[id] = h.old_to_new[e.v];
+    h.ring_offsets[id + 1] = e.ring_end - e.ring_begin;
   }
   for (size_t id = 0; id < n; ++id) h.ring_offsets[id + 1] += h.ring_offsets[id];
   h.rings.resize(h.ring_offsets.back());
   for (uint32_t id = 4; id < n; ++id) {
-    const std::span<const uint32_t> ring = log.ring(log.entries[n - 1 - id]);
+    const std::span<const uint32_t> ring = c.log.ring(c.log.entries[n - 1 - id]);
     for (size_t k = 0; k < ring.size(); ++k)
       h.rings[h.ring_offsets[id] + k] = h.old_to_new[ring[k]];
   }

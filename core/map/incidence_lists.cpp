@@ -25,15 +25,46 @@ IncidenceLists::IncidenceLists(size_t vertex_count, std::span<const Triangle> tr
 }
 
 void IncidenceLists::append(uint32_t v, uint32_t triangle) {
-  if (size_[v] == capacity_[v]) {  // move the list to the end, with twice the room
-    const uint64_t moved = slots_.size();
-    capacity_[v] *= 2;
-    slots_.resize(moved + capacity_[v]);
-    std::copy_n(slots_.begin() + static_cast<std::ptrdiff_t>(begin_[v]), size_[v],
-                slots_.begin() + static_cast<std::ptrdiff_t>(moved));
-    begin_[v] = moved;
-  }
+  if (size_[v] == capacity_[v]) move_to_end(v);
   slots_[begin_[v] + size_[v]++] = triangle;
+}
+
+// Moves v's list to the array's end with twice the room, compacting the array first when
+// it has no room left (after which v's list has room where it is).
+void IncidenceLists::move_to_end(uint32_t v) {
+  const uint32_t room = std::max(2 * capacity_[v], kSlack);
+  if (slots_.size() + room > slots_.capacity()) {
+    compact(room);
+    if (size_[v] < capacity_[v]) return;
+  }
+  const uint64_t moved = slots_.size();
+  slots_.resize(moved + room);
+  std::copy_n(slots_.begin() + static_cast<std::ptrdiff_t>(begin_[v]), size_[v],
+              slots_.begin() + static_cast<std::ptrdiff_t>(moved));
+  begin_[v] = moved, capacity_[v] = room;
+}
+
+// Every non-empty list rewritten in vertex order with kSlack spare slots, into an array
+// with room for a quarter as many again (at least `extra`) for the lists that move next:
+// each compaction costs one pass over the lists, and the next one waits until a quarter of
+// them has moved, so appends stay amortized O(1).
+void IncidenceLists::compact(uint64_t extra) {
+  uint64_t live = 0;
+  for (size_t v = 0; v < size_.size(); ++v)
+    if (size_[v] > 0) live += size_[v] + kSlack;
+  std::vector<uint32_t> fresh;
+  fresh.reserve(live + std::max(extra, live / 4));
+  for (size_t v = 0; v < size_.size(); ++v) {
+    const uint64_t begin = fresh.size();
+    if (size_[v] > 0) {
+      const auto first = slots_.begin() + static_cast<std::ptrdiff_t>(begin_[v]);
+      fresh.insert(fresh.end(), first, first + size_[v]);
+      fresh.resize(fresh.size() + kSlack);
+    }
+    begin_[v] = begin;
+    capacity_[v] = size_[v] > 0 ? size_[v] + kSlack : 0;
+  }
+  slots_.swap(fresh);
 }
 
 void IncidenceLists::erase(uint32_t v, uint32_t triangle) {

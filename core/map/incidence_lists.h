@@ -5,9 +5,13 @@
 // hierarchy reads a star per candidate and per re-keyed vertex, so those reads chased
 // pointers across the heap. Here each list is a slice of one array, in vertex order, with
 // room for a few more triangles; a list that outgrows its slice moves to the array's end
-// with twice the room. Lists keep their order (erase shifts, append goes last), which the
-// hierarchy's tie-breaking depends on: the same operations give the same lists as the
-// vector of vectors did.
+// with twice the room. When the array is full, it is compacted instead of grown: the
+// non-empty lists are rewritten in vertex order with a little room each, which drops the
+// slices that moved lists left behind and those of collapsed vertices (grown by doubling,
+// the array was the hierarchy's largest allocation at 17M triangles: twice its first
+// size, three times while being copied). Lists keep their order (erase shifts, append
+// goes last), which the hierarchy's tie-breaking depends on: the same operations give the
+// same lists as the vector of vectors did.
 #pragma once
 
 #include <cstdint>
@@ -35,7 +39,13 @@ class IncidenceLists {
   void erase(uint32_t v, uint32_t triangle);  // the first occurrence, order kept
   void clear(uint32_t v) { size_[v] = 0; }
 
+  // Slots the array holds (lists, their room, and the slices left behind), for tests.
+  size_t slot_count() const { return slots_.size(); }
+
  private:
+  void move_to_end(uint32_t v);
+  void compact(uint64_t extra);
+
   std::vector<uint32_t> slots_;
   std::vector<uint64_t> begin_;  // 64-bit: moved lists may take the array past 4G slots
   std::vector<uint32_t> size_, capacity_;

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
+#include <stdexcept>
 #include <vector>
 
 #include "core/map/map_check.h"
@@ -43,6 +45,15 @@ struct Incidence {
   uint32_t corner;
 };
 
+// An incidence packed in 4 bytes, 3 triangle + corner (the star lists are a sixth of the
+// optimizer's memory at 17M triangles). StretchProblem refuses more than 2^32 / 3 triangles.
+inline uint32_t packed(uint32_t triangle, uint32_t corner) {
+  return 3 * triangle + corner;
+}
+inline Incidence unpacked(uint32_t incidence) {
+  return {incidence / 3, incidence % 3};
+}
+
 class StretchProblem {
  public:
   StretchProblem(std::span<const Vec3> x, std::span<const Triangle> triangles, size_t n,
@@ -51,6 +62,8 @@ class StretchProblem {
         options_(options),
         weights_(triangles.size()),
         surface_area_(triangles.size()) {
+    if (triangles.size() > std::numeric_limits<uint32_t>::max() / 3)
+      throw std::length_error("stretch optimizer: over 2^32 / 3 triangles");
     double total = 0;
     for (size_t t = 0; t < triangles.size(); ++t) {
       const Triangle& tri = triangles[t];
@@ -61,13 +74,12 @@ class StretchProblem {
       surface_area_[t] = r * 0.5 * norm(cross(b - a, c - a));
       total += surface_area_[t];
     }
-    inverse_area_ = surface_area_;
     // The inverse term grows like 1 / surface area: a needle or zero-area triangle (coarse
     // levels of the hierarchy have some) would dominate the whole energy and pull its
     // sphere triangle to nothing against the barrier. Its area is floored at a hundredth
-    // of the mean for that term.
+    // of the mean for that term (inverse_area; the triangles raised below stay under it).
     const double mean = total / static_cast<double>(std::max<size_t>(1, triangles.size()));
-    for (double& area : inverse_area_) area = std::max(area, 1e-2 * mean);
+    inverse_area_floor_ = 1e-2 * mean;
     // A (nearly) zero-area surface triangle (CAD slivers, collinear corners) would have no
     // stretch term at all, so nothing would keep its sphere triangle from collapsing to a
     // degenerate one. It counts as a small equilateral triangle instead: area 1e-4 of the
@@ -87,8 +99,15 @@ class StretchProblem {
     incidences_.resize(offsets_.back());
     std::vector<uint32_t> fill(offsets_.begin(), offsets_.end() - 1);
     for (uint32_t t = 0; t < triangles.size(); ++t)
-      for (uint32_t k = 0; k < 3; ++k) incidences_[fill[triangles[t][k]]++] = {t, k};
-    classes_ = color_classes(triangles, n);
+      for (uint32_t k = 0; k < 3; ++k) incidences_[fill[triangles[t][k]]++] = packed(t, k);
+    classes_ = color_classes(n, [&](uint32_t v, auto&& visit) {
+      for (uint32_t i = offsets_[v]; i < offsets_[v + 1]; ++i) {
+        const Incidence incidence = unpacked(incidences_[i]);
+        const Triangle& tri = triangles_[incidence.triangle];
+        visit(tri[(incidence.corner + 1) % 3]);
+        visit(tri[(incidence.corner + 2) % 3]);
+      }
+    });
   }
 
   const std::vector<std::vector<uint32_t>>& classes() const { return classes_; }
@@ -111,7 +130,7 @@ class StretchProblem {
             w[0] * squared_norm(b - c) + w[1] * squared_norm(c - p) + w[2] * squared_norm(p - b);
         sum[0] += area;
         sum[1] += surface_area_[t] * n / (8 * area * area);
-        sum[2] += options_.lambda * n / (8 * inverse_area_[t]);
+        sum[2] += options_.lambda * n / (8 * inverse_area(t));
       }
       partial[k] = sum;
     });
@@ -130,8 +149,9 @@ class StretchProblem {
     thread_local std::vector<StarFace> star;
     star.clear();
     for (uint32_t i = offsets_[v]; i < offsets_[v + 1]; ++i) {
-      const auto [b, c] = opposite(q, incidences_[i]);
-      star.push_back({b, c, cross(b, c), squared_norm(c - b), term(incidences_[i])});
+      const Incidence incidence = unpacked(incidences_[i]);
+      const auto [b, c] = opposite(q, incidence);
+      star.push_back({b, c, cross(b, c), squared_norm(c - b), term(incidence)});
     }
     // Local scale: the smallest distance from p to the plane (through the centre) of an
     // opposite edge; moves are measured against it.
@@ -267,7 +287,7 @@ class StretchProblem {
   // Whether a triangle of v's star has a density above `threshold`.
   bool in_hot_star(std::span<const Vec3> q, uint32_t v, double threshold) const {
     for (uint32_t i = offsets_[v]; i < offsets_[v + 1]; ++i)
-      if (density(q, incidences_[i].triangle) > threshold) return true;
+      if (density(q, unpacked(incidences_[i]).triangle) > threshold) return true;
     return false;
   }
 
@@ -281,7 +301,7 @@ class StretchProblem {
     std::vector<TriangleEnergy> out(triangles_.size());
     for (size_t t = 0; t < triangles_.size(); ++t) {
       const auto& w = weights_[t];
-      out[t] = {{w[0], w[1], w[2]}, surface_area_[t] / 8, options_.lambda / (8 * inverse_area_[t])};
+      out[t] = {{w[0], w[1], w[2]}, surface_area_[t] / 8, options_.lambda / (8 * inverse_area(t))};
     }
     return out;
   }
@@ -290,8 +310,8 @@ class StretchProblem {
   template <class Visit>
   void for_each_neighbor(uint32_t v, Visit&& visit) const {
     for (uint32_t i = offsets_[v]; i < offsets_[v + 1]; ++i) {
-      const Triangle& tri = triangles_[incidences_[i].triangle];
-      visit(tri[(incidences_[i].corner + 1) % 3]);
+      const Incidence incidence = unpacked(incidences_[i]);
+      visit(triangles_[incidence.triangle][(incidence.corner + 1) % 3]);
     }
   }
 
@@ -304,17 +324,21 @@ class StretchProblem {
   FaceTerm term(size_t t, uint32_t corner) const {
     const auto& w = weights_[t];
     return {w[corner], w[(corner + 1) % 3], w[(corner + 2) % 3], surface_area_[t] / (8 * scale2_),
-            options_.lambda * scale2_ / (8 * inverse_area_[t])};
+            options_.lambda * scale2_ / (8 * inverse_area(t))};
   }
 
   std::span<const Triangle> triangles_;
   const StretchOptions& options_;
   std::vector<std::array<double, 3>> weights_;
-  std::vector<double> surface_area_, inverse_area_;
+  // The area of triangle t in the inverse term: its surface area, floored.
+  double inverse_area(size_t t) const { return std::max(surface_area_[t], inverse_area_floor_); }
+
+  std::vector<double> surface_area_;
+  double inverse_area_floor_ = 0;
   double surface_total_ = 0;
   double scale2_ = 1;
   std::vector<uint32_t> offsets_;
-  std::vector<Incidence> incidences_;
+  std::vector<uint32_t> incidences_;  // packed(triangle, corner), by vertex
   std::vector<std::vector<uint32_t>> classes_;
 };
 

@@ -111,6 +111,9 @@ WeldResult weld(const PolygonMesh& input, double relative_tolerance, StopCheck* 
   // Each group is named by its first referenced member; new ids follow that order.
   WeldResult result;
   result.input_to_welded.assign(n, kUnreferenced);
+  // At most n positions: reserved, not grown by doubling (up to twice the mesh's
+  // positions, held through the whole map: 11 bytes per triangle at 17M triangles).
+  result.mesh.positions.reserve(n);
   std::vector<uint32_t> group_id(n, kUnreferenced);
   for (uint32_t i = 0; i < n; ++i) {
     if (!referenced[i]) {
@@ -124,6 +127,8 @@ WeldResult weld(const PolygonMesh& input, double relative_tolerance, StopCheck* 
     }
     result.input_to_welded[i] = group_id[root];
   }
+  if (result.mesh.positions.capacity() > result.mesh.positions.size() + n / 4)
+    result.mesh.positions.shrink_to_fit();  // many welded away (seams): give the rest back
   // An unreferenced vertex at the position of a referenced one still has a sphere point.
   for (uint32_t i = 0; i < n; ++i)
     if (!referenced[i]) result.input_to_welded[i] = group_id[sets.find(i)];
