@@ -92,6 +92,23 @@ TEST(IncidenceLists, StayCompactThroughManyMovesAndClears) {
   for (uint32_t v = 0; v < kVertices; ++v) ASSERT_EQ(as_vector(lists[v]), expected[v]) << v;
 }
 
+// One vertex gaining 100,000 triangles in a small mesh (a fan collapsing onto its hub):
+// the array is compacted a few times (each compaction keeps half as much room again in
+// the growing list), not every few appends.
+TEST(IncidenceLists, AGrowingFanCompactsRarely) {
+  const std::vector<Triangle> triangles = {{0, 1, 2}, {0, 2, 3}, {0, 3, 1}, {1, 3, 2}};
+  IncidenceLists lists(4, triangles);
+  std::vector<uint32_t> expected = {0, 1, 2};
+  for (uint32_t t = 4; t < 100'004; ++t) {
+    lists.append(0, t);
+    expected.push_back(t);
+  }
+  EXPECT_EQ(as_vector(lists[0]), expected);
+  EXPECT_EQ(as_vector(lists[3]), (std::vector<uint32_t>{1, 2, 3}));
+  EXPECT_LE(lists.compaction_count(), 40u);
+  EXPECT_LE(lists.slot_count(), 4 * expected.size());
+}
+
 // Every level of the hierarchy is a closed, oriented genus-0 triangle mesh on a prefix of
 // the new ids, and every collapse record names a target in its ring of older vertices.
 void expect_valid_hierarchy(const PolygonMesh& input) {

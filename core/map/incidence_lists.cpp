@@ -44,14 +44,17 @@ void IncidenceLists::move_to_end(uint32_t v) {
   begin_[v] = moved, capacity_[v] = room;
 }
 
-// Every non-empty list rewritten in vertex order with kSlack spare slots, into an array
-// with room for a quarter as many again (at least `extra`) for the lists that move next:
-// each compaction costs one pass over the lists, and the next one waits until a quarter of
-// them has moved, so appends stay amortized O(1).
+// Every non-empty list rewritten in vertex order with room for half as many again (at
+// least kSlack: a growing fan's list must not lose the room doubling gave it, or a vertex
+// gaining thousands of triangles would compact the array every few appends), into an
+// array with room for a quarter as many again (at least `extra`) for the lists that move
+// next: each compaction costs one pass over the lists, and the next one waits until a
+// quarter of them has moved, so appends stay amortized O(1).
 void IncidenceLists::compact(uint64_t extra) {
+  auto room_for = [](uint32_t size) { return size + std::max(kSlack, size / 2); };
   uint64_t live = 0;
   for (size_t v = 0; v < size_.size(); ++v)
-    if (size_[v] > 0) live += size_[v] + kSlack;
+    if (size_[v] > 0) live += room_for(size_[v]);
   std::vector<uint32_t> fresh;
   fresh.reserve(live + std::max(extra, live / 4));
   for (size_t v = 0; v < size_.size(); ++v) {
@@ -59,12 +62,13 @@ void IncidenceLists::compact(uint64_t extra) {
     if (size_[v] > 0) {
       const auto first = slots_.begin() + static_cast<std::ptrdiff_t>(begin_[v]);
       fresh.insert(fresh.end(), first, first + size_[v]);
-      fresh.resize(fresh.size() + kSlack);
+      fresh.resize(begin + room_for(size_[v]));
     }
     begin_[v] = begin;
-    capacity_[v] = size_[v] > 0 ? size_[v] + kSlack : 0;
+    capacity_[v] = size_[v] > 0 ? room_for(size_[v]) : 0;
   }
   slots_.swap(fresh);
+  ++compactions_;
 }
 
 void IncidenceLists::erase(uint32_t v, uint32_t triangle) {

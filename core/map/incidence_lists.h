@@ -39,8 +39,10 @@ class IncidenceLists {
   void erase(uint32_t v, uint32_t triangle);  // the first occurrence, order kept
   void clear(uint32_t v) { size_[v] = 0; }
 
-  // Slots the array holds (lists, their room, and the slices left behind), for tests.
+  // Slots the array holds (lists, their room, and the slices left behind), and the
+  // compactions so far: for tests of the array's bound and of amortized appends.
   size_t slot_count() const { return slots_.size(); }
+  size_t compaction_count() const { return compactions_; }
 
  private:
   void move_to_end(uint32_t v);
@@ -49,6 +51,7 @@ class IncidenceLists {
   std::vector<uint32_t> slots_;
   std::vector<uint64_t> begin_;  // 64-bit: moved lists may take the array past 4G slots
   std::vector<uint32_t> size_, capacity_;
+  size_t compactions_ = 0;
 };
 
 }  // namespace spheremap
