@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <bit>
+#include <cstring>
 #include <unordered_map>
 
 #include "core/mesh/input_error.h"
@@ -95,58 +96,81 @@ bool stays_well_composed(uint32_t neighbourhood) {
 
 namespace {
 
-// Per voxel: bit 1 in the region, bit 2 may join it, bit 4 queued.
-constexpr uint8_t kIn = 1, kAllowed = 2, kQueued = 4;
+// Per voxel: bit 1 in the region, bit 2 may join it, bit 4 queued, bit 8 on the grid's
+// border (never queued).
+constexpr uint8_t kIn = 1, kAllowed = 2, kQueued = 4, kBorder = 8;
 
 struct Growth {
   const VoxelGrid& g;
   std::vector<uint8_t> state;
-  std::array<std::ptrdiff_t, 27> offset{};
+  // kIn again, one bit per voxel (bit i % 8 of byte i / 8, 8 bytes of padding): a
+  // neighbourhood is 9 rows of 3 bits, one unaligned load each, instead of 27 byte loads
+  // spread over 3 planes of the 8x larger state (those loads were a fifth of the growth).
+  std::vector<uint8_t> in_bits;
+  std::array<std::ptrdiff_t, 9> row{};  // per row dy + 3 dz of the 3x3x3: its dx = -1 voxel
 
-  explicit Growth(const VoxelGrid& grid) : g(grid), state(grid.size(), 0) {
-    for (int k = 0; k < 27; ++k)
-      offset[k] = (k % 3 - 1) + (k / 3 % 3 - 1) * std::ptrdiff_t(g.nx) +
-                  (k / 9 - 1) * std::ptrdiff_t(g.nx) * std::ptrdiff_t(g.ny);
+  explicit Growth(const VoxelGrid& grid)
+      : g(grid), state(grid.size(), 0), in_bits(grid.size() / 8 + 9, 0) {
+    for (int r = 0; r < 9; ++r)
+      row[size_t(r)] = -1 + (r % 3 - 1) * std::ptrdiff_t(g.nx) +
+                       (r / 3 - 1) * std::ptrdiff_t(g.nx) * std::ptrdiff_t(g.ny);
   }
-  // Only for voxels off the grid's border (candidates never lie on it).
+  // Sets kBorder on the voxels of the grid's six border faces.
+  void mark_border() {
+    for (int z = 0; z < g.nz; ++z)
+      for (int y = 0; y < g.ny; ++y) {
+        const bool face = z == 0 || y == 0 || z == g.nz - 1 || y == g.ny - 1;
+        for (int x = 0; x < g.nx; ++x)
+          if (face || x == 0 || x == g.nx - 1) state[g.index(x, y, z)] |= kBorder;
+      }
+  }
+  void join(size_t i) {
+    state[i] |= kIn;
+    in_bits[i >> 3] |= uint8_t(1u << (i & 7));
+  }
+  // Only for voxels off the grid's border (candidates never lie on it). Bit k of the
+  // answer is the voxel at offset (k % 3 - 1, k / 3 % 3 - 1, k / 9 - 1).
   uint32_t neighbourhood(size_t i) const {
     uint32_t m = 0;
-    for (int k = 0; k < 27; ++k)
-      m |= uint32_t(state[size_t(std::ptrdiff_t(i) + offset[k])] & kIn) << k;
+    for (int r = 0; r < 9; ++r) {
+      const size_t j = size_t(std::ptrdiff_t(i) + row[size_t(r)]);
+      uint64_t word;
+      std::memcpy(&word, &in_bits[j >> 3], sizeof word);
+      m |= uint32_t((word >> (j & 7)) & 7u) << (3 * r);
+    }
     return m;
-  }
-  bool on_border(size_t i) const {
-    const int x = int(i % size_t(g.nx)), y = int(i / size_t(g.nx) % size_t(g.ny)),
-              z = int(i / (size_t(g.nx) * size_t(g.ny)));
-    return x == 0 || y == 0 || z == 0 || x == g.nx - 1 || y == g.ny - 1 || z == g.nz - 1;
   }
 
   // Whether a voxel with this neighbourhood may join: simple and well-composed. Answers
   // are remembered in a direct-mapped table (the same few thousand neighbourhoods recur
-  // along a flat front; the outside growth asks for millions of voxels).
-  std::vector<uint64_t> answers = std::vector<uint64_t>(size_t{1} << 16, 0);
+  // along a flat front; the outside growth asks for millions of voxels). A slot holds the
+  // key plus 1 (0: empty; keys have 27 bits) and the answer in bit 31.
+  static constexpr int kAnswerBits = 16;
+  std::vector<uint32_t> answers = std::vector<uint32_t>(size_t{1} << kAnswerBits, 0);
   bool may_join(uint32_t m) {
     const uint32_t key = m & ~(1u << kCentreBit);
-    uint64_t& slot = answers[(key * 2654435761u) >> 16];
-    if (slot >> 32 == uint64_t(key) + 1) return slot & 1;  // +1: slot 0 means empty
+    uint32_t& slot = answers[(key * 2654435761u) >> (32 - kAnswerBits)];
+    if ((slot & ~(1u << 31)) == key + 1) return slot >> 31;
     const bool yes = is_simple_point(key) && stays_well_composed(key);
-    slot = ((uint64_t(key) + 1) << 32) | uint64_t(yes);
+    slot = (key + 1) | (uint32_t(yes) << 31);
     return yes;
   }
 
   // Grows from the voxels already in, highest priority first (a bucket queue).
   void run(const std::vector<uint16_t>& priority, StopCheck& stop) {
+    mark_border();
+    for (size_t i = 0; i < state.size(); ++i)
+      if (state[i] & kIn) in_bits[i >> 3] |= uint8_t(1u << (i & 7));
     std::vector<std::vector<uint32_t>> buckets(65536);
     int top = -1;
     const auto push = [&](size_t j) {
-      if ((state[j] & (kIn | kAllowed | kQueued)) != kAllowed || on_border(j)) return;
+      if ((state[j] & (kIn | kAllowed | kQueued | kBorder)) != kAllowed) return;
       state[j] |= kQueued;
       buckets[priority[j]].push_back(uint32_t(j));
       top = std::max(top, int(priority[j]));
     };
     for (size_t i = 0; i < state.size(); ++i)
-      if ((state[i] & (kIn | kAllowed)) == kAllowed && !on_border(i) && neighbourhood(i) != 0)
-        push(i);
+      if ((state[i] & (kIn | kAllowed | kBorder)) == kAllowed && neighbourhood(i) != 0) push(i);
     while (top >= 0) {
       if (buckets[size_t(top)].empty()) {
         --top;
@@ -157,8 +181,11 @@ struct Growth {
       stop.tick();
       state[i] &= uint8_t(~kQueued);
       if (!may_join(neighbourhood(i))) continue;
-      state[i] |= kIn;
-      for (int k = 0; k < 27; ++k) push(size_t(std::ptrdiff_t(i) + offset[k]));
+      join(i);
+      for (int r = 0; r < 9; ++r) {
+        const size_t j = size_t(std::ptrdiff_t(i) + row[size_t(r)]);
+        push(j), push(j + 1), push(j + 2);
+      }
     }
   }
 };
@@ -290,8 +317,11 @@ BallGrowth shrink_ball_outside(const VoxelGrid& grid, const std::vector<uint8_t>
                                StopCheck& stop) {
   const std::vector<uint16_t> distance = steps_to_other(grid, solid, 0, stop);
   Growth growth(grid);
-  for (size_t i = 0; i < solid.size(); ++i)
-    growth.state[i] = growth.on_border(i) ? kIn : (solid[i] ? 0 : kAllowed);
+  // The border in (run() marks it kBorder), the rest of the outside allowed.
+  for (size_t i = 0; i < solid.size(); ++i) growth.state[i] = solid[i] ? 0 : kAllowed;
+  growth.mark_border();
+  for (uint8_t& s : growth.state)
+    if (s & kBorder) s = kIn | kBorder;
   growth.run(distance, stop);
   BallGrowth out;
   out.ball.resize(solid.size());
