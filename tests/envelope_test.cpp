@@ -17,6 +17,7 @@
 #include "core/map/pipeline.h"
 #include "core/mesh/input_error.h"
 #include "core/mesh/topology.h"
+#include "core/mesh/triangle_tree.h"
 #include "core/mesh/weld.h"
 #include "core/prepare/envelope.h"
 #include "core/prepare/envelope_check.h"
@@ -260,6 +261,50 @@ TEST(Envelope, FillEnclosedAgreesWithAVoxelByVoxelFill) {
     for (size_t i = 0; i < band.size(); ++i) enclosed += solid[i] && !band[i];
   }
   EXPECT_GT(enclosed, 100u);  // the trials enclose voxels
+}
+
+// --- band_voxels against every voxel and every triangle ---------------------------------
+
+TEST(Envelope, TheBandIsEveryVoxelWithinTheOffset) {
+  std::mt19937 random(3434);
+  size_t marked = 0;
+  for (int trial = 0; trial < 24; ++trial) {
+    // Small triangles, slivers and needles (the skip of far centres assumes the computed
+    // closest point stays in the triangle's box), near the origin and far from it.
+    const double shift = trial % 3 == 0 ? 0.0 : (trial % 3 == 1 ? 1e4 : -3e6);
+    std::uniform_real_distribution<> unit(0, 1);
+    std::vector<Vec3> positions;
+    std::vector<Triangle> triangles;
+    for (int t = 0; t < 12; ++t) {
+      const Vec3 a{shift + 4 * unit(random), shift + 4 * unit(random), 4 * unit(random)};
+      const double size = t % 2 ? 0.05 : 1.5;
+      Vec3 b = a + Vec3{size * unit(random), size * unit(random), size * unit(random)};
+      Vec3 c = a + Vec3{size * unit(random), size * unit(random), size * unit(random)};
+      if (t % 4 == 1) c = a + (b - a) * 0.5 + Vec3{0, 1e-9 * unit(random), 0};  // a sliver
+      if (t % 4 == 3) c = b + Vec3{1e-12, 0, 0};                                // a needle
+      const uint32_t first = uint32_t(positions.size());
+      positions.insert(positions.end(), {a, b, c});
+      triangles.push_back({first, first + 1, first + 2});
+    }
+    const double h = 0.1 + 0.1 * unit(random), d = 1.5 * h;
+    VoxelGrid g = layout_grid(Vec3{shift, shift, 0}, Vec3{shift + 6, shift + 6, 6}, h, d, 1u << 22);
+    StopCheck stop(nullptr);
+    const std::vector<uint8_t> band = band_voxels(g, positions, triangles, d, stop);
+    for (int z = 0; z < g.nz; ++z)
+      for (int y = 0; y < g.ny; ++y)
+        for (int x = 0; x < g.nx; ++x) {
+          const Vec3 p = g.center(x, y, z);
+          bool within = false;
+          for (const Triangle& t : triangles)
+            within |= squared_norm(closest_on_triangle(p, positions[t[0]], positions[t[1]],
+                                                       positions[t[2]]) -
+                                   p) <= d * d;
+          ASSERT_EQ(band[g.index(x, y, z)], uint8_t(within))
+              << "trial " << trial << " voxel " << x << " " << y << " " << z;
+          marked += within;
+        }
+  }
+  EXPECT_GT(marked, 1000u);
 }
 
 // --- envelopes of meshes that do not map ---------------------------------------------

@@ -35,12 +35,17 @@ namespace {
 
 // Marks the voxels whose centre is within d of triangle abc. Columns run along the axis
 // the triangle's normal is most aligned with, each limited to the slab |n.(p - a)| <= d.
+// `magnitude` is the grid's largest absolute corner coordinate.
 void mark_band(const VoxelGrid& g, const Vec3& a, const Vec3& b, const Vec3& c, double d,
-               std::vector<uint8_t>& band, StopCheck& stop) {
+               double magnitude, std::vector<uint8_t>& band, StopCheck& stop) {
   std::array<int, 3> lo{}, hi{};
   const std::array<int, 3> n_of{g.nx, g.ny, g.nz};
+  std::array<double, 3> box_lo{}, box_hi{};  // the triangle's box
   for (int k = 0; k < 3; ++k) {
-    const double mn = std::min({a[k], b[k], c[k]}) - d, mx = std::max({a[k], b[k], c[k]}) + d;
+    box_lo[size_t(k)] = std::min({a[k], b[k], c[k]});
+    box_hi[size_t(k)] = std::max({a[k], b[k], c[k]});
+    magnitude = std::max({magnitude, std::abs(box_lo[size_t(k)]), std::abs(box_hi[size_t(k)])});
+    const double mn = box_lo[size_t(k)] - d, mx = box_hi[size_t(k)] + d;
     lo[k] = std::max(0, int(std::floor((mn - g.origin[k]) / g.h - 0.5)));
     hi[k] = std::min(n_of[k] - 1, int(std::ceil((mx - g.origin[k]) / g.h - 0.5)));
     if (lo[k] > hi[k]) return;
@@ -55,6 +60,15 @@ void mark_band(const VoxelGrid& g, const Vec3& a, const Vec3& b, const Vec3& c, 
   }
   const int u = (w + 1) % 3, v = (w + 2) % 3;
   const double d2 = d * d;
+  // A centre farther than d from the triangle's box is farther than d from the triangle,
+  // and so is the point closest_on_triangle computes for it: that point lies in the box
+  // up to rounding (TriangleTree's triangle-box skip rests on the same), a million times
+  // less than this slack. Such centres (94% of those tested on a 97K-triangle horse) are
+  // skipped without computing the point; the same voxels are marked.
+  const double within = d + 1e-10 * magnitude, within2 = within * within;
+  const auto gap = [&](int k, double x) {
+    return std::max(std::max(box_lo[size_t(k)] - x, 0.0), x - box_hi[size_t(k)]);
+  };
   const std::array<size_t, 3> stride{1, size_t(g.nx), size_t(g.nx) * size_t(g.ny)};
   double Vec3::*const along = w == 0 ? &Vec3::x : (w == 1 ? &Vec3::y : &Vec3::z);
   std::array<int, 3> cell{};
@@ -71,6 +85,10 @@ void mark_band(const VoxelGrid& g, const Vec3& a, const Vec3& b, const Vec3& c, 
         last = std::min(last, int(std::ceil((s + reach - g.origin[w]) / g.h - 0.5)));
       }
       if (first > last) continue;
+      const double gu = gap(u, g.origin[u] + (cell[u] + 0.5) * g.h),
+                   gv = gap(v, g.origin[v] + (cell[v] + 0.5) * g.h);
+      const double lateral2 = gu * gu + gv * gv;
+      if (lateral2 > within2) continue;
       // Walked by index and one coordinate: indexing through cell[] each voxel stalled on
       // store forwarding (a quarter of the band's time). The same voxels and centres.
       cell[w] = first;
@@ -81,6 +99,8 @@ void mark_band(const VoxelGrid& g, const Vec3& a, const Vec3& b, const Vec3& c, 
         if (band[i]) continue;
         Vec3 p = start;
         p.*along = g.origin[w] + (k + 0.5) * g.h;
+        const double gw = gap(w, p.*along);
+        if (lateral2 + gw * gw > within2) continue;
         if (squared_norm(closest_on_triangle(p, a, b, c) - p) <= d2) band[i] = 1;
       }
     }
@@ -91,10 +111,14 @@ void mark_band(const VoxelGrid& g, const Vec3& a, const Vec3& b, const Vec3& c, 
 std::vector<uint8_t> band_voxels(const VoxelGrid& g, std::span<const Vec3> positions,
                                  std::span<const Triangle> triangles, double d, StopCheck& stop) {
   std::vector<uint8_t> band(g.size(), 0);
+  const Vec3 far = g.origin + Vec3{g.nx * g.h, g.ny * g.h, g.nz * g.h};
+  double magnitude = 0;
+  for (int k = 0; k < 3; ++k)
+    magnitude = std::max({magnitude, std::abs(g.origin[k]), std::abs(far[k])});
   for (const Triangle& t : triangles) {
     const Vec3 &a = positions[t[0]], &b = positions[t[1]], &c = positions[t[2]];
     if (!is_finite(a) || !is_finite(b) || !is_finite(c)) continue;
-    mark_band(g, a, b, c, d, band, stop);
+    mark_band(g, a, b, c, d, magnitude, band, stop);
   }
   return band;
 }
