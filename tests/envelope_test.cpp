@@ -3,6 +3,7 @@
 // against an independent count; sizes past the cap and the stop callback refused.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdio>
@@ -16,6 +17,7 @@
 #include "core/map/pipeline.h"
 #include "core/mesh/input_error.h"
 #include "core/mesh/topology.h"
+#include "core/mesh/triangle_tree.h"
 #include "core/mesh/weld.h"
 #include "core/prepare/envelope.h"
 #include "core/prepare/envelope_check.h"
@@ -122,6 +124,187 @@ TEST(Envelope, SimplePointTestAgreesWithAnIndependentCount) {
   EXPECT_TRUE(stays_well_composed(1u << 4));              // face contact
   EXPECT_FALSE(stays_well_composed(1u << 0));             // corner contact
   EXPECT_FALSE(stays_well_composed(1u << 1));             // edge contact
+}
+
+// --- steps_to_other against a breadth-first search -------------------------------------
+
+// The definition: 6-steps through voxels of `from` from those next to the other kind
+// (border voxels of the grid not started from), 0 where none is reached.
+std::vector<uint16_t> steps_by_definition(const VoxelGrid& g, const std::vector<uint8_t>& inside,
+                                          uint8_t from) {
+  std::vector<uint16_t> steps(g.size(), 0);
+  std::vector<std::array<int, 3>> front, next;
+  const auto at = [&](int x, int y, int z) { return g.index(x, y, z); };
+  const auto inner = [&](int x, int y, int z) {
+    return x >= 0 && y >= 0 && z >= 0 && x < g.nx && y < g.ny && z < g.nz;
+  };
+  const std::array<std::array<int, 3>, 6> moves{
+      {{-1, 0, 0}, {1, 0, 0}, {0, -1, 0}, {0, 1, 0}, {0, 0, -1}, {0, 0, 1}}};
+  for (int z = 1; z + 1 < g.nz; ++z)
+    for (int y = 1; y + 1 < g.ny; ++y)
+      for (int x = 1; x + 1 < g.nx; ++x) {
+        if (inside[at(x, y, z)] != from) continue;
+        for (const auto& m : moves)
+          if (inside[at(x + m[0], y + m[1], z + m[2])] != from) {
+            steps[at(x, y, z)] = 1, front.push_back({x, y, z});
+            break;
+          }
+      }
+  for (uint16_t level = 2; !front.empty(); ++level) {
+    next.clear();
+    for (const auto& c : front)
+      for (const auto& m : moves) {
+        const int x = c[0] + m[0], y = c[1] + m[1], z = c[2] + m[2];
+        if (!inner(x, y, z) || inside[at(x, y, z)] != from || steps[at(x, y, z)]) continue;
+        steps[at(x, y, z)] = level, next.push_back({x, y, z});
+      }
+    front.swap(next);
+  }
+  return steps;
+}
+
+TEST(Envelope, StepsToOtherAgreeWithASearch) {
+  std::mt19937 random(34);
+  int compared = 0;
+  for (int trial = 0; trial < 60; ++trial) {
+    VoxelGrid g;
+    g.h = 1;
+    g.nx = 3 + int(random() % 14), g.ny = 3 + int(random() % 14), g.nz = 3 + int(random() % 14);
+    std::vector<uint8_t> inside(g.size(), 0);
+    // Random boxes and single voxels; every third grid keeps them off a 2-voxel border
+    // (as the envelope's padding does), the others let them touch it.
+    const int margin = trial % 3 == 0 ? 2 : 0;
+    if (g.nx <= 2 * margin + 1 || g.ny <= 2 * margin + 1 || g.nz <= 2 * margin + 1) continue;
+    const auto pick = [&](int n) { return margin + int(random() % unsigned(n - 2 * margin)); };
+    for (int box = 0; box < int(random() % 5); ++box) {
+      const int x0 = pick(g.nx), y0 = pick(g.ny), z0 = pick(g.nz);
+      const int x1 = std::max(x0, pick(g.nx)), y1 = std::max(y0, pick(g.ny)),
+                z1 = std::max(z0, pick(g.nz));
+      for (int z = z0; z <= z1; ++z)
+        for (int y = y0; y <= y1; ++y)
+          for (int x = x0; x <= x1; ++x) inside[g.index(x, y, z)] = 1;
+    }
+    for (int k = 0; k < int(random() % 40); ++k)
+      inside[g.index(pick(g.nx), pick(g.ny), pick(g.nz))] ^= 1;
+    StopCheck stop(nullptr);
+    for (const uint8_t from : {uint8_t{0}, uint8_t{1}}) {
+      ASSERT_EQ(steps_to_other(g, inside, from, stop), steps_by_definition(g, inside, from))
+          << "trial " << trial << " from " << int(from);
+      ++compared;
+    }
+  }
+  EXPECT_GT(compared, 80);
+  // A grid of one kind only: nothing to step to.
+  VoxelGrid g;
+  g.h = 1, g.nx = g.ny = g.nz = 5;
+  StopCheck stop(nullptr);
+  EXPECT_EQ(steps_to_other(g, std::vector<uint8_t>(g.size(), 0), 0, stop),
+            std::vector<uint16_t>(g.size(), 0));
+}
+
+// The definition of fill_enclosed: 1 unless a 6-connected walk through 0 voxels leads
+// from the voxel to the grid's border.
+std::vector<uint8_t> filled_by_definition(const VoxelGrid& g, const std::vector<uint8_t>& band) {
+  std::vector<uint8_t> outside(g.size(), 0);
+  std::vector<std::array<int, 3>> stack;
+  const auto visit = [&](int x, int y, int z) {
+    if (x < 0 || y < 0 || z < 0 || x >= g.nx || y >= g.ny || z >= g.nz) return;
+    const size_t i = g.index(x, y, z);
+    if (!band[i] && !outside[i]) outside[i] = 1, stack.push_back({x, y, z});
+  };
+  for (int z = 0; z < g.nz; ++z)
+    for (int y = 0; y < g.ny; ++y)
+      for (int x = 0; x < g.nx; ++x)
+        if (x == 0 || y == 0 || z == 0 || x == g.nx - 1 || y == g.ny - 1 || z == g.nz - 1)
+          visit(x, y, z);
+  while (!stack.empty()) {
+    const auto [x, y, z] = stack.back();
+    stack.pop_back();
+    visit(x - 1, y, z), visit(x + 1, y, z), visit(x, y - 1, z), visit(x, y + 1, z);
+    visit(x, y, z - 1), visit(x, y, z + 1);
+  }
+  std::vector<uint8_t> solid(g.size());
+  for (size_t i = 0; i < solid.size(); ++i) solid[i] = !outside[i];
+  return solid;
+}
+
+TEST(Envelope, FillEnclosedAgreesWithAVoxelByVoxelFill) {
+  std::mt19937 random(341);
+  size_t enclosed = 0;
+  for (int trial = 0; trial < 80; ++trial) {
+    VoxelGrid g;
+    g.h = 1;
+    g.nx = 1 + int(random() % 16), g.ny = 1 + int(random() % 16), g.nz = 1 + int(random() % 16);
+    std::vector<uint8_t> band(g.size(), 0);
+    // Hollow boxes (some with a hole in a wall), plus random voxels at various densities.
+    for (int box = 0; box < int(random() % 4); ++box) {
+      const int x0 = int(random() % unsigned(g.nx)), y0 = int(random() % unsigned(g.ny)),
+                z0 = int(random() % unsigned(g.nz));
+      const int x1 = std::min(g.nx - 1, x0 + 2 + int(random() % 8)),
+                y1 = std::min(g.ny - 1, y0 + 2 + int(random() % 8)),
+                z1 = std::min(g.nz - 1, z0 + 2 + int(random() % 8));
+      for (int z = z0; z <= z1; ++z)
+        for (int y = y0; y <= y1; ++y)
+          for (int x = x0; x <= x1; ++x)
+            if (x == x0 || x == x1 || y == y0 || y == y1 || z == z0 || z == z1)
+              band[g.index(x, y, z)] = 1;
+      if (random() % 3 == 0) band[g.index(x0, (y0 + y1) / 2, (z0 + z1) / 2)] = 0;
+    }
+    const double density = (trial % 5) / 10.0;
+    for (uint8_t& v : band)
+      if (std::uniform_real_distribution<>(0, 1)(random) < density) v = 1;
+    const std::vector<uint8_t> expected = filled_by_definition(g, band);
+    std::vector<uint8_t> solid = band;
+    StopCheck stop(nullptr);
+    fill_enclosed(g, solid, stop);
+    ASSERT_EQ(solid, expected) << "trial " << trial;
+    for (size_t i = 0; i < band.size(); ++i) enclosed += solid[i] && !band[i];
+  }
+  EXPECT_GT(enclosed, 100u);  // the trials enclose voxels
+}
+
+// --- band_voxels against every voxel and every triangle ---------------------------------
+
+TEST(Envelope, TheBandIsEveryVoxelWithinTheOffset) {
+  std::mt19937 random(3434);
+  size_t marked = 0;
+  for (int trial = 0; trial < 24; ++trial) {
+    // Small triangles, slivers and needles (the skip of far centres assumes the computed
+    // closest point stays in the triangle's box), near the origin and far from it.
+    const double shift = trial % 3 == 0 ? 0.0 : (trial % 3 == 1 ? 1e4 : -3e6);
+    std::uniform_real_distribution<> unit(0, 1);
+    std::vector<Vec3> positions;
+    std::vector<Triangle> triangles;
+    for (int t = 0; t < 12; ++t) {
+      const Vec3 a{shift + 4 * unit(random), shift + 4 * unit(random), 4 * unit(random)};
+      const double size = t % 2 ? 0.05 : 1.5;
+      Vec3 b = a + Vec3{size * unit(random), size * unit(random), size * unit(random)};
+      Vec3 c = a + Vec3{size * unit(random), size * unit(random), size * unit(random)};
+      if (t % 4 == 1) c = a + (b - a) * 0.5 + Vec3{0, 1e-9 * unit(random), 0};  // a sliver
+      if (t % 4 == 3) c = b + Vec3{1e-12, 0, 0};                                // a needle
+      const uint32_t first = uint32_t(positions.size());
+      positions.insert(positions.end(), {a, b, c});
+      triangles.push_back({first, first + 1, first + 2});
+    }
+    const double h = 0.1 + 0.1 * unit(random), d = 1.5 * h;
+    VoxelGrid g = layout_grid(Vec3{shift, shift, 0}, Vec3{shift + 6, shift + 6, 6}, h, d, 1u << 22);
+    StopCheck stop(nullptr);
+    const std::vector<uint8_t> band = band_voxels(g, positions, triangles, d, stop);
+    for (int z = 0; z < g.nz; ++z)
+      for (int y = 0; y < g.ny; ++y)
+        for (int x = 0; x < g.nx; ++x) {
+          const Vec3 p = g.center(x, y, z);
+          bool within = false;
+          for (const Triangle& t : triangles)
+            within |= squared_norm(closest_on_triangle(p, positions[t[0]], positions[t[1]],
+                                                       positions[t[2]]) -
+                                   p) <= d * d;
+          ASSERT_EQ(band[g.index(x, y, z)], uint8_t(within))
+              << "trial " << trial << " voxel " << x << " " << y << " " << z;
+          marked += within;
+        }
+  }
+  EXPECT_GT(marked, 1000u);
 }
 
 // --- envelopes of meshes that do not map ---------------------------------------------

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <bit>
+#include <cstring>
 #include <unordered_map>
 
 #include "core/mesh/input_error.h"
@@ -95,58 +96,100 @@ bool stays_well_composed(uint32_t neighbourhood) {
 
 namespace {
 
-// Per voxel: bit 1 in the region, bit 2 may join it, bit 4 queued.
-constexpr uint8_t kIn = 1, kAllowed = 2, kQueued = 4;
+// Per voxel as the callers set it: bit 1 in the region, bit 2 may join it; run() adds
+// bit 8 on the grid's border (never joins).
+constexpr uint8_t kIn = 1, kAllowed = 2, kBorder = 8;
+
+// Per voxel one bit (bit i % 8 of byte i / 8, 8 bytes of padding for unaligned loads).
+struct Bits {
+  std::vector<uint8_t> bytes;
+  explicit Bits(size_t n) : bytes(n / 8 + 9, 0) {}
+  bool get(size_t i) const { return (bytes[i >> 3] >> (i & 7)) & 1u; }
+  void set(size_t i) { bytes[i >> 3] |= uint8_t(1u << (i & 7)); }
+  void clear(size_t i) { bytes[i >> 3] &= uint8_t(~(1u << (i & 7))); }
+  uint32_t three(size_t i) const {  // bits i, i + 1, i + 2
+    uint64_t word;
+    std::memcpy(&word, &bytes[i >> 3], sizeof word);
+    return uint32_t((word >> (i & 7)) & 7u);
+  }
+};
 
 struct Growth {
   const VoxelGrid& g;
-  std::vector<uint8_t> state;
-  std::array<std::ptrdiff_t, 27> offset{};
+  std::vector<uint8_t> state;  // set by the caller, read by run() (then released)
+  // The growth itself works on two bits per voxel: in the region, and open (may join, off
+  // the border, not in, not queued). A neighbourhood is 9 rows of 3 bits, one unaligned
+  // load each, and so are the neighbours to queue: 27 byte loads over 3 planes of a byte
+  // per voxel cost a fifth of the growth, the queue's byte per neighbour another sixth.
+  Bits in, open;
+  std::array<std::ptrdiff_t, 9> row{};  // per row dy + 3 dz of the 3x3x3: its dx = -1 voxel
 
-  explicit Growth(const VoxelGrid& grid) : g(grid), state(grid.size(), 0) {
-    for (int k = 0; k < 27; ++k)
-      offset[k] = (k % 3 - 1) + (k / 3 % 3 - 1) * std::ptrdiff_t(g.nx) +
-                  (k / 9 - 1) * std::ptrdiff_t(g.nx) * std::ptrdiff_t(g.ny);
+  explicit Growth(const VoxelGrid& grid)
+      : g(grid), state(grid.size(), 0), in(grid.size()), open(grid.size()) {
+    for (int r = 0; r < 9; ++r)
+      row[size_t(r)] = -1 + (r % 3 - 1) * std::ptrdiff_t(g.nx) +
+                       (r / 3 - 1) * std::ptrdiff_t(g.nx) * std::ptrdiff_t(g.ny);
   }
-  // Only for voxels off the grid's border (candidates never lie on it).
+  // Sets kBorder on the voxels of the grid's six border faces.
+  void mark_border() {
+    for (int z = 0; z < g.nz; ++z)
+      for (int y = 0; y < g.ny; ++y) {
+        const bool face = z == 0 || y == 0 || z == g.nz - 1 || y == g.ny - 1;
+        for (int x = 0; x < g.nx; ++x)
+          if (face || x == 0 || x == g.nx - 1) state[g.index(x, y, z)] |= kBorder;
+      }
+  }
+  // Only for voxels off the grid's border (candidates never lie on it). Bit k of the
+  // answer is the voxel at offset (k % 3 - 1, k / 3 % 3 - 1, k / 9 - 1).
   uint32_t neighbourhood(size_t i) const {
     uint32_t m = 0;
-    for (int k = 0; k < 27; ++k)
-      m |= uint32_t(state[size_t(std::ptrdiff_t(i) + offset[k])] & kIn) << k;
+    for (int r = 0; r < 9; ++r)
+      m |= in.three(size_t(std::ptrdiff_t(i) + row[size_t(r)])) << (3 * r);
     return m;
-  }
-  bool on_border(size_t i) const {
-    const int x = int(i % size_t(g.nx)), y = int(i / size_t(g.nx) % size_t(g.ny)),
-              z = int(i / (size_t(g.nx) * size_t(g.ny)));
-    return x == 0 || y == 0 || z == 0 || x == g.nx - 1 || y == g.ny - 1 || z == g.nz - 1;
   }
 
   // Whether a voxel with this neighbourhood may join: simple and well-composed. Answers
   // are remembered in a direct-mapped table (the same few thousand neighbourhoods recur
-  // along a flat front; the outside growth asks for millions of voxels).
-  std::vector<uint64_t> answers = std::vector<uint64_t>(size_t{1} << 16, 0);
+  // along a flat front; the outside growth asks for millions of voxels). A slot holds the
+  // key plus 1 (0: empty; keys have 27 bits) and the answer in bit 31.
+  static constexpr int kAnswerBits = 16;
+  std::vector<uint32_t> answers = std::vector<uint32_t>(size_t{1} << kAnswerBits, 0);
   bool may_join(uint32_t m) {
     const uint32_t key = m & ~(1u << kCentreBit);
-    uint64_t& slot = answers[(key * 2654435761u) >> 16];
-    if (slot >> 32 == uint64_t(key) + 1) return slot & 1;  // +1: slot 0 means empty
+    uint32_t& slot = answers[(key * 2654435761u) >> (32 - kAnswerBits)];
+    if ((slot & ~(1u << 31)) == key + 1) return slot >> 31;
     const bool yes = is_simple_point(key) && stays_well_composed(key);
-    slot = ((uint64_t(key) + 1) << 32) | uint64_t(yes);
+    slot = (key + 1) | (uint32_t(yes) << 31);
     return yes;
   }
 
-  // Grows from the voxels already in, highest priority first (a bucket queue).
+  // Grows from the voxels already in, highest priority first (a bucket queue; within a
+  // bucket last in, first out). The queue order is that of a walk over the voxels in
+  // index order, then over each joined voxel's 27 neighbours in bit order.
   void run(const std::vector<uint16_t>& priority, StopCheck& stop) {
+    mark_border();
+    for (size_t i = 0; i < state.size(); ++i) {
+      if (state[i] & kIn) in.set(i);
+      if ((state[i] & (kIn | kAllowed | kBorder)) == kAllowed) open.set(i);
+    }
+    const size_t voxels = state.size();
+    state = {};
     std::vector<std::vector<uint32_t>> buckets(65536);
     int top = -1;
-    const auto push = [&](size_t j) {
-      if ((state[j] & (kIn | kAllowed | kQueued)) != kAllowed || on_border(j)) return;
-      state[j] |= kQueued;
+    const auto push = [&](size_t j) {  // j is open
+      open.clear(j);
       buckets[priority[j]].push_back(uint32_t(j));
       top = std::max(top, int(priority[j]));
     };
-    for (size_t i = 0; i < state.size(); ++i)
-      if ((state[i] & (kIn | kAllowed)) == kAllowed && !on_border(i) && neighbourhood(i) != 0)
-        push(i);
+    // The open voxels with a neighbour in, in index order (a word of open bits at a time).
+    for (size_t byte = 0; byte * 8 < voxels; byte += 8) {
+      uint64_t word;
+      std::memcpy(&word, &open.bytes[byte], sizeof word);
+      for (; word; word &= word - 1) {
+        const size_t i = byte * 8 + size_t(std::countr_zero(word));
+        if (i < voxels && neighbourhood(i) != 0) push(i);
+      }
+    }
     while (top >= 0) {
       if (buckets[size_t(top)].empty()) {
         --top;
@@ -155,10 +198,21 @@ struct Growth {
       const size_t i = buckets[size_t(top)].back();
       buckets[size_t(top)].pop_back();
       stop.tick();
-      state[i] &= uint8_t(~kQueued);
-      if (!may_join(neighbourhood(i))) continue;
-      state[i] |= kIn;
-      for (int k = 0; k < 27; ++k) push(size_t(std::ptrdiff_t(i) + offset[k]));
+      // The neighbours' priorities are read if it joins: fetched while it is decided.
+      for (int r = 0; r < 9; ++r)
+        __builtin_prefetch(&priority[size_t(std::ptrdiff_t(i) + row[size_t(r)])]);
+      if (!may_join(neighbourhood(i))) {
+        open.set(i);  // no longer queued: a later neighbour may queue it again
+        continue;
+      }
+      in.set(i);
+      for (int r = 0; r < 9; ++r) {
+        const size_t j = size_t(std::ptrdiff_t(i) + row[size_t(r)]);
+        const uint32_t bits = open.three(j);
+        if (bits & 1u) push(j);
+        if (bits & 2u) push(j + 1);
+        if (bits & 4u) push(j + 2);
+      }
     }
   }
 };
@@ -281,7 +335,7 @@ BallGrowth grow_ball_inside(const VoxelGrid& grid, const std::vector<uint8_t>& s
   growth.run(depth, stop);
   BallGrowth out;
   out.ball.resize(solid.size());
-  for (size_t i = 0; i < solid.size(); ++i) out.ball[i] = growth.state[i] & kIn;
+  for (size_t i = 0; i < solid.size(); ++i) out.ball[i] = growth.in.get(i);
   count_changes(grid, solid, out, stop);
   return out;
 }
@@ -290,12 +344,15 @@ BallGrowth shrink_ball_outside(const VoxelGrid& grid, const std::vector<uint8_t>
                                StopCheck& stop) {
   const std::vector<uint16_t> distance = steps_to_other(grid, solid, 0, stop);
   Growth growth(grid);
-  for (size_t i = 0; i < solid.size(); ++i)
-    growth.state[i] = growth.on_border(i) ? kIn : (solid[i] ? 0 : kAllowed);
+  // The border in (run() marks it kBorder), the rest of the outside allowed.
+  for (size_t i = 0; i < solid.size(); ++i) growth.state[i] = solid[i] ? 0 : kAllowed;
+  growth.mark_border();
+  for (uint8_t& s : growth.state)
+    if (s & kBorder) s = kIn | kBorder;
   growth.run(distance, stop);
   BallGrowth out;
   out.ball.resize(solid.size());
-  for (size_t i = 0; i < solid.size(); ++i) out.ball[i] = !(growth.state[i] & kIn);
+  for (size_t i = 0; i < solid.size(); ++i) out.ball[i] = !growth.in.get(i);
   count_changes(grid, solid, out, stop);
   return out;
 }
