@@ -135,12 +135,13 @@ TriangleTree::Closest TriangleTree::closest(const Vec3& p) const {
 // centroids are still in input order.
 TriangleTree::Node TriangleTree::build(size_t begin, size_t end, std::vector<Vec3>& centroids,
                                        AxisBox& box) {
-  AxisBox centres;
-  for (size_t k = begin; k < end; ++k) {
-    for (int i = 0; i < 3; ++i) box.add(corners_[3 * size_t{order_[k]} + i]);
-    centres.add(centroids[order_[k]]);
+  if (end - begin <= 4) {
+    for (size_t k = begin; k < end; ++k)
+      for (int i = 0; i < 3; ++i) box.add(corners_[3 * size_t{order_[k]} + i]);
+    return {static_cast<uint32_t>(begin), static_cast<uint32_t>(end - begin)};
   }
-  if (end - begin <= 4) return {static_cast<uint32_t>(begin), static_cast<uint32_t>(end - begin)};
+  AxisBox centres;
+  for (size_t k = begin; k < end; ++k) centres.add(centroids[order_[k]]);
   const Vec3 extent = centres.hi - centres.lo;
   const int axis =
       extent.x >= extent.y && extent.x >= extent.z ? 0 : (extent.y >= extent.z ? 1 : 2);
@@ -152,6 +153,9 @@ TriangleTree::Node TriangleTree::build(size_t begin, size_t end, std::vector<Vec
   AxisBox boxes[2];
   const Node left = build(begin, mid, centroids, boxes[0]);
   const Node right = build(mid, end, centroids, boxes[1]);
+  // The node's box from its children's (the same minima and maxima): reading every corner
+  // again at every level was most of the build, 8% of a horse envelope's time.
+  for (const AxisBox& child : boxes) box.add(child.lo), box.add(child.hi);
   Children& children = children_[index];
   children.node[0] = left, children.node[1] = right;
   for (int lane = 0; lane < 2; ++lane)
