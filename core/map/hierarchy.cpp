@@ -39,6 +39,14 @@ class CollapsibleMesh {
   size_t alive_vertices() const { return alive_vertices_; }
   bool alive(uint32_t v) const { return !incident_.empty(v); }
 
+  // Whether u or any vertex of its ring is flagged (no ring ordering needed).
+  bool star_touched(uint32_t u, const std::vector<char>& flags) const {
+    for (uint32_t t : incident_[u])
+      for (uint32_t w : tris_[t])
+        if (flags[w]) return true;
+    return false;
+  }
+
   // The ring of u as an oriented cycle: star triangles are (u, r_i, r_i+1).
   void ordered_ring(uint32_t u, std::vector<uint32_t>& ring) const {
     ring.clear();
@@ -180,30 +188,23 @@ struct Keys {
 
 // One round: an independent set of collapses (touched = u and its ring), vertices taken
 // in order of their cheapest collapse (the key in `order`), each trying its ring cheapest
-// first. A vertex is skipped when it or a neighbour is touched: `blocked`, marked on the
-// touched vertices and their neighbours as each collapse is made. That is exact because a
-// collapse never changes a touched vertex's neighbours (u and its ring were untouched), and
-// it spares the scan a read of every skipped vertex's star, reached in cost order, not in
-// memory order (the round's scan reads each alive vertex once per round). A collapse u -> v changes
-// the keys of v and its neighbours only (v's quadric grew, the ring's edges changed), so the round
+// first. A collapse u -> v changes the keys of v and
+// its neighbours only (v's quadric grew, the ring's edges changed), so the round
 // refreshes those at its end, and `order` with them.
 size_t collapse_round(CollapsibleMesh& mesh, CollapseCost& cost, bool geometric_test,
-                      CollapseLog& log, std::vector<char>& blocked, std::vector<char>& stale,
+                      CollapseLog& log, std::vector<char>& touched, std::vector<char>& stale,
                       Order& order, Keys& keys, HierarchyClock& clock, int threads) {
   std::vector<uint32_t> ring;
-  std::vector<uint32_t> stale_list, grown, blocked_list;
+  std::vector<uint32_t> stale_list, grown;
   std::vector<std::pair<double, uint32_t>> candidates;
   auto mark_stale = [&](uint32_t w) {
     if (!stale[w]) stale[w] = 1, stale_list.push_back(w);
-  };
-  auto block = [&](uint32_t w) {
-    if (!blocked[w]) blocked[w] = 1, blocked_list.push_back(w);
   };
   size_t collapsed = 0;
   for (const auto& [key, u] : order) {
     if (mesh.alive_vertices() <= 4) break;
     clock.tick();
-    if (blocked[u]) continue;
+    if (mesh.star_touched(u, touched)) continue;
     mesh.ordered_ring(u, ring);
     candidates.clear();
     for (uint32_t w : ring) candidates.push_back({cost(u, w), w});
@@ -215,12 +216,9 @@ size_t collapse_round(CollapsibleMesh& mesh, CollapseCost& cost, bool geometric_
       mesh.collapse(u, v);
       cost.merge(u, v);
       keys.grew[v] = 1, grown.push_back(v);
-      block(u);
+      touched[u] = 1;
       mark_stale(u);
-      for (uint32_t w : ring) {
-        block(w);
-        mesh.for_each_neighbor(w, block);
-      }
+      for (uint32_t w : ring) touched[w] = 1;
       mark_stale(v);
       mesh.for_each_neighbor(v, mark_stale);
       ++collapsed;
@@ -266,8 +264,7 @@ size_t collapse_round(CollapsibleMesh& mesh, CollapseCost& cost, bool geometric_
   });
   std::erase_if(order,
                 [&](const std::pair<double, uint32_t>& entry) { return stale[entry.second] != 0; });
-  for (uint32_t w : stale_list) stale[w] = 0;
-  for (uint32_t w : blocked_list) blocked[w] = 0;
+  for (uint32_t w : stale_list) stale[w] = touched[w] = 0;
   std::sort(merged.begin(), merged.end());
   const size_t kept = order.size();
   order.insert(order.end(), merged.begin(), merged.end());
@@ -303,7 +300,7 @@ Collapsed collapse_all(std::span<const Vec3> positions, std::span<const Triangle
   Collapsed out;
   out.sizes.push_back(static_cast<uint32_t>(n));
   bool geometric_test = true;
-  std::vector<char> blocked(n, 0), stale(n, 0);
+  std::vector<char> touched(n, 0), stale(n, 0);
   CollapseCost cost(positions, triangles);
   Order order(n);
   Keys keys{std::vector<double>(n), std::vector<uint32_t>(n), std::vector<char>(n, 0)};
@@ -315,7 +312,7 @@ Collapsed collapse_all(std::span<const Vec3> positions, std::span<const Triangle
   }
   std::sort(order.begin(), order.end());
   while (mesh.alive_vertices() > 4) {
-    const size_t collapsed = collapse_round(mesh, cost, geometric_test, out.log, blocked, stale,
+    const size_t collapsed = collapse_round(mesh, cost, geometric_test, out.log, touched, stale,
                                             order, keys, clock, threads);
     if (collapsed == 0) {
       if (!geometric_test) throw std::runtime_error("hierarchy: no collapsible edge left");
