@@ -275,12 +275,14 @@ std::vector<uint16_t> steps_to_other(const VoxelGrid& g, const std::vector<uint8
       for (size_t k = 1; k < length; ++k) {
         stop.tick(stride);
         uint16_t* s = base + k * stride;
-        for (size_t i = 0; i < stride; ++i) s[i] = std::min(s[i], step_on(s[i - stride]));
+        const uint16_t* before = s - stride;  // not s[i - stride]: i - stride wraps
+        for (size_t i = 0; i < stride; ++i) s[i] = std::min(s[i], step_on(before[i]));
       }
       for (size_t k = length - 1; k-- > 0;) {
         stop.tick(stride);
         uint16_t* s = base + k * stride;
-        for (size_t i = 0; i < stride; ++i) s[i] = std::min(s[i], step_on(s[i + stride]));
+        const uint16_t* after = s + stride;
+        for (size_t i = 0; i < stride; ++i) s[i] = std::min(s[i], step_on(after[i]));
       }
     }
   };
