@@ -183,7 +183,7 @@ Json envelope_stages(const Input& in, const VoxelGrid& grid, double d, double fi
       reduce_surface(voxels, std::clamp<size_t>(in.triangles.size(), 20000, 200000), stop);
   lap("reduce");
   (void)envelope_failures(mesh);
-  fit_to_offset(mesh, original, fit_distance, 5, stop);
+  fit_to_offset(mesh, original, fit_distance, 5, threads, stop);
   (void)envelope_failures(mesh);
   lap("fit");
   std::vector<Triangle> triangles(mesh.face_count());

@@ -485,6 +485,19 @@ TEST(Envelope, ASpheresEnvelopeLiesAtTheFitDistance) {
     EXPECT_NEAR(norm(p) - 1, r.fit_distance, r.fit_distance);
 }
 
+// The fit's closest-point queries run in parallel, before each round's moves: the
+// envelope must not depend on how many threads made them.
+TEST(Envelope, TheEnvelopeDoesNotDependOnTheThreadCount) {
+  EnvelopeOptions one, two;
+  one.threads = 1, two.threads = 2;
+  const PolygonMesh input = testing::torus(48, 96);
+  const Envelope a = build_envelope(input, one), b = build_envelope(input, two);
+  ASSERT_GT(a.mesh.vertex_count(), 8192u);  // past the parallel loops' serial threshold
+  EXPECT_EQ(a.mesh.positions, b.mesh.positions);
+  EXPECT_EQ(a.report.hausdorff, b.report.hausdorff);
+  EXPECT_EQ(a.report.rms, b.report.rms);
+}
+
 TEST(Envelope, OffsetAndTargetOptionsAreFollowed) {
   EnvelopeOptions options;
   options.resolution = 64;

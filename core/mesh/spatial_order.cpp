@@ -20,7 +20,7 @@ uint64_t spread_bits(uint64_t x) {
 
 }  // namespace
 
-std::vector<uint32_t> morton_order(const std::vector<Vec3>& positions) {
+std::vector<uint32_t> morton_order(std::span<const Vec3> positions) {
   Vec3 lo{INFINITY, INFINITY, INFINITY}, hi{-INFINITY, -INFINITY, -INFINITY};
   for (const Vec3& p : positions) {
     lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};

@@ -13,7 +13,7 @@
 namespace spheremap {
 
 // order[new id] = old id.
-std::vector<uint32_t> morton_order(const std::vector<Vec3>& positions);
+std::vector<uint32_t> morton_order(std::span<const Vec3> positions);
 
 // The mesh with vertices renumbered by order (faces unchanged but for the ids).
 PolygonMesh reordered(const PolygonMesh& mesh, const std::vector<uint32_t>& order);

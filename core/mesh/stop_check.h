@@ -29,6 +29,9 @@ class StopCheck {
     check();
   }
 
+  // The question itself (null: never stop), for a parallel loop's ParallelStop.
+  const std::function<bool()>* should_stop() const { return should_stop_; }
+
   // Asks now, whatever the count.
   void check() const {
     if (should_stop_ && (*should_stop_)())

@@ -30,11 +30,11 @@ constexpr int kSmoothing = 6, kFitting = 5;
 
 // The reduced surface fitted to the offset, or an empty mesh when its checks fail.
 PolygonMesh fitted(const PolygonMesh& voxels, size_t target, const TriangleTree& original, double d,
-                   StopCheck& stop) {
+                   int threads, StopCheck& stop) {
   PolygonMesh mesh = reduce_surface(voxels, target, stop);
   stop.check();
   if (!envelope_failures(mesh).empty()) return {};
-  fit_to_offset(mesh, original, d, kFitting, stop);
+  fit_to_offset(mesh, original, d, kFitting, threads, stop);
   if (!envelope_failures(mesh).empty()) return {};
   return mesh;
 }
@@ -108,7 +108,7 @@ Envelope build_envelope(const PolygonMesh& input, const EnvelopeOptions& options
   // The reduction keeps the link condition, so its checks should pass; if they do not,
   // it is tried again less far, then not at all.
   for (const size_t tried : {target, 4 * target, voxels.face_count()}) {
-    out.mesh = fitted(voxels, tried, original, report.fit_distance, stop);
+    out.mesh = fitted(voxels, tried, original, report.fit_distance, options.threads, stop);
     if (out.mesh.face_count() > 0) break;
   }
   if (out.mesh.face_count() == 0)

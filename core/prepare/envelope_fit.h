@@ -19,8 +19,9 @@ void smooth_surface(PolygonMesh& mesh, int iterations, StopCheck& stop);
 
 // `iterations` rounds of: each vertex toward closest(original) + offset along the way out,
 // then one smoothing step; both without folding. Returns the vertices moved in the last
-// round.
+// round. The closest-point queries run on `threads` (0: all cores); the result does not
+// depend on it.
 size_t fit_to_offset(PolygonMesh& mesh, const TriangleTree& original, double offset, int iterations,
-                     StopCheck& stop);
+                     int threads, StopCheck& stop);
 
 }  // namespace spheremap
