@@ -104,6 +104,7 @@ void combine(MappedMesh& whole) {
     map.iterations += m.iterations;
     map.hierarchy_rounds += m.hierarchy_rounds;
     map.polish_rounds += m.polish_rounds;
+    map.float32_rescued += m.float32_rescued;
     map.stretch_vertex_updates += m.stretch_vertex_updates;
     map.hierarchy_seconds += m.hierarchy_seconds;
     map.mapping_seconds += m.mapping_seconds;

@@ -119,6 +119,7 @@ struct MapResult {
   bool optimized = false;  // the stretch-optimized hierarchy made it (else the Lai-Cheng levels)
   double stretch_vertex_updates = 0;  // Newton steps of the stretch optimization
   size_t polish_rounds = 0;           // rounds of the safety net (polish_map) that ran
+  size_t float32_rescued = 0;         // vertices moved so float32 rounding folds nothing
   double hierarchy_seconds = 0, mapping_seconds = 0, optimize_seconds = 0, verify_seconds = 0;
   bool inward = false;  // the input faces point inward; the map keeps that orientation
   // The stage that was running when the time limit or a cancel stopped the map

@@ -264,6 +264,7 @@ nlohmann::json map_metrics_json(const MappedMesh& mapped, const MapOptions& opti
       {"fine_iteration_equivalents", m.fine_iteration_equivalents},
       {"hierarchy_rounds", m.hierarchy_rounds},
       {"polish_rounds", m.polish_rounds},
+      {"float32_rescued", m.float32_rescued},
       {"levels", levels},
       // mean_abs_log: area-weighted mean of |log(sphere area share / surface area share)|,
       // the same number as "mean" (kept for readers of the first format).
