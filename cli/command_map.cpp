@@ -106,6 +106,7 @@ int run_map(int argc, char** argv) {
   if (args.has("metrics")) {
     write_binary_file(args.text("metrics", ""), metrics.dump(2) + "\n");
   }
+  print_parts_left_out(mapped.prepared);
   const Certification verdict = certify(mapped, written);
   if (!verdict.certified) {
     std::fprintf(stderr, "spheremap: %s: %s\n", verdict.problem.c_str(), verdict.detail.c_str());

@@ -114,6 +114,7 @@ int run_output(int argc, char** argv, Output kind) {
     std::fprintf(stderr, "spheremap: %s: %s\n", verdict.problem.c_str(), verdict.detail.c_str());
     return kExitNotBijective;
   }
+  print_parts_left_out(mapped.prepared);
   nlohmann::json metrics = {{"map", metrics_json(mapped, options)}};
   std::string glb;
   if (kind == Output::kRemesh) {

@@ -6,6 +6,7 @@
 
 #include "cli/commands.h"
 #include "core/io/mesh_file.h"
+#include "core/mesh/counted.h"
 #include "core/mesh/input_error.h"
 #include "core/outputs/report_json.h"
 
@@ -275,6 +276,28 @@ MappedInput map_input(const Arguments& args, const PrepareOptions& prepare,
   out.mapped = map_prepared(std::move(prepared), limited, timed);
   out.mapped.prepare_seconds = prepare_seconds;
   return out;
+}
+
+void print_parts_left_out(const PreparedMesh& prepared) {
+  std::vector<const PartReport*> out;
+  size_t faces = 0, faces_out = 0;
+  for (const PartReport& part : prepared.parts) {
+    faces += part.faces;
+    if (part.mappable()) continue;
+    out.push_back(&part);
+    faces_out += part.faces;
+  }
+  if (out.empty()) return;
+  std::stable_sort(out.begin(), out.end(),
+                   [](const PartReport* a, const PartReport* b) { return a->faces > b->faces; });
+  std::string line = counted(out.size(), "part") + " of " + std::to_string(prepared.parts.size()) +
+                     " left out (" + std::to_string(faces_out) + " of " + std::to_string(faces) +
+                     " faces; metrics.parts lists each):";
+  for (size_t k = 0; k < out.size() && k < 3; ++k)
+    line += std::string(k ? ";" : "") + " part " + std::to_string(out[k] - prepared.parts.data()) +
+            " (" + counted(out[k]->faces, "face") + "): " + out[k]->failures.front().message;
+  if (out.size() > 3) line += "; and " + std::to_string(out.size() - 3) + " more";
+  std::fprintf(stderr, "spheremap: warning: %s\n", line.c_str());
 }
 
 std::string fix_hint(const Fix& fix) {

@@ -44,8 +44,16 @@ msg=$("$spheremap" info "$tmp/tri.obj") || fail "info on open mesh under auto ex
 # --largest-component.
 printf 'v 1 1 1\nv 1 -1 -1\nv -1 1 -1\nv -1 -1 1\nv 11 1 1\nv 11 -1 -1\nv 9 1 -1\nv 9 -1 1\nv 10 0 5\n' > "$tmp/two.obj"
 printf 'f 1 2 3\nf 1 4 2\nf 1 3 4\nf 2 4 3\nf 5 6 7\nf 5 8 6\nf 5 7 8\nf 6 8 7\n' >> "$tmp/two.obj"
-"$spheremap" map "$tmp/two.obj" -o "$tmp/two_s.obj" --quiet || fail "two parts mapped"
+msg=$("$spheremap" map "$tmp/two.obj" -o "$tmp/two_s.obj" --quiet 2>&1) || fail "two parts mapped"
+[ -z "$msg" ] || fail "nothing left out, nothing said: $msg"
 [ "$(grep -c '^f' "$tmp/two_s.obj")" -eq 8 ] || fail "two parts keep 8 faces"
+# A part left out (here an open triangle under --prepare parts) exits 0 with the rest, and
+# says so on stderr even with --quiet, not only in the metrics.
+{ cat "$tmp/tet.obj"; printf 'v 5 0 0\nv 6 0 0\nv 5 1 0\nf 5 6 7\n'; } > "$tmp/tet_tri.obj"
+msg=$("$spheremap" map "$tmp/tet_tri.obj" -o "$tmp/tt.obj" --prepare parts --quiet 2>&1) ||
+  fail "a part left out exits 0"
+[[ "$msg" == *"warning: 1 part of 2 left out (1 of 5 faces; metrics.parts lists each): part 1 (1 face): mesh has 1 boundary loop"* ]] ||
+  fail "the part left out is said: $msg"
 msg=$("$spheremap" map "$tmp/two.obj" -o "$tmp/two_s.obj" --prepare repair 2>&1)
 [ $? -eq 2 ] || fail "two parts exit 2 under repair"
 [[ "$msg" == *"[components]"*"2 connected components"* ]] || fail "components message: $msg"

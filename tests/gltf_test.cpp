@@ -135,6 +135,68 @@ TEST(Gltf, ReadsByteStrideZeroAsPackedWithAWarning) {
   EXPECT_NE(read_error(glb.bytes()).find("elements overlap"), std::string::npos);
 }
 
+// Appends `bytes` to the GLB's binary chunk (4-byte aligned) as a new bufferView; its index.
+size_t append_view(Glb& glb, const std::string& bytes) {
+  while (glb.bin.size() % 4) glb.bin.push_back('\0');
+  nlohmann::json view = {
+      {"buffer", 0}, {"byteOffset", glb.bin.size()}, {"byteLength", bytes.size()}};
+  glb.bin += bytes;
+  glb.json["buffers"][0]["byteLength"] = glb.bin.size();
+  glb.json["bufferViews"].push_back(view);
+  return glb.json["bufferViews"].size() - 1;
+}
+
+// KhronosGroup's SimpleSparseAccessor (in the Draco test data) was refused ("sparse
+// accessors are not supported"): the listed elements replace the bufferView's, or zeros.
+TEST(Gltf, ReadsSparseAccessorsOverAViewAndOverZeros) {
+  const PolygonMesh plain = read_gltf(as_bytes(sphere_glb()));
+  const size_t n = plain.vertex_count();
+  Glb glb(sphere_glb());
+  const size_t position = glb.json["meshes"][0]["primitives"][0]["attributes"]["POSITION"];
+  nlohmann::json& accessor = glb.json["accessors"][position];
+  const size_t view = accessor["bufferView"];
+  const size_t at =
+      glb.json["bufferViews"][view].value("byteOffset", 0) + accessor.value("byteOffset", 0);
+  auto positions_of = [&](std::initializer_list<uint32_t> list) {
+    std::string out;
+    for (uint32_t v : list) out += glb.bin.substr(at + 12 * v, 12);
+    return out;
+  };
+  // Over the view: vertices 3 and 7 are wrong in it, right in the sparse values.
+  const std::string values = positions_of({3, 7});
+  std::memset(glb.bin.data() + at + 12 * 3, 0x7f, 12);
+  std::memset(glb.bin.data() + at + 12 * 7, 0x7f, 12);
+  const uint16_t where[2] = {3, 7};
+  const size_t where_view = append_view(glb, std::string(reinterpret_cast<const char*>(where), 4));
+  const size_t values_view = append_view(glb, values);
+  accessor["sparse"] = {{"count", 2},
+                        {"indices", {{"bufferView", where_view}, {"componentType", 5123}}},
+                        {"values", {{"bufferView", values_view}}}};
+  EXPECT_EQ(read_gltf(as_bytes(glb.bytes())).positions, plain.positions);
+  // Not increasing, and past the accessor: refused, naming the accessor.
+  const uint16_t backwards[2] = {7, 3};
+  std::memcpy(glb.bin.data() + glb.json["bufferViews"][where_view]["byteOffset"].get<size_t>(),
+              backwards, 4);
+  EXPECT_NE(read_error(glb.bytes()).find("not increasing"), std::string::npos);
+  accessor["sparse"]["count"] = n + 1;
+  EXPECT_NE(read_error(glb.bytes()).find("sparse.count"), std::string::npos);
+  accessor["sparse"]["count"] = 2;
+  accessor["sparse"]["values"]["byteOffset"] = 4;
+  EXPECT_NE(read_error(glb.bytes()).find("sparse.values"), std::string::npos);
+  // Over zeros: no bufferView, every vertex in the sparse values.
+  Glb zeros(sphere_glb());
+  nlohmann::json& dense = zeros.json["accessors"][position];
+  std::string all = zeros.bin.substr(at, 12 * n), indices;
+  for (uint32_t v = 0; v < n; ++v) indices.append(reinterpret_cast<const char*>(&v), 4);
+  dense.erase("bufferView");
+  dense.erase("byteOffset");
+  const size_t index_view = append_view(zeros, indices);
+  dense["sparse"] = {{"count", n},
+                     {"indices", {{"bufferView", index_view}, {"componentType", 5125}}},
+                     {"values", {{"bufferView", append_view(zeros, all)}}}};
+  EXPECT_EQ(read_gltf(as_bytes(zeros.bytes())).positions, plain.positions);
+}
+
 TEST(Gltf, RejectsIndicesPastTheVertices) {
   Glb glb(sphere_glb());
   const uint32_t past = 1000;

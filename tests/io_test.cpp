@@ -1,8 +1,16 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <bit>
+#include <cstring>
+
+#include "core/io/mesh_format.h"
+#include "core/io/mesh_limits.h"
 #include "core/io/obj.h"
 #include "core/io/off.h"
+#include "core/io/off_binary.h"
 #include "core/mesh/input_error.h"
+#include "tests/mesh_generators.h"
 
 namespace spheremap {
 namespace {
@@ -121,6 +129,82 @@ TEST(OffReader, RejectsTruncatedFilesAndBadIndices) {
   EXPECT_THROW(parse_off("OFF\n3 1 0\n0 0 0\n1 0 0\n"), InputError);
   EXPECT_THROW(parse_off("OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 3\n"), InputError);
   EXPECT_THROW(parse_off("PLY\n"), InputError);
+}
+
+}  // namespace
+}  // namespace spheremap
+
+namespace spheremap {
+namespace {
+
+// A binary OFF of `mesh`: Geomview's layout (big endian, a colour count after each face,
+// here 1 component) or pmp's (little endian, none).
+std::string binary_off(const PolygonMesh& mesh, bool big, bool colours) {
+  std::string out = "OFF BINARY\n";
+  auto put = [&](auto value) {
+    unsigned char b[4];
+    std::memcpy(b, &value, 4);
+    if (big == (std::endian::native == std::endian::little)) std::reverse(b, b + 4);
+    out.append(reinterpret_cast<const char*>(b), 4);
+  };
+  put(static_cast<uint32_t>(mesh.vertex_count()));
+  put(static_cast<uint32_t>(mesh.face_count()));
+  put(uint32_t{0});
+  for (const Vec3& p : mesh.positions) {
+    put(static_cast<float>(p.x));
+    put(static_cast<float>(p.y));
+    put(static_cast<float>(p.z));
+  }
+  for (size_t f = 0; f < mesh.face_count(); ++f) {
+    put(static_cast<uint32_t>(mesh.face(f).size()));
+    for (uint32_t c : mesh.face(f)) put(c);
+    if (colours) {
+      put(uint32_t{1});
+      put(0.5f);
+    }
+  }
+  return out;
+}
+
+// pmp's data (beetle.off, fairing-cross.off) is binary OFF, refused as "binary bytes" before.
+TEST(OffReader, ReadsBinaryOffInBothByteOrdersWithAndWithoutFaceColours) {
+  const PolygonMesh cube = testing::quad_cube(2);
+  for (bool big : {false, true})
+    for (bool colours : {false, true}) {
+      SCOPED_TRACE(std::string(big ? "big" : "little") + (colours ? " colours" : ""));
+      const std::string bytes = binary_off(cube, big, colours);
+      ASSERT_TRUE(is_binary_off(bytes));
+      const PolygonMesh m = parse_mesh_text(bytes, MeshFormat::kOff, MeshLimits{});
+      ASSERT_EQ(m.vertex_count(), cube.vertex_count());
+      EXPECT_EQ(m.offsets, cube.offsets);
+      EXPECT_EQ(m.indices, cube.indices);
+      for (size_t v = 0; v < m.vertex_count(); ++v)
+        ASSERT_EQ(m.positions[v].x, static_cast<double>(static_cast<float>(cube.positions[v].x)));
+    }
+}
+
+TEST(OffReader, RefusesBrokenBinaryOffWithAParseError) {
+  const std::string good = binary_off(testing::quad_cube(2), false, false);
+  auto error_of = [](const std::string& bytes) {
+    try {
+      parse_off_binary(bytes);
+    } catch (const InputError& e) {
+      EXPECT_EQ(e.check(), "parse");
+      return std::string(e.what());
+    }
+    ADD_FAILURE() << "expected an InputError";
+    return std::string();
+  };
+  for (size_t cut = 11; cut < good.size(); cut += 7) error_of(good.substr(0, cut));
+  EXPECT_NE(error_of(good + "xxxx").find("bytes follow the last face"), std::string::npos);
+  std::string forged = good;
+  const uint32_t huge = 0x7fffffff;
+  std::memcpy(forged.data() + 11, &huge, 4);  // the vertex count
+  EXPECT_NE(error_of(forged).find("do not fit"), std::string::npos);
+  std::string index = good;
+  const uint32_t far = 1000;
+  std::memcpy(index.data() + index.size() - 4, &far, 4);  // the last corner
+  EXPECT_NE(error_of(index).find("out of range"), std::string::npos);
 }
 
 }  // namespace

@@ -36,6 +36,7 @@ TEST(MeshFormat, SniffsEveryFormatFromItsBytes) {
   EXPECT_EQ(sniff_mesh_format(testing::binary_stl(sphere, "solid header")), MeshFormat::kStl);
   EXPECT_EQ(sniff_mesh_format(testing::ply(sphere)), MeshFormat::kPly);
   EXPECT_EQ(sniff_mesh_format("ply\r\nformat ascii 1.0\r\n"), MeshFormat::kPly);
+  EXPECT_EQ(sniff_mesh_format("ply\rformat binary_little_endian 1.0\r"), MeshFormat::kPly);
   EXPECT_EQ(sniff_mesh_format(""), std::nullopt);
   EXPECT_EQ(sniff_mesh_format(std::string(1000, '\0')), std::nullopt);
   EXPECT_EQ(sniff_mesh_format("hello world\n"), std::nullopt);

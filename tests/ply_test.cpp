@@ -84,6 +84,32 @@ TEST(PlyReader, ReadsCrlfHeadersAndPropertiesInAnyOrder) {
   EXPECT_EQ(m.face_count(), 4u);
 }
 
+// Rhinoceros 6 ends header lines in "\r" alone (the Draco test data's Box.ply was refused at
+// line 1). The first line says so; the byte after "end_header\r" is data even when it is
+// 0x0A (here the first x, 1 + 10 ulp, begins with it in little endian).
+TEST(PlyReader, ReadsHeadersWithCarriageReturnLineEnds) {
+  PolygonMesh cube = testing::quad_cube(2);
+  uint32_t bits = 0x3F80000Au;
+  float x;
+  std::memcpy(&x, &bits, 4);
+  cube.positions[0].x = x;
+  for (Encoding encoding : {Encoding::kAscii, Encoding::kLittleEndian, Encoding::kBigEndian}) {
+    testing::PlyLayout layout;
+    layout.encoding = encoding;
+    std::string text = testing::ply(cube, layout);
+    const size_t body = text.find("end_header\n") + 11;
+    const size_t end = encoding == Encoding::kAscii ? text.size() : body;
+    for (size_t i = 0; i < end; ++i)
+      if (text[i] == '\n') text[i] = '\r';
+    if (encoding == Encoding::kLittleEndian) {
+      ASSERT_EQ(text[body], '\n');
+    }
+    SCOPED_TRACE("encoding " + std::to_string(static_cast<int>(encoding)));
+    expect_same(parse_ply(text), cube, false);
+  }
+  EXPECT_NE(error_of("ply\rformat ascii 2.0\rend_header\r").find("line 2"), std::string::npos);
+}
+
 TEST(PlyReader, ForgedCountsAreRefusedBeforeAllocating) {
   const PolygonMesh tet = testing::icosphere(0);
   for (Encoding encoding : {Encoding::kAscii, Encoding::kLittleEndian, Encoding::kBigEndian}) {

@@ -122,6 +122,25 @@ TEST(FaceCleanup, DropsFacesTheWeldCollapsesAndShortensPolygons) {
   EXPECT_TRUE(mapping_failures(analyze_topology(weld(shortened.mesh).mesh)).empty());
 }
 
+// The Draco test data's degenerate_mesh.obj: one face on three equal positions. The
+// cleaning drops it, and the refusal says so instead of "mesh has no faces".
+TEST(PrepareInput, AMeshWhoseFacesAllCollapseSaysWhereTheyWent) {
+  for (PrepareMethod method : {PrepareMethod::kRepair, PrepareMethod::kAuto}) {
+    PolygonMesh mesh;
+    mesh.positions = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}};
+    mesh.add_face(std::vector<uint32_t>{2, 1, 0});
+    PrepareOptions options;
+    options.method = method;
+    const std::vector<ValidationFailure> failures =
+        input_failures(prepare_input(mesh, nullptr, options));
+    ASSERT_FALSE(failures.empty());
+    EXPECT_EQ(failures.front().check, "empty");
+    EXPECT_EQ(failures.front().message,
+              "mesh has no faces left: the cleaning dropped all 1 face (1 with fewer than 3 "
+              "distinct corners once equal positions are welded, 0 exact duplicates)");
+  }
+}
+
 TEST(PrepareInput, MovesTheLookFaceRangesWithTheFacesDropped) {
   const PolygonMesh sphere = testing::icosphere(1);  // 80 faces
   PolygonMesh input = sphere;

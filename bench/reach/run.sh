@@ -8,8 +8,9 @@
 #   unreadable        exit 2 with a read check      crash/timeout      anything else (a bug)
 # Writes SETDIR/results.tsv (one line per file) and prints the summary per kind, then the
 # crashes/timeouts and not-certified files, then the per-file lines.
-# PREPARE (default parts) and COMPARE (default repair) name the two --prepare methods.
-# Usage: [PREPARE=auto COMPARE=parts] bench/reach/run.sh SPHEREMAP SETDIR
+# PREPARE (default parts) and COMPARE (default repair) name the two --prepare methods;
+# COMPARE=none runs each file once (a sweep of a new set: half the machine time).
+# Usage: [PREPARE=auto COMPARE=parts|none] bench/reach/run.sh SPHEREMAP SETDIR
 set -euo pipefail
 spheremap=$(realpath "$1")
 setdir=$(realpath "$2")
@@ -21,6 +22,8 @@ read_checks = {"io", "parse", "gltf", "missing_resources"}  # the reader could n
 
 def run(path, prepare):
     """One map run: a dict of exit, seconds, class, check, parts, message."""
+    if prepare == "none":
+        return {"exit": "", "class": "", "check": ""}
     with tempfile.TemporaryDirectory() as tmp:
         cmd = ["timeout", "120", spheremap, "map", path, "-o", f"{tmp}/out.glb",
                "--metrics", f"{tmp}/out.json", "--time-limit", "30", "--quiet",
@@ -29,7 +32,7 @@ def run(path, prepare):
         p = subprocess.run(cmd, capture_output=True, text=True, errors="replace")
         r = {"exit": p.returncode, "seconds": round(time.monotonic() - start, 2),
              "check": "", "bijective": "", "mapped": "", "left_out": "", "left_checks": "",
-             "decided": "", "wrapped": "",
+             "decided": "", "wrapped": "", "method": "",
              "message": " ".join(p.stderr.split())[:300]}
         try:
             m = json.load(open(f"{tmp}/out.json"))
@@ -38,6 +41,7 @@ def run(path, prepare):
             r["left_out"] = m.get("parts_left_out", "")
             # prepare=auto: what it took, and how many parts it wrapped.
             r["decided"] = m.get("preparation", {}).get("decided", "")
+            r["method"] = m.get("preparation", {}).get("method", "")
             r["wrapped"] = sum(1 for q in m.get("parts") or [] if q.get("wrapped")) or ""
             checks = collections.Counter(q.get("check", "?") for q in m.get("parts") or []
                                          if not q.get("mapped", True))
@@ -70,7 +74,7 @@ with concurrent.futures.ThreadPoolExecutor(int(os.environ.get("JOBS", "2"))) as 
         print(f"[{i}/{len(rows)}] {res[1]['class']:18} {res[0]['path']}", file=sys.stderr, flush=True)
 
 fields = ["exit", "seconds", "class", "check", "bijective", "mapped", "left_out", "left_checks",
-          "decided", "wrapped"]
+          "method", "decided", "wrapped"]
 lines = ["\t".join(["kind", "source", "path", "bytes", *fields, "repair_exit", "repair_class",
                     "repair_check", "message"])]
 for row, p, r in results:

@@ -363,9 +363,10 @@ std::span<const uint8_t> Document::buffer_view(size_t index) const {
 Document::AccessorView Document::accessor(size_t index) const {
   const nlohmann::json& a = element("accessors", index);
   const std::string name = "accessor " + std::to_string(index);
-  if (a.contains("sparse")) fail(name + " is sparse; sparse accessors are not supported");
+  const auto sparse = a.find("sparse");
   const size_t view_index = index_field(a, "bufferView", SIZE_MAX, "accessor.bufferView");
-  if (view_index == SIZE_MAX) fail(name + " has no bufferView");
+  // Without a bufferView a sparse accessor's other elements are zeros (glTF 3.6.2.3).
+  if (view_index == SIZE_MAX && sparse == a.end()) fail(name + " has no bufferView");
   AccessorView v;
   v.component_type = static_cast<int>(index_field(a, "componentType", 6000, "componentType", 0));
   const size_t csize = component_size(v.component_type);
@@ -375,27 +376,108 @@ Document::AccessorView Document::accessor(size_t index) const {
   if (v.components == 0) fail(name + " has an unknown type");
   v.count = index_field(a, "count", SIZE_MAX, "count", SIZE_MAX);
   if (v.count == SIZE_MAX) fail(name + " has no count");
-  const uint64_t offset = index_field(a, "byteOffset", SIZE_MAX, "byteOffset", 0);
-  const nlohmann::json& view = element("bufferViews", view_index);
   v.element_size = csize * static_cast<size_t>(v.components);
-  v.stride = index_field(view, "byteStride", 253, "byteStride", v.element_size);
-  // byteStride 0 is outside the spec (4..252, and none on index views), but exporters write
-  // it for "packed" and viewers read it so: here too, said once per view.
-  if (v.stride == 0) {
-    v.stride = v.element_size;
-    if (std::find(zero_stride_views_.begin(), zero_stride_views_.end(), view_index) ==
-        zero_stride_views_.end())
-      zero_stride_views_.push_back(view_index);
+  v.stride = v.element_size;
+  if (view_index != SIZE_MAX) {
+    const uint64_t offset = index_field(a, "byteOffset", SIZE_MAX, "byteOffset", 0);
+    const nlohmann::json& view = element("bufferViews", view_index);
+    v.stride = index_field(view, "byteStride", 253, "byteStride", v.element_size);
+    // byteStride 0 is outside the spec (4..252, and none on index views), but exporters
+    // write it for "packed" and viewers read it so: here too, said once per view.
+    if (v.stride == 0) {
+      v.stride = v.element_size;
+      if (std::find(zero_stride_views_.begin(), zero_stride_views_.end(), view_index) ==
+          zero_stride_views_.end())
+        zero_stride_views_.push_back(view_index);
+    }
+    if (v.stride < v.element_size) fail(name + " elements overlap (byteStride too small)");
+    const std::span<const uint8_t> bytes = buffer_view(view_index);
+    // Checked in 64 bits, and count first bounded by the bytes present: no overflow.
+    if (v.count > 0 &&
+        (offset > bytes.size() || (v.count - 1) > (bytes.size() - offset) / v.stride ||
+         offset + (v.count - 1) * v.stride + v.element_size > bytes.size()))
+      fail(name + " (" + std::to_string(v.count) + " elements) runs past its bufferView of " +
+           std::to_string(bytes.size()) + " bytes");
+    v.bytes = v.count > 0 ? bytes.subspan(offset) : std::span<const uint8_t>{};
   }
-  if (v.stride < v.element_size) fail(name + " elements overlap (byteStride too small)");
-  const std::span<const uint8_t> bytes = buffer_view(view_index);
-  // Checked in 64 bits, and count first bounded by the bytes present: no overflow.
-  if (v.count > 0 && (offset > bytes.size() || (v.count - 1) > (bytes.size() - offset) / v.stride ||
-                      offset + (v.count - 1) * v.stride + v.element_size > bytes.size()))
-    fail(name + " (" + std::to_string(v.count) + " elements) runs past its bufferView of " +
+  if (sparse == a.end()) return v;
+  return with_sparse(index, v, *sparse, name);
+}
+
+// The bytes of `sparse`'s indices or values: `count` elements of `size` bytes from its
+// bufferView (no stride) at its byteOffset, checked against the view.
+std::span<const uint8_t> Document::sparse_part(const nlohmann::json& part, size_t count,
+                                               size_t size, const std::string& name) const {
+  if (!part.is_object()) fail(name + " is not an object");
+  const size_t view = index_field(part, "bufferView", SIZE_MAX, "sparse bufferView");
+  if (view == SIZE_MAX) fail(name + " has no bufferView");
+  const uint64_t offset = index_field(part, "byteOffset", SIZE_MAX, "byteOffset", 0);
+  const std::span<const uint8_t> bytes = buffer_view(view);
+  if (offset > bytes.size() || count > (bytes.size() - offset) / size)
+    fail(name + " (" + std::to_string(count) + " elements) runs past its bufferView of " +
          std::to_string(bytes.size()) + " bytes");
-  v.bytes = v.count > 0 ? bytes.subspan(offset) : std::span<const uint8_t>{};
-  return v;
+  return bytes.subspan(offset, count * size);
+}
+
+// A sparse accessor (KhronosGroup's SimpleSparseAccessor; morph targets and edited
+// exports): the dense elements, each listed index's element replaced, made once per
+// accessor and charged to the decode budget before anything is allocated.
+Document::AccessorView Document::with_sparse(size_t index, AccessorView v,
+                                             const nlohmann::json& sparse,
+                                             const std::string& name) const {
+  auto dense_view = [&](const std::vector<uint8_t>& dense) {
+    v.bytes = dense;
+    v.stride = v.element_size;
+    return v;
+  };
+  if (const auto done = sparse_accessors_.find(index); done != sparse_accessors_.end())
+    return dense_view(done->second);
+  if (!sparse.is_object()) fail(name + ": sparse is not an object");
+  const size_t count = index_field(sparse, "count", v.count + 1, "sparse.count", SIZE_MAX);
+  if (count == SIZE_MAX || count == 0) fail(name + ": sparse.count must be 1 to its count");
+  if (!sparse.contains("indices") || !sparse.contains("values"))
+    fail(name + ": sparse needs indices and values");
+  const nlohmann::json& indices = sparse["indices"];
+  const int index_type =
+      indices.is_object()
+          ? static_cast<int>(index_field(indices, "componentType", 6000, "componentType", 0))
+          : 0;
+  if (index_type != 5121 && index_type != 5123 && index_type != 5125)
+    fail(name + ": sparse indices must be UNSIGNED_BYTE, UNSIGNED_SHORT or UNSIGNED_INT");
+  const size_t index_size = component_size(index_type);
+  const std::span<const uint8_t> where =
+      sparse_part(indices, count, index_size, name + ": sparse.indices");
+  const std::span<const uint8_t> values =
+      sparse_part(sparse["values"], count, v.element_size, name + ": sparse.values");
+  if (v.count > decode_budget_ / v.element_size)
+    throw InputError("too_large", name + ": its " + std::to_string(v.count) +
+                                      " sparse elements take the decoded bytes over " +
+                                      "the limit");
+  std::vector<uint8_t> dense(v.count * v.element_size);  // zeros without a bufferView
+  decode_budget_ -= dense.size();
+  for (size_t i = 0; i < v.count && !v.bytes.empty(); ++i) {
+    stop_.tick();
+    std::memcpy(dense.data() + i * v.element_size, v.bytes.data() + i * v.stride, v.element_size);
+  }
+  size_t previous = 0;
+  for (size_t k = 0; k < count; ++k) {
+    stop_.tick();
+    uint32_t at = 0;
+    const uint8_t* p = where.data() + k * index_size;
+    if (index_type == 5121)
+      at = p[0];
+    else if (index_type == 5123)
+      at = static_cast<uint32_t>(p[0] | p[1] << 8);
+    else
+      std::memcpy(&at, p, 4);
+    if (at >= v.count || (k > 0 && at <= previous))
+      fail(name + ": sparse index " + std::to_string(at) + " at position " + std::to_string(k) +
+           " is out of range or not increasing (" + std::to_string(v.count) + " elements)");
+    previous = at;
+    std::memcpy(dense.data() + size_t{at} * v.element_size, values.data() + k * v.element_size,
+                v.element_size);
+  }
+  return dense_view(sparse_accessors_.emplace(index, std::move(dense)).first->second);
 }
 
 std::vector<std::string> Document::warnings() const {

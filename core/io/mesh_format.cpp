@@ -5,6 +5,7 @@
 
 #include "core/io/obj.h"
 #include "core/io/off.h"
+#include "core/io/off_binary.h"
 #include "core/io/ply.h"
 #include "core/io/shown_bytes.h"
 #include "core/io/stl.h"
@@ -83,7 +84,7 @@ std::optional<MeshFormat> sniff_mesh_format(std::string_view bytes) {
   if (bytes.substr(0, 4) == "glTF") return MeshFormat::kGlb;
   if (bytes.substr(0, 3) == "\xEF\xBB\xBF") bytes.remove_prefix(3);  // a UTF-8 byte order mark
   if (is_binary_stl(bytes)) return MeshFormat::kStl;
-  if (bytes.substr(0, 4) == "ply\n" || bytes.substr(0, 5) == "ply\r\n") return MeshFormat::kPly;
+  if (bytes.substr(0, 4) == "ply\n" || bytes.substr(0, 4) == "ply\r") return MeshFormat::kPly;
   const size_t start = bytes.find_first_not_of(" \t\r\n");
   if (start == std::string_view::npos) return std::nullopt;
   if (bytes[start] == '{') return MeshFormat::kGltf;
@@ -96,7 +97,8 @@ std::optional<MeshFormat> sniff_mesh_format(std::string_view bytes) {
 
 PolygonMesh parse_mesh_text(std::string_view bytes, MeshFormat format, const MeshLimits& limits) {
   if (bytes.empty()) throw InputError("parse", "empty file (0 bytes)");
-  if (format == MeshFormat::kObj || format == MeshFormat::kOff) {
+  const bool binary_off = format == MeshFormat::kOff && is_binary_off(bytes);
+  if ((format == MeshFormat::kObj || format == MeshFormat::kOff) && !binary_off) {
     // A text format with NUL bytes is some other file (a PNG renamed .obj read as OBJ
     // found "no faces"); say what it starts with, and what it looks like when we know.
     if (bytes.substr(0, 65536).find('\0') != std::string_view::npos) {
@@ -116,7 +118,9 @@ PolygonMesh parse_mesh_text(std::string_view bytes, MeshFormat format, const Mes
   switch (format) {
     case MeshFormat::kObj:
     case MeshFormat::kOff: {
-      PolygonMesh mesh = format == MeshFormat::kObj ? parse_obj(bytes) : parse_off(bytes);
+      PolygonMesh mesh = format == MeshFormat::kObj ? parse_obj(bytes)
+                         : binary_off               ? parse_off_binary(bytes)
+                                                    : parse_off(bytes);
       const size_t triangles = mesh.indices.size() - 2 * mesh.face_count();
       if (mesh.vertex_count() > limits.max_vertices || triangles > limits.max_triangles)
         throw InputError("too_large", std::string(format_name(format)) + ": " +

@@ -72,9 +72,17 @@ class HeaderParser {
   }
 
  private:
+  // Lines end in "\n" or "\r\n", or in "\r" alone (classic Mac; Rhinoceros 6 writes it, the
+  // Draco test data's Box.ply): the first line's end says which, so the byte after
+  // "end_header" is never taken for one (binary data may begin with 0x0A).
   bool next_line() {
     if (pos_ >= bytes_.size()) return false;
-    size_t end = bytes_.find('\n', pos_);
+    if (pos_ == 0) {
+      const size_t first = bytes_.find_first_of("\r\n");
+      cr_only_ = first != std::string_view::npos && bytes_[first] == '\r' &&
+                 (first + 1 == bytes_.size() || bytes_[first + 1] != '\n');
+    }
+    size_t end = bytes_.find(cr_only_ ? '\r' : '\n', pos_);
     if (end == std::string_view::npos) end = bytes_.size();
     line_ = bytes_.substr(pos_, end - pos_);
     if (!line_.empty() && line_.back() == '\r') line_.remove_suffix(1);
@@ -156,6 +164,7 @@ class HeaderParser {
   std::string_view bytes_;
   std::string_view line_;
   size_t pos_ = 0, line_number_ = 0;
+  bool cr_only_ = false;
   Header header_;
 };
 

@@ -4,6 +4,7 @@
 #include <cstdio>
 
 #include "core/map/certification.h"
+#include "core/mesh/counted.h"
 
 namespace spheremap {
 namespace {
@@ -72,6 +73,17 @@ nlohmann::json fix_json(const Fix& fix) {
 std::vector<ValidationFailure> input_failures(const PreparedMesh& prepared,
                                               const GltfReadStats* gltf) {
   std::vector<ValidationFailure> failures = remaining_failures(prepared);
+  // Every face dropped by the cleaning (the Draco test data's degenerate_mesh.obj: one face
+  // on three equal positions) was refused as "mesh has no faces": say where they went.
+  const PreparationReport& done = prepared.preparation;
+  if (done.input_faces > 0)
+    for (ValidationFailure& f : failures)
+      if (f.check == "empty")
+        f.message = "mesh has no faces left: the cleaning dropped all " +
+                    counted(done.input_faces, "face") + " (" +
+                    std::to_string(done.collapsed_faces) +
+                    " with fewer than 3 distinct corners once equal positions are welded, " +
+                    std::to_string(done.duplicate_faces) + " exact duplicates)";
   // Under "parts", none of the parts maps alone: say what the largest few fail.
   if (!prepared.parts.empty() && prepared.parts_left_out() == prepared.parts.size())
     for (ValidationFailure& f : failures)
