@@ -8,7 +8,9 @@
 //
 // Prints one JSON line: hausdorff and rms (two-sided), original_to_output and
 // output_to_original (largest distance one way), their RMS, all relative to the
-// original's bounding-box diagonal; and both triangle counts. Exit 2 on unreadable input.
+// original's bounding-box diagonal; and both triangle counts; the diagonal itself and the
+// output vertex farthest from the original (where output_to_original's loss is, to tell a
+// hole cap from a sampling loss). Exit 2 on unreadable input.
 #include <cstdio>
 #include <exception>
 #include <nlohmann/json.hpp>
@@ -44,6 +46,15 @@ int main(int argc, char** argv) {
     const PolygonMesh output = read_mesh_file(argv[2]);
     const std::vector<Triangle> a = finite_triangles(original), b = finite_triangles(output);
     const SurfaceDistance d = surface_distance(original.positions, a, output.positions, b, 1);
+    // The output's vertex farthest from the original (vertices only: a locator, not a figure).
+    const PointDistances far = point_distances(original.positions, a, output.positions, 1);
+    size_t farthest = 0;
+    for (size_t i = 0; i < far.relative.size(); ++i)
+      if (far.relative[i] > far.relative[farthest]) farthest = i;
+    nlohmann::json where = nullptr;
+    if (!far.relative.empty())
+      where = {output.positions[farthest].x, output.positions[farthest].y,
+               output.positions[farthest].z};
     const nlohmann::json line = {{"hausdorff", d.hausdorff},
                                  {"rms", d.rms},
                                  {"original_to_output", d.max_a_to_b},
@@ -51,7 +62,9 @@ int main(int argc, char** argv) {
                                  {"rms_original_to_output", d.rms_a_to_b},
                                  {"rms_output_to_original", d.rms_b_to_a},
                                  {"original_triangles", a.size()},
-                                 {"output_triangles", b.size()}};
+                                 {"output_triangles", b.size()},
+                                 {"diagonal", d.diagonal},
+                                 {"farthest_output_vertex", where}};
     std::printf("%s\n", line.dump().c_str());
     return 0;
   } catch (const std::exception& e) {
