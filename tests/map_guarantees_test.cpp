@@ -125,6 +125,34 @@ TEST(MapGuarantees, Float32FoldIsNotCertified) {
       << verdict.detail;
 }
 
+// A tetrahedron's map with two nearly antipodal corners (a coarse CAD part's map has such
+// edges), every corner off the unit sphere by float32's rounding: no fold, the sphere
+// covered once, so it is bijective; the areas of the corners' directions sum to 4 pi.
+// (Areas taken as if the corners were unit vectors missed 4 pi by 1e-4 of it.)
+TEST(MapGuarantees, NearlyAntipodalCornersOffTheSphereStillSumToFourPi) {
+  const double delta = 1e-4;
+  std::vector<Vec3> sphere = {
+      normalized_or(Vec3{0, 0, 1}, {}), normalized_or(Vec3{delta, 0, -1}, {}),
+      normalized_or(Vec3{-0.45, 0.9, 0}, {}), normalized_or(Vec3{-0.45, -0.9, 0}, {})};
+  const double off[] = {1 + 6e-8, 1 + 6e-8, 1 - 3e-8, 1 + 5e-8};
+  for (size_t v = 0; v < sphere.size(); ++v) sphere[v] = off[v] * sphere[v];
+  // Outward-facing triangles of the tetrahedron, found from the sign of each triple
+  // product (the origin is inside it).
+  std::vector<Triangle> triangles;
+  for (Triangle t : {Triangle{0, 1, 2}, Triangle{0, 2, 3}, Triangle{0, 3, 1}, Triangle{1, 3, 2}}) {
+    if (triple_product(sphere[t[0]], sphere[t[1]], sphere[t[2]]) < 0) std::swap(t[1], t[2]);
+    triangles.push_back(t);
+  }
+  const MapCheck check = check_map(sphere, triangles);
+  EXPECT_EQ(check.folds, 0u);
+  EXPECT_NEAR(check.signed_area_sum, 4 * M_PI, 1e-9);
+  EXPECT_TRUE(check.bijective);
+  // Covered twice is still told apart: every triangle listed twice.
+  std::vector<Triangle> twice = triangles;
+  twice.insert(twice.end(), triangles.begin(), triangles.end());
+  EXPECT_FALSE(check_map(sphere, twice).bijective);
+}
+
 // A surface triangle of zero area (a vertex moved onto the segment between two of its
 // neighbours, as CAD exports have): still certified, its sphere triangle kept open.
 TEST(MapGuarantees, ZeroAreaSurfaceTriangleStillMapsCertified) {

@@ -13,7 +13,7 @@ MapCheck check_map(std::span<const Vec3> sphere, std::span<const Triangle> trian
   check.min_signed_area = INFINITY;
   for (const Triangle& t : triangles) {
     const Vec3 &a = sphere[t[0]], &b = sphere[t[1]], &c = sphere[t[2]];
-    const double area = spherical_area(a, b, c);
+    const double area = spherical_area_of_directions(a, b, c);
     if (!is_valid_triangle(a, b, c))
       ++check.folds;
     else if (area < kDegenerateArea)
@@ -21,10 +21,10 @@ MapCheck check_map(std::span<const Vec3> sphere, std::span<const Triangle> trian
     check.signed_area_sum += area;
     check.min_signed_area = std::min(check.min_signed_area, area);
   }
-  // The sum tells a sphere covered once from one covered twice (8 pi) or left partly
-  // bare (by a whole valid triangle's area): 1e-5 of 4 pi, not tighter, since positions
-  // rounded to float32 are off the unit sphere by up to 6e-8 and a coarse mesh's large
-  // triangles then sum to 4 pi within about 1e-6 only (seen: 1.35e-6 on 12 faces).
+  // With no fold, the triangles cover the sphere a whole number of times, so the sum is
+  // 4 pi times that number: the sum only has to tell 4 pi from 8 pi (covered twice) or 0.
+  // 1e-5 of 4 pi leaves room for rounding: areas are of the corners' directions, so
+  // float32 positions off the unit sphere by 6e-8 cost nothing beyond double's rounding.
   check.bijective =
       check.folds == 0 && std::abs(check.signed_area_sum - 4 * M_PI) < 1e-5 * 4 * M_PI;
   return check;

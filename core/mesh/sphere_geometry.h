@@ -85,6 +85,16 @@ inline double spherical_area(const Vec3& a, const Vec3& b, const Vec3& c) {
   return 2.0 * std::atan2(triple_product(a, b, c), 1.0 + dot(a, b) + dot(b, c) + dot(c, a));
 }
 
+// The same signed area for corners off the unit sphere (float32-rounded positions): the
+// area of the triangle of their directions (Van Oosterom-Strackee for any lengths). The
+// unit-length formula above is off by (|a| - 1) / (1 + a.b + b.c + c.a), which a triangle
+// with nearly antipodal corners (a coarse CAD part's map) blows up to 1e-4 of 4 pi.
+inline double spherical_area_of_directions(const Vec3& a, const Vec3& b, const Vec3& c) {
+  const double la = norm(a), lb = norm(b), lc = norm(c);
+  return 2.0 * std::atan2(triple_product(a, b, c),
+                          la * lb * lc + dot(a, b) * lc + dot(b, c) * la + dot(c, a) * lb);
+}
+
 // |spherical_area| for use as a weight: the same value, but small triangles (the vast
 // majority) take atan(x) ~ x - x^3/3 + x^5/5 (relative error below 2e-8 for x < 0.1)
 // instead of a full atan2, the largest cost of a smoothing iteration.
