@@ -8,6 +8,7 @@
 // opens whatever a reader could not tell from a fold.
 #include <algorithm>
 #include <numeric>
+#include <optional>
 
 #include "core/map/float32_rescue.h"
 #include "core/map/hierarchy.h"
@@ -116,6 +117,12 @@ class CoarseToFine {
   // (the caller falls back to the fast map) when a level cannot be made fold-free.
   // relieve_hot_spots: each level's optimization starts by relieving what the insertions
   // squeezed (StretchOptions::relieve_hot_spots).
+  // The fine level's faces all weigh 1 from here on (the fills' weights dropped).
+  void weigh_every_face_alike() {
+    fine_weights_.clear();
+    represented_.clear();
+  }
+
   void run_optimized(bool relieve_hot_spots) {
     relieve_hot_spots_ = relieve_hot_spots;
     smoothing_ = options_.smoothing;
@@ -584,18 +591,42 @@ void map_levels(const PolygonMesh& mesh, std::span<const Triangle> triangles,
     // With the hot spots relieved first, then (rarely needed) without: the relieved map
     // is 8-20% faster, but the levels come out different, and on one corpus mesh of
     // thirty (beast from Draco) an insertion then fails where the other map's does not.
-    for (const bool relieve : {true, false}) {
-      if (!relieve && !options.stretch.relieve_hot_spots) break;
+    // Then, when preparation's fills were weighed down (MapOptions::filled_weight) and
+    // neither map came out fold-free with no degenerate triangle, once more with every
+    // face weighed alike: a light fill lets the optimizer squeeze a handle's cap to
+    // nothing, which the polish cannot always open (PrusaSlicer's aq_bed.stl, 76 handles
+    // closed: 5 triangles of about 1e-19 of the sphere, 3 of them folding as the polish
+    // pushed; the evenly weighed map is certified). A weighed map that is bijective with
+    // degenerate triangles is kept, and returned when the even one does no better.
+    const bool weighed = !session.triangle_weights().empty();
+    std::optional<MapResult> kept;
+    for (const int variant : {0, 1, 2}) {
+      const bool relieve = variant != 1;
+      if (variant == 1 && !options.stretch.relieve_hot_spots) continue;
+      if (variant == 2) {
+        if (!weighed) break;
+        optimized.weigh_every_face_alike();
+      }
       ++result.attempts;
       result.stop_reason = StopReason::kFoldsRemain;  // the default: a run sets another
       optimized.run_optimized(relieve);
       if (result.stop_reason == StopReason::kCancelled) return;
       result.optimized = true;
-      if (!result.sphere.empty() &&
-          (result.stop_reason == StopReason::kTimeLimit ||
-           verify_map(result.sphere, triangles, mesh, result.inward).bijective))
-        return;
+      if (result.sphere.empty()) {
+        if (session.should_stop()) break;
+        continue;
+      }
+      if (result.stop_reason == StopReason::kTimeLimit) return;
+      const MapCheck check = verify_map(result.sphere, triangles, mesh, result.inward);
+      if (check.bijective && (check.degenerate == 0 || !weighed || variant == 2)) return;
+      if (check.bijective && !kept) kept = result;
       if (session.should_stop()) break;
+    }
+    if (kept) {
+      const size_t attempts = result.attempts;
+      result = std::move(*kept);
+      result.attempts = attempts;
+      return;
     }
     result.optimized = false;  // what follows is the Lai-Cheng map of each level
     // Out of time: a second hierarchy would only add its own time.
