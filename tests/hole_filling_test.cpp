@@ -12,6 +12,7 @@
 #include "core/map/certification.h"
 #include "core/map/metrics.h"
 #include "core/map/pipeline.h"
+#include "core/mesh/sphere_geometry.h"
 #include "core/mesh/topology.h"
 #include "core/mesh/weld.h"
 #include "core/outputs/report_json.h"
@@ -332,6 +333,34 @@ TEST(HoleFilling, WeighingTheFillDownGivesTheInputsFacesTheirRoom) {
     distortion[k] = compute_metrics(mesh.positions, mapped.map.sphere, own).area_log_ratio.mean;
   }
   EXPECT_LT(distortion[1], 0.7 * distortion[0]);
+}
+
+// The map's quality metrics are the input's: the fill, weighed down and squeezed on
+// purpose, is left out of them, and each own face's share of the sphere is taken of the
+// part the own faces cover.
+TEST(HoleFilling, TheQualityMetricsMeasureTheInputsOwnFaces) {
+  PolygonMesh input = sphere_without_cap(4, 0.6);
+  const size_t own_faces = input.face_count();
+  PrepareOptions prepare;
+  prepare.max_hole_fill = 1.0;
+  const PreparedMesh prepared = prepare_input(input, nullptr, prepare);
+  ASSERT_TRUE(input_failures(prepared).empty());
+  ASSERT_GT(prepared.welded.mesh.face_count(), own_faces);
+  const MappedMesh mapped = map_prepared(prepared, {});
+  ASSERT_TRUE(certify(mapped, mapped.float32_check).certified);
+  EXPECT_EQ(mapped.quality.measured_triangles + mapped.quality.skipped_triangles, own_faces);
+  // The area distortion: each own face's share of the sphere the own faces cover over its
+  // share of their surface (the fill's room not counted against them).
+  const PolygonMesh& mesh = prepared.welded.mesh;
+  const OrientedTriangles oriented = oriented_triangles(mesh);
+  const std::span<const Triangle> own(oriented.triangles.data(), own_faces);
+  double covered = 0;
+  for (const Triangle& t : own)
+    covered +=
+        spherical_area(mapped.map.sphere[t[0]], mapped.map.sphere[t[1]], mapped.map.sphere[t[2]]);
+  const QualityMetrics expected =
+      compute_metrics(mesh.positions, mapped.map.sphere, own, 1, covered);
+  EXPECT_NEAR(mapped.quality.area_log_ratio.mean, expected.area_log_ratio.mean, 1e-9);
 }
 
 }  // namespace

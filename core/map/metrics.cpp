@@ -81,7 +81,8 @@ double surface_area_of(std::span<const Vec3> x, const Triangle& t) {
 }  // namespace
 
 QualityMetrics compute_metrics(std::span<const Vec3> surface, std::span<const Vec3> sphere,
-                               std::span<const Triangle> triangles, int threads) {
+                               std::span<const Triangle> triangles, int threads,
+                               double sphere_share) {
   threads = resolve_threads(threads);
   QualityMetrics m;
   const size_t count = triangles.size();
@@ -115,7 +116,7 @@ QualityMetrics compute_metrics(std::span<const Vec3> surface, std::span<const Ve
                         to.e1x > 0 && to.e2y > 0;
       if (!sample.measured) return;
       sample.surface_area = surface_area;
-      const double ratio = (sphere_area / (4 * M_PI)) / (surface_area / surface_total);
+      const double ratio = (sphere_area / sphere_share) / (surface_area / surface_total);
       sample.area_log_ratio = std::abs(std::log(ratio));
       const auto [s1, s2] = singular_values(from, to);
       sample.dilatation = s1 / s2;

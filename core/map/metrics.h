@@ -9,6 +9,7 @@
 //           RMS of sqrt((g1^2 + g2^2) / 2), Linf = max of the larger one. Both are >= 1.
 #pragma once
 
+#include <cmath>
 #include <span>
 
 #include "core/mesh/mesh.h"
@@ -29,8 +30,11 @@ struct QualityMetrics {
 };
 
 // Triangles oriented so a valid map has positive determinants. threads: 0 = all cores;
-// the metrics are the same for any value.
+// the metrics are the same for any value. `sphere_share`: the spherical area the triangles
+// cover, 4 pi when they are the whole mesh (less when some faces are left out of the
+// measure: an area ratio compares each triangle's share of it to its share of the surface).
 QualityMetrics compute_metrics(std::span<const Vec3> surface, std::span<const Vec3> sphere,
-                               std::span<const Triangle> triangles, int threads = 0);
+                               std::span<const Triangle> triangles, int threads = 0,
+                               double sphere_share = 4 * M_PI);
 
 }  // namespace spheremap

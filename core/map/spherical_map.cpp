@@ -61,13 +61,9 @@ MappingInput mapping_input(const PolygonMesh& input, const std::vector<uint32_t>
   return out;
 }
 
-namespace {
-
-// Per triangle of `triangles`: filled_weight when it is one of `filled` (corners as a set),
-// 1 otherwise; empty when nothing was filled or the weight is 1.
-std::vector<double> triangle_weights(std::span<const Triangle> triangles,
-                                     std::span<const Triangle> filled, double filled_weight) {
-  if (filled.empty() || filled_weight == 1) return {};
+std::vector<char> filled_mask(std::span<const Triangle> triangles,
+                              std::span<const Triangle> filled) {
+  if (filled.empty()) return {};
   auto sorted = [](Triangle t) {
     std::sort(t.begin(), t.end());
     return t;
@@ -76,10 +72,23 @@ std::vector<double> triangle_weights(std::span<const Triangle> triangles,
   keys.reserve(filled.size());
   for (const Triangle& t : filled) keys.push_back(sorted(t));
   std::sort(keys.begin(), keys.end());
+  std::vector<char> mask(triangles.size(), 0);
+  for (size_t k = 0; k < triangles.size(); ++k)
+    mask[k] = std::binary_search(keys.begin(), keys.end(), sorted(triangles[k]));
+  return mask;
+}
+
+namespace {
+
+// Per triangle of `triangles`: filled_weight when it is one of `filled`, 1 otherwise; empty
+// when nothing was filled or the weight is 1.
+std::vector<double> triangle_weights(std::span<const Triangle> triangles,
+                                     std::span<const Triangle> filled, double filled_weight) {
+  if (filled.empty() || filled_weight == 1) return {};
+  const std::vector<char> mask = filled_mask(triangles, filled);
   std::vector<double> weights(triangles.size(), 1.0);
   for (size_t k = 0; k < triangles.size(); ++k)
-    if (std::binary_search(keys.begin(), keys.end(), sorted(triangles[k])))
-      weights[k] = filled_weight;
+    if (mask[k]) weights[k] = filled_weight;
   return weights;
 }
 

@@ -142,6 +142,11 @@ struct OrientedTriangles {
 };
 OrientedTriangles oriented_triangles(const PolygonMesh& mesh);
 
+// Per triangle of `triangles`: 1 when it is one of `filled` (corners as a set, either
+// orientation), else 0; empty when `filled` is.
+std::vector<char> filled_mask(std::span<const Triangle> triangles,
+                              std::span<const Triangle> filled);
+
 // The mesh as the map works on it: `input`'s vertices in `order` (order[k] is the input
 // vertex the k-th one was), centred and scaled to the unit ball, and its oriented fan
 // triangles each rotated to its smallest vertex and sorted (canonical_triangles), so the
