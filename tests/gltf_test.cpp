@@ -197,6 +197,30 @@ TEST(Gltf, ReadsSparseAccessorsOverAViewAndOverZeros) {
   EXPECT_EQ(read_gltf(as_bytes(zeros.bytes())).positions, plain.positions);
 }
 
+// An accessor without a bufferView (and without sparse) is zeros (glTF 3.6.2.3); it was
+// refused "accessor 0 has no bufferView" (glTF-Validator's KHR_mesh_quantization
+// valid.gltf). Its count is bounded by the decode limit, since no bytes bound it.
+TEST(Gltf, ReadsAnAccessorWithoutABufferViewAsZeros) {
+  const PolygonMesh plain = read_gltf(as_bytes(sphere_glb()));
+  Glb glb(sphere_glb());
+  const size_t position = glb.json["meshes"][0]["primitives"][0]["attributes"]["POSITION"];
+  nlohmann::json& accessor = glb.json["accessors"][position];
+  accessor.erase("bufferView");
+  accessor.erase("byteOffset");
+  const PolygonMesh zeros = read_gltf(as_bytes(glb.bytes()));
+  ASSERT_EQ(zeros.vertex_count(), plain.vertex_count());
+  EXPECT_EQ(zeros.indices, plain.indices);
+  for (const Vec3& p : zeros.positions) EXPECT_EQ(norm(p), 0.0);
+  accessor["count"] = uint64_t{1} << 50;
+  try {
+    read_gltf(as_bytes(glb.bytes()));
+    FAIL() << "read 2^50 zero positions";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.check(), "too_large") << e.what();
+    EXPECT_NE(std::string(e.what()).find("no bufferView"), std::string::npos) << e.what();
+  }
+}
+
 TEST(Gltf, RejectsIndicesPastTheVertices) {
   Glb glb(sphere_glb());
   const uint32_t past = 1000;

@@ -365,8 +365,6 @@ Document::AccessorView Document::accessor(size_t index) const {
   const std::string name = "accessor " + std::to_string(index);
   const auto sparse = a.find("sparse");
   const size_t view_index = index_field(a, "bufferView", SIZE_MAX, "accessor.bufferView");
-  // Without a bufferView a sparse accessor's other elements are zeros (glTF 3.6.2.3).
-  if (view_index == SIZE_MAX && sparse == a.end()) fail(name + " has no bufferView");
   AccessorView v;
   v.component_type = static_cast<int>(index_field(a, "componentType", 6000, "componentType", 0));
   const size_t csize = component_size(v.component_type);
@@ -400,8 +398,29 @@ Document::AccessorView Document::accessor(size_t index) const {
            std::to_string(bytes.size()) + " bytes");
     v.bytes = v.count > 0 ? bytes.subspan(offset) : std::span<const uint8_t>{};
   }
-  if (sparse == a.end()) return v;
+  // Without a bufferView the elements are zeros (glTF 3.6.2.3), a sparse accessor's
+  // other elements too.
+  if (sparse == a.end()) return view_index == SIZE_MAX ? zero_filled(index, v, name) : v;
   return with_sparse(index, v, *sparse, name);
+}
+
+// An accessor without a bufferView or sparse (valid glTF: glTF-Validator's
+// KHR_mesh_quantization valid.gltf was refused "accessor 0 has no bufferView"): `count`
+// zero elements, made once and charged to the decode budget, since no bytes bound `count`.
+Document::AccessorView Document::zero_filled(size_t index, AccessorView v,
+                                             const std::string& name) const {
+  auto done = sparse_accessors_.find(index);
+  if (done == sparse_accessors_.end()) {
+    if (v.count > decode_budget_ / v.element_size)
+      throw InputError("too_large", name + ": its " + std::to_string(v.count) +
+                                        " elements (zeros: it has no bufferView) take the " +
+                                        "decoded bytes over the limit");
+    done = sparse_accessors_.emplace(index, std::vector<uint8_t>(v.count * v.element_size)).first;
+    decode_budget_ -= done->second.size();
+  }
+  v.bytes = done->second;
+  v.stride = v.element_size;
+  return v;
 }
 
 // The bytes of `sparse`'s indices or values: `count` elements of `size` bytes from its

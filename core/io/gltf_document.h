@@ -78,6 +78,7 @@ class Document {
   AccessorView accessor(size_t index) const;
   AccessorView with_sparse(size_t index, AccessorView dense, const nlohmann::json& sparse,
                            const std::string& name) const;
+  AccessorView zero_filled(size_t index, AccessorView v, const std::string& name) const;
   std::span<const uint8_t> sparse_part(const nlohmann::json& part, size_t count, size_t size,
                                        const std::string& name) const;
   std::vector<double> read_numbers(const AccessorView& view, size_t index) const;
@@ -108,7 +109,8 @@ class Document {
   // Decoded EXT_meshopt_compression views, by view index, and the bytes left to decode.
   mutable std::map<size_t, std::vector<uint8_t>> decoded_views_;
   mutable size_t decode_budget_;
-  // Sparse accessors made dense, by accessor index (charged to decode_budget_).
+  // Sparse accessors made dense, and accessors without a bufferView made of zeros, by
+  // accessor index (charged to decode_budget_).
   mutable std::map<size_t, std::vector<uint8_t>> sparse_accessors_;
   mutable std::vector<size_t> zero_stride_views_;  // read as packed, each once
 };
