@@ -169,6 +169,25 @@ TEST(DracoFile, ForgedCountsAreRefusedBeforeDecoding) {
   }
 }
 
+// The fuzzer's find: a tetrahedron whose POSITION data type was changed to bool (byte 29,
+// 9 -> 11). Draco converts bool values by loading bytes as bool (undefined behaviour for
+// 128, which the sanitized build reports): refused before converting.
+TEST(DracoFile, BoolPositionsAreRefused) {
+  std::string drc;
+  const std::string hex =
+      "445241434f0202010000000404010001020003010002030103020101000b030000000000803f00003f3f"
+      "000080800000803f000080bf010080bf000080bf0000803f000080bf000080bf000080bf0000803f";
+  for (size_t k = 0; k < hex.size(); k += 2)
+    drc.push_back(static_cast<char>(std::stoi(hex.substr(k, 2), nullptr, 16)));
+  try {
+    read_draco_file(as_bytes(drc));
+    ADD_FAILURE() << "bool positions were read";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.check(), "parse");
+    EXPECT_NE(std::string(e.what()).find("not numeric"), std::string::npos) << e.what();
+  }
+}
+
 TEST(DracoFile, APointCloudIsRefusedAsOne) {
   draco::PointCloud cloud;
   add_positions(cloud, testing::icosphere(1).positions);

@@ -63,6 +63,10 @@ PolygonMesh read_draco_file(std::span<const uint8_t> bytes, const MeshLimits& li
       mesh.GetNamedAttribute(draco::GeometryAttribute::POSITION);
   if (!position || position->num_components() != 3)
     refuse("the Draco mesh has no 3-component POSITION attribute");
+  // Draco converts a bool attribute by loading its bytes as bool: any byte but 0 and 1 is
+  // undefined behaviour (found by the fuzzer). Positions are numbers.
+  if (position->data_type() == draco::DT_BOOL || position->data_type() == draco::DT_INVALID)
+    refuse("the Draco POSITION attribute is not numeric");
   const size_t points = mesh.num_points();
   if (points > max_vertices)  // edgebreaker adds seam copies to what it declares
     throw InputError("too_large", "drc: the Draco mesh has " + std::to_string(points) +

@@ -375,6 +375,10 @@ class Reader {
         mesh.GetAttributeByUniqueId(static_cast<uint32_t>(position_id));
     if (!attribute || attribute->num_components() != 3)
       fail("the Draco data has no 3-component attribute with id " + std::to_string(position_id));
+    // Draco converts a bool attribute by loading its bytes as bool (undefined behaviour for
+    // any byte but 0 and 1): positions are numbers.
+    if (attribute->data_type() == draco::DT_BOOL || attribute->data_type() == draco::DT_INVALID)
+      fail("the Draco POSITION attribute is not numeric");
     const size_t points = mesh.num_points();
     if (points > options_.max_vertices)
       throw InputError("too_large", "the Draco mesh has " + std::to_string(points) +
@@ -569,8 +573,9 @@ class Reader {
         continue;
       const draco::PointAttribute* attribute =
           mesh.GetAttributeByUniqueId(static_cast<uint32_t>(id.get<uint64_t>()));
-      if (!attribute || attribute->num_components() < 1 || attribute->num_components() > 4)
-        continue;
+      if (!attribute || attribute->num_components() < 1 || attribute->num_components() > 4 ||
+          attribute->data_type() == draco::DT_BOOL || attribute->data_type() == draco::DT_INVALID)
+        continue;  // bool: see decode_draco
       const int components = attribute->num_components();
       std::vector<double> values(static_cast<size_t>(mesh.num_points()) * components);
       std::array<float, 4> v{};
