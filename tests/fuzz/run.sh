@@ -2,8 +2,8 @@
 # Builds a libFuzzer target with clang (ASan + UBSan, in build-sanitized/:
 # scripts/build-sanitized.sh) and runs it for SECONDS (default 60) from a seed corpus taken from the shared corpus (or, without it, from examples/): GLB and Draco GLB files for
 # gltf_fuzzer (with truncated, garbage and external-URI files like the hostile-file
-# tests), small OBJ files for mesh_text_fuzzer, option sets for options_fuzzer; STL and
-# PLY files written here (a tetrahedron in every encoding) for mesh_binary_fuzzer.
+# tests), small OBJ files for mesh_text_fuzzer, option sets for options_fuzzer; STL, PLY
+# and .drc files written here (a tetrahedron in every encoding) for mesh_binary_fuzzer.
 # Crashes land in
 # build-sanitized/crashes/; turn each into a regression test.
 # Several targets (comma-separated) are built in one go and run side by side, as many at
