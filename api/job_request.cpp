@@ -65,7 +65,7 @@ Body split_body(const httplib::Request& request) {
     // Read from the bytes; what fits no format goes to the glTF reader, as it always did.
     const std::optional<MeshFormat> sniffed = sniff_mesh_format(body.mesh);
     const bool text_format = sniffed && *sniffed != MeshFormat::kGlb &&
-                             *sniffed != MeshFormat::kGltf &&
+                             *sniffed != MeshFormat::kGltf && *sniffed != MeshFormat::kDrc &&
                              !(*sniffed == MeshFormat::kStl && is_binary_stl(body.mesh));
     if (type == "text/plain" && !text_format)
       throw Problem(415, "unsupported_media_type", "Unsupported media type",
@@ -150,8 +150,8 @@ void check_vertex_cap(size_t vertices, const ApiSettings& config, const char* wh
                   {{"check", "too_large"}});
 }
 
-// OBJ, OFF, STL or PLY: the reader checks every count against the bytes and the caps
-// (STL and PLY before allocating). max_faces counts triangles, as glTF's; an STL's
+// OBJ, OFF, STL, PLY or raw Draco: the reader checks every count against the bytes and
+// the caps (STL, PLY and Draco before allocating). max_faces counts triangles, as glTF's; an STL's
 // vertices are capped once welded (3 per triangle before).
 PolygonMesh read_other_body(const Body& body, const ApiSettings& config) {
   MeshLimits limits;
@@ -163,6 +163,8 @@ PolygonMesh read_other_body(const Body& body, const ApiSettings& config) {
     if (e.check() == "too_large")
       throw Problem(413, "too_large", "Mesh too large",
                     std::string(e.what()) + " (max_vertices, max_faces)", {{"check", e.check()}});
+    if (e.check() == "empty")  // a Draco point cloud: read, but nothing to map
+      throw Problem(422, "not_mappable", "Mesh cannot be mapped", e.what(), {{"check", e.check()}});
     throw Problem(400, "malformed_mesh", "Malformed mesh", e.what(), {{"check", e.check()}});
   }
 }

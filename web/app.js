@@ -550,14 +550,14 @@ function options() {
 }
 
 // The file that is the mesh; the others are a .gltf's resources.
-const MESH_FILE = /\.(glb|gltf|obj|stl|ply|off)$/i;
+const MESH_FILE = /\.(glb|gltf|obj|stl|ply|off|drc)$/i;
 
 async function submit() {
   stopFollowing();
   const ticket = ++state.submission;
   const main = state.files.find((f) => MESH_FILE.test(f.name));
   if (!main) {
-    showError('Choose a .glb, .obj, .stl, .ply or .off file, or a .gltf with the .bin files it names.');
+    showError('Choose a .glb, .obj, .stl, .ply, .off or .drc file, or a .gltf with the .bin files it names.');
     return;
   }
   showError('');

@@ -121,6 +121,10 @@ class Reader {
     for (size_t m = 0; m < mesh_count; ++m)
       if (draws_[m] > 1 && (stats_.repeated_mesh < 0 || draws_[m] > stats_.repeated_mesh_draws))
         stats_.repeated_mesh = static_cast<int>(m), stats_.repeated_mesh_draws = draws_[m];
+    if (mesh_.face_count() == 0 && point_primitives_ > 0 &&
+        point_primitives_ == stats_.skipped_primitives && stats_.primitives == 0)
+      fail("the file is a point cloud (" + std::to_string(points_) +
+           " points, no faces): spheremap maps triangle surfaces");
     if (mesh_.face_count() == 0)
       fail("no triangles to map: " + std::to_string(stats_.skipped_primitives) +
            " primitive(s) of points or lines, " + std::to_string(stats_.primitives) +
@@ -221,9 +225,10 @@ class Reader {
     return index_field(doc_.element("accessors", accessor), "count", SIZE_MAX, "count", 1);
   }
 
-  std::vector<char> visited_;  // nodes reached by the scene walk
-  std::vector<size_t> draws_;  // per mesh, how many nodes draw it
-  size_t chosen_ = SIZE_MAX;   // --mesh: the one mesh to read
+  std::vector<char> visited_;                 // nodes reached by the scene walk
+  std::vector<size_t> draws_;                 // per mesh, how many nodes draw it
+  size_t chosen_ = SIZE_MAX;                  // --mesh: the one mesh to read
+  size_t point_primitives_ = 0, points_ = 0;  // POINTS primitives skipped, their points
   bool chosen_drawn_ = false;
 
   void add_mesh(size_t mesh_index, const Matrix& world, int64_t node) {
@@ -251,6 +256,7 @@ class Reader {
     const size_t mode = index_field(p, "mode", 7, "primitive mode", 4);
     if (mode < 4) {
       ++stats_.skipped_primitives;
+      if (mode == 0) count_points(p);
       return;
     }
     ++stats_.primitives;
@@ -369,6 +375,10 @@ class Reader {
         mesh.GetAttributeByUniqueId(static_cast<uint32_t>(position_id));
     if (!attribute || attribute->num_components() != 3)
       fail("the Draco data has no 3-component attribute with id " + std::to_string(position_id));
+    // Draco converts a bool attribute by loading its bytes as bool (undefined behaviour for
+    // any byte but 0 and 1): positions are numbers.
+    if (attribute->data_type() == draco::DT_BOOL || attribute->data_type() == draco::DT_INVALID)
+      fail("the Draco POSITION attribute is not numeric");
     const size_t points = mesh.num_points();
     if (points > options_.max_vertices)
       throw InputError("too_large", "the Draco mesh has " + std::to_string(points) +
@@ -390,6 +400,26 @@ class Reader {
         if (id >= points) fail("a Draco face refers past the decoded vertices");
         indices[3 * f + static_cast<size_t>(c)] = id;
       }
+  }
+
+  // A POINTS primitive's points, for the refusal of a point cloud: its POSITION accessor's
+  // declared count (checked against its view, not decoded). A primitive without a usable
+  // one counts none: it is skipped either way.
+  void count_points(const nlohmann::json& p) {
+    ++point_primitives_;
+    const auto attributes = p.find("attributes");
+    if (attributes == p.end() || !attributes->is_object()) return;
+    const auto position = attributes->find("POSITION");
+    const size_t accessors =
+        doc_.json().contains("accessors") ? doc_.json()["accessors"].size() : 0;
+    if (position == attributes->end() || !position->is_number_unsigned() ||
+        position->get<size_t>() >= accessors)
+      return;
+    try {
+      points_ += doc_.accessor_shape(position->get<size_t>()).count;
+    } catch (const InputError&) {
+      // A malformed accessor of a skipped primitive was never read: not a reason to refuse.
+    }
   }
 
   // Refuses (too_large) what would take the mesh past the caps.
@@ -543,8 +573,9 @@ class Reader {
         continue;
       const draco::PointAttribute* attribute =
           mesh.GetAttributeByUniqueId(static_cast<uint32_t>(id.get<uint64_t>()));
-      if (!attribute || attribute->num_components() < 1 || attribute->num_components() > 4)
-        continue;
+      if (!attribute || attribute->num_components() < 1 || attribute->num_components() > 4 ||
+          attribute->data_type() == draco::DT_BOOL || attribute->data_type() == draco::DT_INVALID)
+        continue;  // bool: see decode_draco
       const int components = attribute->num_components();
       std::vector<double> values(static_cast<size_t>(mesh.num_points()) * components);
       std::array<float, 4> v{};

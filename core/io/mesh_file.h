@@ -1,4 +1,4 @@
-// Reading meshes by file extension (.obj, .off, .stl, .ply, .glb, .gltf; any case);
+// Reading meshes by file extension (.obj, .off, .stl, .ply, .drc, .glb, .gltf; any case);
 // writing OBJ.
 #pragma once
 

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cctype>
 
+#include "core/io/draco_file.h"
 #include "core/io/obj.h"
 #include "core/io/off.h"
 #include "core/io/off_binary.h"
@@ -40,7 +41,7 @@ bool is_obj_statement(std::string_view word) {
 
 }  // namespace
 
-const char* const kReadableExtensions = "'.obj', '.off', '.stl', '.ply', '.glb' or '.gltf'";
+const char* const kReadableExtensions = "'.obj', '.off', '.stl', '.ply', '.drc', '.glb' or '.gltf'";
 
 const char* format_name(MeshFormat format) {
   switch (format) {
@@ -56,6 +57,8 @@ const char* format_name(MeshFormat format) {
       return "stl";
     case MeshFormat::kPly:
       return "ply";
+    case MeshFormat::kDrc:
+      return "drc";
   }
   return "";
 }
@@ -65,7 +68,7 @@ std::optional<MeshFormat> format_from_extension(std::string_view extension) {
   std::transform(ext.begin(), ext.end(), ext.begin(),
                  [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
   for (MeshFormat f : {MeshFormat::kGlb, MeshFormat::kGltf, MeshFormat::kObj, MeshFormat::kOff,
-                       MeshFormat::kStl, MeshFormat::kPly})
+                       MeshFormat::kStl, MeshFormat::kPly, MeshFormat::kDrc})
     if (ext == format_name(f)) return f;
   return std::nullopt;
 }
@@ -82,6 +85,7 @@ std::string lowercase_extension(std::string_view path) {
 
 std::optional<MeshFormat> sniff_mesh_format(std::string_view bytes) {
   if (bytes.substr(0, 4) == "glTF") return MeshFormat::kGlb;
+  if (bytes.substr(0, 5) == "DRACO") return MeshFormat::kDrc;
   if (bytes.substr(0, 3) == "\xEF\xBB\xBF") bytes.remove_prefix(3);  // a UTF-8 byte order mark
   if (is_binary_stl(bytes)) return MeshFormat::kStl;
   if (bytes.substr(0, 4) == "ply\n" || bytes.substr(0, 4) == "ply\r") return MeshFormat::kPly;
@@ -135,6 +139,9 @@ PolygonMesh parse_mesh_text(std::string_view bytes, MeshFormat format, const Mes
       return parse_stl(bytes, limits);
     case MeshFormat::kPly:
       return parse_ply(bytes, limits);
+    case MeshFormat::kDrc:
+      return read_draco_file({reinterpret_cast<const uint8_t*>(bytes.data()), bytes.size()},
+                             limits);
     case MeshFormat::kGlb:
     case MeshFormat::kGltf:
       break;

@@ -277,7 +277,9 @@ PolygonMesh parse_ply(std::string_view bytes, const MeshLimits& limits) {
   for (const Element& e : header.elements)
     if (e.name == "tristrips" && !face) face = &e;
   if (!vertex) fail("no 'vertex' element");
-  if (!face) fail("no 'face' or 'tristrips' element (a point cloud has nothing to map)");
+  if (!face)
+    fail("the file is a point cloud (" + std::to_string(vertex->count) +
+         " points, no 'face' or 'tristrips' element): spheremap maps triangle surfaces");
 
   // A face is at least one triangle.
   if (vertex->count > limits.max_vertices || face->count > limits.max_triangles)

@@ -85,7 +85,9 @@ size_t rescue_float32(std::span<Vec3> sphere, std::span<const Triangle> triangle
     size_t moved_now = 0;
     for (const uint32_t v : corners) {
       const std::span<const uint32_t> star(stars.data() + offsets[v], offsets[v + 1] - offsets[v]);
-      if (star.size() < 3) continue;
+      // A closed fan has as many ring corners as triangles: a star kernel_center refuses
+      // is skipped before its ring is ordered (O(star^2)).
+      if (star.size() < 3 || star.size() > kKernelCenterMaxCorners) continue;
       const std::vector<uint32_t> ring = ordered_ring(v, triangles, star);
       if (ring.empty()) continue;
       std::vector<Vec3> ring_points(ring.size());

@@ -37,7 +37,7 @@ bool solve3(const HalfPlane& p, const HalfPlane& q, const HalfPlane& s, double o
 
 std::optional<Vec3> kernel_center(std::span<const Vec3> ring, const Vec3& center) {
   const size_t m = ring.size();
-  if (m < 3 || m > 48) return std::nullopt;
+  if (m < 3 || m > kKernelCenterMaxCorners) return std::nullopt;
   for (const Vec3& r : ring)
     if (!(dot(r, center) > 1e-12)) return std::nullopt;
   // Orthonormal frame (e1, e2) of the tangent plane at center.

@@ -7,6 +7,7 @@
 #include "core/io/gltf_reader.h"
 #include "core/map/certification.h"
 #include "core/mesh/sphere_geometry.h"
+#include "core/mesh/submesh.h"
 #include "core/outputs/asset_builders.h"
 #include "core/outputs/report_json.h"
 #include "core/outputs/sphere_asset.h"
@@ -15,9 +16,8 @@ namespace spheremap {
 namespace {
 
 // Part k's spherical mesh in `layout`: its welded vertices, or its input vertices in first
-// use order (seams of the input kept) with its input faces `faces`. `local`: per input
-// vertex, kUnreferenced on entry and on return (scratch shared by the parts, so that all
-// parts together cost O(input)).
+// use order (seams of the input kept) with its input faces `faces`. `local`: submesh's
+// scratch, shared by the parts so that all parts together cost O(input).
 PolygonMesh part_sphere(const PolygonMesh& input, const MappedMesh& mapped, size_t k,
                         SphereLayout layout, const PartIndex& index,
                         const std::vector<uint32_t>& faces, std::vector<uint32_t>& local) {
@@ -29,27 +29,18 @@ PolygonMesh part_sphere(const PolygonMesh& input, const MappedMesh& mapped, size
     return out;
   }
   const auto& to_welded = mapped.prepared.welded.input_to_welded;
-  PolygonMesh out, welded_ids;
-  std::vector<uint32_t> corners, welded_corners;
-  for (uint32_t f : faces) {
-    corners.clear();
-    welded_corners.clear();
-    for (uint32_t v : input.face(f)) {
-      if (local[v] == kUnreferenced) {
-        local[v] = static_cast<uint32_t>(out.positions.size());
-        out.positions.push_back(part.mapped.map.sphere[index.local[to_welded[v]]]);
-      }
-      corners.push_back(local[v]);
-      welded_corners.push_back(index.local[to_welded[v]]);
-    }
-    out.add_face(corners);
-    welded_ids.add_face(welded_corners);
-  }
-  for (uint32_t f : faces)  // `local` back to unused for the next part
-    for (uint32_t v : input.face(f)) local[v] = kUnreferenced;
+  MeshPart faces_part = submesh(input, faces, &local);
+  PolygonMesh& out = faces_part.mesh;
+  for (uint32_t v = 0; v < out.vertex_count(); ++v)
+    out.positions[v] = part.mapped.map.sphere[index.local[to_welded[faces_part.vertex[v]]]];
+  // The same faces named by the part's welded vertices.
+  PolygonMesh welded_ids;
+  welded_ids.offsets = out.offsets;
+  welded_ids.indices.reserve(out.indices.size());
+  for (uint32_t c : out.indices)
+    welded_ids.indices.push_back(index.local[to_welded[faces_part.vertex[c]]]);
   // The corner first whose fan the part's map was certified on (pipeline.h).
   return apex_first(out, welded_ids);
-  return out;
 }
 
 // The file's meshes read back (nodes unmoved, so on their unit spheres) and each part's

@@ -84,6 +84,14 @@ std::vector<ValidationFailure> input_failures(const PreparedMesh& prepared,
                     std::to_string(done.collapsed_faces) +
                     " with fewer than 3 distinct corners once equal positions are welded, " +
                     std::to_string(done.duplicate_faces) + " exact duplicates)";
+  // Vertices and no faces at all (a PLY's `element face 0`, an OBJ of `v` lines): a point
+  // cloud, which is not what the map is for.
+  const size_t input_vertices = prepared.welded.input_to_welded.size();
+  if (done.input_faces == 0 && input_vertices > 0)
+    for (ValidationFailure& f : failures)
+      if (f.check == "empty")
+        f.message = "the file is a point cloud (" + counted(input_vertices, "point") +
+                    ", no faces): spheremap maps triangle surfaces";
   // Under "parts", none of the parts maps alone: say what the largest few fail.
   if (!prepared.parts.empty() && prepared.parts_left_out() == prepared.parts.size())
     for (ValidationFailure& f : failures)

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <numeric>
 
+#include "core/mesh/submesh.h"
 #include "core/mesh/union_find.h"
 #include "core/mesh/weld.h"
 
@@ -34,21 +35,16 @@ std::vector<MeshPart> connected_parts(const PolygonMesh& mesh, const StopCheck* 
   std::vector<uint32_t> rank(order.size());
   for (uint32_t r = 0; r < order.size(); ++r) rank[order[r]] = r;
 
+  // Each part's faces in the whole's order, then each part's mesh from them.
+  std::vector<std::vector<uint32_t>> part_faces(order.size());
+  for (uint32_t p = 0; p < order.size(); ++p) part_faces[rank[p]].reserve(faces_of[p]);
+  for (size_t f = 0; f < mesh.face_count(); ++f)
+    part_faces[rank[face_part[f]]].push_back(static_cast<uint32_t>(f));
   std::vector<MeshPart> parts(order.size());
-  std::vector<uint32_t> local(mesh.vertex_count(), kUnreferenced);
-  std::vector<uint32_t> corners;
-  for (size_t f = 0; f < mesh.face_count(); ++f) {
-    MeshPart& part = parts[rank[face_part[f]]];
-    corners.clear();
-    for (uint32_t v : mesh.face(f)) {
-      if (local[v] == kUnreferenced) {
-        local[v] = static_cast<uint32_t>(part.vertex.size());
-        part.vertex.push_back(v);
-        part.mesh.positions.push_back(mesh.positions[v]);
-      }
-      corners.push_back(local[v]);
-    }
-    part.mesh.add_face(corners);
+  std::vector<uint32_t> scratch(mesh.vertex_count(), kUnreferenced);
+  for (size_t k = 0; k < parts.size(); ++k) {
+    parts[k] = submesh(mesh, part_faces[k], &scratch);
+    std::vector<uint32_t>().swap(part_faces[k]);
   }
   return parts;
 }

@@ -7,15 +7,10 @@
 #include <cstdint>
 #include <vector>
 
-#include "core/mesh/mesh.h"
 #include "core/mesh/stop_check.h"
+#include "core/mesh/submesh.h"  // MeshPart: the part, its vertices in first-use order
 
 namespace spheremap {
-
-struct MeshPart {
-  PolygonMesh mesh;              // the part's faces, its vertices in first-use order
-  std::vector<uint32_t> vertex;  // per vertex of `mesh`: its index in the whole mesh
-};
 
 // Every connected component of `mesh` with at least one face, largest first by faces (ties:
 // the one whose first face comes first), faces in the whole's order. Unreferenced vertices

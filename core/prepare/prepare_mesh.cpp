@@ -6,6 +6,7 @@
 
 #include "core/mesh/input_error.h"
 #include "core/mesh/stop_check.h"
+#include "core/mesh/submesh.h"
 #include "core/mesh/surface_distance.h"
 #include "core/mesh/union_find.h"
 #include "core/prepare/connected_parts.h"
@@ -30,24 +31,15 @@ void keep_largest_component(WeldResult& welded) {
   for (size_t f = 0; f < mesh.face_count(); ++f) ++faces_of[sets.find(mesh.face(f)[0])];
   const uint32_t keep =
       static_cast<uint32_t>(std::max_element(faces_of.begin(), faces_of.end()) - faces_of.begin());
-  PolygonMesh kept;
+  std::vector<uint32_t> faces;
+  for (size_t f = 0; f < mesh.face_count(); ++f)
+    if (sets.find(mesh.face(f)[0]) == keep) faces.push_back(static_cast<uint32_t>(f));
+  MeshPart kept = submesh(mesh, faces);
   std::vector<uint32_t> new_id(mesh.vertex_count(), kUnreferenced);
-  std::vector<uint32_t> corners;
-  for (size_t f = 0; f < mesh.face_count(); ++f) {
-    if (sets.find(mesh.face(f)[0]) != keep) continue;
-    corners.clear();
-    for (uint32_t v : mesh.face(f)) {
-      if (new_id[v] == kUnreferenced) {
-        new_id[v] = static_cast<uint32_t>(kept.positions.size());
-        kept.positions.push_back(mesh.positions[v]);
-      }
-      corners.push_back(new_id[v]);
-    }
-    kept.add_face(corners);
-  }
+  for (uint32_t v = 0; v < kept.vertex.size(); ++v) new_id[kept.vertex[v]] = v;
   for (uint32_t& w : welded.input_to_welded)
     if (w != kUnreferenced) w = new_id[w];
-  mesh = std::move(kept);
+  mesh = std::move(kept.mesh);
 }
 
 // Each primitive's face range [first_face, first_face + face_count) renumbered to the
@@ -349,26 +341,6 @@ std::optional<EnvelopeOptions> part_envelope_options(const PolygonMesh& part, do
   return wrap;
 }
 
-// The faces `faces` of `mesh` as a mesh of their own (their vertices only, in first-use
-// order), so that its bounding box is theirs.
-PolygonMesh faces_of(const PolygonMesh& mesh, const std::vector<uint32_t>& faces) {
-  PolygonMesh out;
-  std::vector<uint32_t> id(mesh.vertex_count(), kUnreferenced);
-  std::vector<uint32_t> corners;
-  for (uint32_t f : faces) {
-    corners.clear();
-    for (uint32_t v : mesh.face(f)) {
-      if (id[v] == kUnreferenced) {
-        id[v] = static_cast<uint32_t>(out.positions.size());
-        out.positions.push_back(mesh.positions[v]);
-      }
-      corners.push_back(id[v]);
-    }
-    out.add_face(corners);
-  }
-  return out;
-}
-
 // Whether the repair changed the part's surface: faces added (hole fills, handle caps) or
 // dropped (collapsed, duplicate). Vertex copies and flips do not move it.
 bool part_was_changed(const PolygonMesh& part, const PolygonMesh& input,
@@ -461,7 +433,7 @@ void wrap_left_out_parts(PreparedMesh& prepared, const PolygonMesh& input,
     // are measured to the part's own input faces, which the outputs stand for: a fill
     // inside the envelope hid how far it is from them (lato315.ply: 1.4% said, 4.5% true).
     if (part_was_changed(parts[k].mesh, input, original_faces))
-      measure_to_original(envelope->report, envelope->mesh, faces_of(input, original_faces),
+      measure_to_original(envelope->report, envelope->mesh, submesh(input, original_faces).mesh,
                           asset_diagonal, options);
     PartReport& report = prepared.parts[k];
     report.wrapped = true;

@@ -2,8 +2,8 @@
 # Builds a libFuzzer target with clang (ASan + UBSan, in build-sanitized/:
 # scripts/build-sanitized.sh) and runs it for SECONDS (default 60) from a seed corpus taken from the shared corpus (or, without it, from examples/): GLB and Draco GLB files for
 # gltf_fuzzer (with truncated, garbage and external-URI files like the hostile-file
-# tests), small OBJ files for mesh_text_fuzzer, option sets for options_fuzzer; STL and
-# PLY files written here (a tetrahedron in every encoding) for mesh_binary_fuzzer.
+# tests), small OBJ files for mesh_text_fuzzer, option sets for options_fuzzer; STL, PLY
+# and .drc files written here (a tetrahedron in every encoding) for mesh_binary_fuzzer.
 # Crashes land in
 # build-sanitized/crashes/; turn each into a regression test.
 # Several targets (comma-separated) are built in one go and run side by side, as many at
@@ -43,7 +43,7 @@ make_seeds() {
     printf 'POST /v1/jobs HTTP/1.1\r\nHost: x\r\nContent-Type: multipart/form-data; boundary=b\r\nContent-Length: 98\r\n\r\n--b\r\nContent-Disposition: form-data; name="mesh"; filename="m.glb"\r\n\r\nglTF\r\n--b--\r\n' > "$seeds/multipart"
     printf 'POST /v1/jobs HTTP/1.1\r\nHost: x\r\nTransfer-Encoding: chunked\r\n\r\n4\r\nglTF\r\n0\r\n\r\n' > "$seeds/chunked"
     printf 'GET /v1/openapi.yaml HTTP/1.1\r\nHost: x\r\nRange: bytes=0-1,2-3\r\nX-a: b\r\nX-b: c\r\n\r\n' > "$seeds/headers"
-  elif [ "$target" = mesh_binary_fuzzer ]; then  # a tetrahedron as STL and PLY, every encoding
+  elif [ "$target" = mesh_binary_fuzzer ]; then  # a tetrahedron as STL, PLY (every encoding), .drc
     python3 - "$seeds" <<'PY'
 import struct, sys
 d = sys.argv[1]
@@ -69,6 +69,16 @@ for enc, fmt in (("ascii", None), ("binary_little_endian", "<"), ("binary_big_en
         body = b"".join(struct.pack(fmt + "3fB", *p, 7) for p in v)
         body += b"".join(struct.pack(fmt + "B3i", 3, *t) for t in f)
         open(f"{d}/{enc}.ply", "wb").write(head + body)
+# The same tetrahedron as raw Draco files (draco_encoder's .drc), sequential (unquantized)
+# and edgebreaker (14-bit positions), as Debian's libdraco 1.5.5 encodes them.
+for name, hex_bytes in (
+        ("sequential.drc",
+         "445241434f02020100000004040100010200030100020301030201010009030000000000803f0000803f"
+         "0000803f0000803f000080bf000080bf000080bf0000803f000080bf000080bf000080bf0000803f"),
+        ("edgebreaker.drc",
+         "445241434f02020101000000040400030000012f01011001ff0000010009030000020101010003030120"
+         "0120030010840c2d0000000000ff3f0000000080bf000080bf000080bf000000400e")):
+    open(f"{d}/{name}", "wb").write(bytes.fromhex(hex_bytes))
 PY
   elif [ "$target" = options_fuzzer ]; then  # the options the tests and the README use
     printf '%s' '{"draco": true, "draco_position_bits": 16, "layout": "welded"}' > "$seeds/a.json"

@@ -15,8 +15,9 @@ export interface paths {
         put?: never;
         /**
          * Submit a mapping job
-         * @description The mesh is glTF (GLB or JSON), OBJ, OFF, STL (binary or ASCII) or PLY (ASCII or
-         *     binary), told by the Content-Type, by the file name of the multipart `mesh` part,
+         * @description The mesh is glTF (GLB or JSON), OBJ, OFF, STL (binary or ASCII), PLY (ASCII or
+         *     binary) or a raw Draco file (.drc: octet-stream or a multipart part), told by the
+         *     Content-Type, by the file name of the multipart `mesh` part,
          *     or, for `application/octet-stream` (and `text/plain`: OBJ, OFF, ASCII STL, ASCII
          *     PLY), by its bytes; an STL's three corners per triangle are welded like glTF's
          *     split vertices. The mesh is read and checked before the job is queued: a malformed
@@ -379,7 +380,7 @@ export interface components {
         };
         /**
          * @description Slugs of `type` (/v1/problems/<slug>): malformed_gltf, malformed_mesh (OBJ, OFF,
-         *     STL, PLY), empty_body, missing_mesh, invalid_options (400); unauthorized (401, with API keys); not_found, job_not_found,
+         *     STL, PLY, .drc), empty_body, missing_mesh, invalid_options (400); unauthorized (401, with API keys); not_found, job_not_found,
          *     artifact_not_found (404); method_not_allowed (405, with Allow);
          *     not_ready (409); gone (410); too_large (413); unsupported_media_type (415);
          *     not_mappable (422, with `check`: empty, non_finite, repeated_vertex,
@@ -501,7 +502,7 @@ export interface operations {
                 "multipart/form-data": {
                     /**
                      * Format: binary
-                     * @description a .glb, .gltf, .obj, .off, .stl or .ply file: the format from its file name (any case), else its Content-Type, else its bytes
+                     * @description a .glb, .gltf, .obj, .off, .stl, .ply or .drc file: the format from its file name (any case), else its Content-Type, else its bytes
                      */
                     mesh: string;
                     options?: components["schemas"]["JobOptions"];

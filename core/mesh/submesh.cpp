@@ -1,0 +1,28 @@
+#include "core/mesh/submesh.h"
+
+namespace spheremap {
+
+MeshPart submesh(const PolygonMesh& mesh, std::span<const uint32_t> faces,
+                 std::vector<uint32_t>* scratch) {
+  std::vector<uint32_t> own;
+  if (!scratch) own.assign(mesh.vertex_count(), kUnreferenced);
+  std::vector<uint32_t>& local = scratch ? *scratch : own;
+  MeshPart part;
+  std::vector<uint32_t> corners;
+  for (uint32_t f : faces) {
+    corners.clear();
+    for (uint32_t v : mesh.face(f)) {
+      if (local[v] == kUnreferenced) {
+        local[v] = static_cast<uint32_t>(part.vertex.size());
+        part.vertex.push_back(v);
+        part.mesh.positions.push_back(mesh.positions[v]);
+      }
+      corners.push_back(local[v]);
+    }
+    part.mesh.add_face(corners);
+  }
+  for (uint32_t v : part.vertex) local[v] = kUnreferenced;  // scratch back to unused
+  return part;
+}
+
+}  // namespace spheremap

@@ -1,0 +1,209 @@
+// Raw Draco files (.drc): read back what the Draco encoder wrote, refuse what is truncated,
+// forged or a point cloud with a clear error.
+#include <gtest/gtest.h>
+
+#include <draco/compression/encode.h>
+#include <draco/mesh/mesh.h>
+#include <draco/point_cloud/point_cloud.h>
+
+#include <cstdio>
+#include <fstream>
+
+#include "core/io/draco_file.h"
+#include "core/io/mesh_file.h"
+#include "core/io/mesh_format.h"
+#include "core/mesh/input_error.h"
+#include "tests/mesh_generators.h"
+
+namespace spheremap {
+namespace {
+
+std::span<const uint8_t> as_bytes(const std::string& s) {
+  return {reinterpret_cast<const uint8_t*>(s.data()), s.size()};
+}
+
+void add_positions(draco::PointCloud& out, const std::vector<Vec3>& positions) {
+  out.set_num_points(static_cast<uint32_t>(positions.size()));
+  draco::GeometryAttribute attribute;
+  attribute.Init(draco::GeometryAttribute::POSITION, nullptr, 3, draco::DT_FLOAT32, false, 12, 0);
+  const int id = out.AddAttribute(attribute, true, static_cast<uint32_t>(positions.size()));
+  for (uint32_t i = 0; i < positions.size(); ++i) {
+    const float f[3] = {static_cast<float>(positions[i].x), static_cast<float>(positions[i].y),
+                        static_cast<float>(positions[i].z)};
+    out.attribute(id)->SetAttributeValue(draco::AttributeValueIndex(i), f);
+  }
+}
+
+// The .drc draco_encoder would write for the triangle mesh (positions unquantized).
+std::string encode_drc(const PolygonMesh& mesh, draco::MeshEncoderMethod method) {
+  draco::Mesh out;
+  add_positions(out, mesh.positions);
+  out.SetNumFaces(mesh.face_count());
+  for (uint32_t f = 0; f < mesh.face_count(); ++f) {
+    draco::Mesh::Face face;
+    for (int c = 0; c < 3; ++c) face[c] = draco::PointIndex(mesh.face(f)[c]);
+    out.SetFace(draco::FaceIndex(f), face);
+  }
+  draco::Encoder encoder;
+  encoder.SetEncodingMethod(method);
+  draco::EncoderBuffer buffer;
+  EXPECT_TRUE(encoder.EncodeMeshToBuffer(out, &buffer).ok());
+  return std::string(buffer.data(), buffer.size());
+}
+
+Vec3 rounded(const Vec3& p) {
+  return {static_cast<float>(p.x), static_cast<float>(p.y), static_cast<float>(p.z)};
+}
+
+TEST(DracoFile, SequentialEncodingReadsBackEqual) {
+  const PolygonMesh mesh = testing::icosphere(2);
+  const std::string drc = encode_drc(mesh, draco::MESH_SEQUENTIAL_ENCODING);
+  const PolygonMesh read = read_draco_file(as_bytes(drc));
+  ASSERT_EQ(read.vertex_count(), mesh.vertex_count());
+  EXPECT_EQ(read.offsets, mesh.offsets);
+  EXPECT_EQ(read.indices, mesh.indices);
+  // float32 as stored: the same floats as the mesh's positions rounded.
+  for (size_t v = 0; v < mesh.vertex_count(); ++v) {
+    const Vec3 expected = rounded(mesh.positions[v]);
+    EXPECT_EQ(float(read.positions[v].x), float(expected.x)) << v;
+    EXPECT_EQ(float(read.positions[v].y), float(expected.y)) << v;
+    EXPECT_EQ(float(read.positions[v].z), float(expected.z)) << v;
+  }
+}
+
+TEST(DracoFile, EdgebreakerEncodingReadsBackTheSameTriangles) {
+  const PolygonMesh mesh = testing::icosphere(2);
+  const std::string drc = encode_drc(mesh, draco::MESH_EDGEBREAKER_ENCODING);
+  const PolygonMesh read = read_draco_file(as_bytes(drc));
+  ASSERT_EQ(read.face_count(), mesh.face_count());
+  // Edgebreaker renumbers: the same triangles by their corners' positions, as sets.
+  auto corner_sets = [](const PolygonMesh& m) {
+    std::vector<std::array<float, 9>> out;
+    for (size_t f = 0; f < m.face_count(); ++f) {
+      std::array<std::array<float, 3>, 3> c;
+      for (size_t k = 0; k < 3; ++k) {
+        const Vec3 p = rounded(m.positions[m.face(f)[k]]);
+        c[k] = {float(p.x), float(p.y), float(p.z)};
+      }
+      // Rotated so the smallest corner leads (keeps the orientation).
+      const size_t first = std::min_element(c.begin(), c.end()) - c.begin();
+      std::array<float, 9> t;
+      for (size_t k = 0; k < 3; ++k)
+        for (size_t i = 0; i < 3; ++i) t[3 * k + i] = c[(first + k) % 3][i];
+      out.push_back(t);
+    }
+    std::sort(out.begin(), out.end());
+    return out;
+  };
+  EXPECT_EQ(corner_sets(read), corner_sets(mesh));
+}
+
+TEST(DracoFile, SniffedByMagicAndReadByExtension) {
+  const PolygonMesh mesh = testing::icosphere(1);
+  const std::string drc = encode_drc(mesh, draco::MESH_EDGEBREAKER_ENCODING);
+  EXPECT_EQ(sniff_mesh_format(drc), MeshFormat::kDrc);
+  EXPECT_EQ(format_from_extension("DRC"), MeshFormat::kDrc);
+  EXPECT_EQ(parse_mesh_text(drc, MeshFormat::kDrc).face_count(), mesh.face_count());
+  const std::string path = ::testing::TempDir() + "draco_file_test.drc";
+  std::ofstream(path, std::ios::binary) << drc;
+  EXPECT_EQ(read_mesh_file(path).face_count(), mesh.face_count());
+  std::remove(path.c_str());
+}
+
+// Every truncation of the file: a clear error, never a crash (the sanitized build checks).
+TEST(DracoFile, TruncatedFilesAreRefused) {
+  for (auto method : {draco::MESH_SEQUENTIAL_ENCODING, draco::MESH_EDGEBREAKER_ENCODING}) {
+    const std::string drc = encode_drc(testing::icosphere(1), method);
+    for (size_t size = 0; size < drc.size(); ++size) {
+      try {
+        read_draco_file(as_bytes(drc.substr(0, size)));
+        ADD_FAILURE() << "a .drc cut to " << size << " of " << drc.size() << " bytes was read";
+      } catch (const InputError& e) {
+        EXPECT_EQ(e.check(), "parse") << e.what();
+        EXPECT_EQ(std::string(e.what()).rfind("drc: ", 0), 0u) << e.what();
+      }
+    }
+  }
+}
+
+// The sequential header: "DRACO", version 2.2, mesh, method 0, flags (2 bytes), then the
+// faces and the points as LEB128 varints.
+std::string with_counts(const std::string& drc, uint64_t faces, uint64_t points) {
+  auto varint = [](uint64_t v) {
+    std::string out;
+    do {
+      out.push_back(static_cast<char>((v & 0x7f) | (v >= 0x80 ? 0x80 : 0)));
+      v >>= 7;
+    } while (v);
+    return out;
+  };
+  size_t at = 11;  // past the header: skip the two varints
+  for (int k = 0; k < 2; ++k)
+    while (static_cast<uint8_t>(drc[at++]) & 0x80) {
+    }
+  return drc.substr(0, 11) + varint(faces) + varint(points) + drc.substr(at);
+}
+
+TEST(DracoFile, ForgedCountsAreRefusedBeforeDecoding) {
+  const PolygonMesh mesh = testing::icosphere(1);
+  const std::string drc = encode_drc(mesh, draco::MESH_SEQUENTIAL_ENCODING);
+  ASSERT_EQ(with_counts(drc, mesh.face_count(), mesh.vertex_count()), drc);
+  // Draco would allocate by these (4 billion faces): refused by the header alone.
+  try {
+    read_draco_file(as_bytes(with_counts(drc, 0xFFFFFFFFu, mesh.vertex_count())));
+    ADD_FAILURE() << "4 billion faces were read";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.check(), "too_large");
+    EXPECT_NE(std::string(e.what()).find("4294967295"), std::string::npos) << e.what();
+  }
+  // Within the caps but past the data: a decoding error.
+  EXPECT_THROW(read_draco_file(as_bytes(with_counts(drc, 100000, 100000))), InputError);
+  // The caller's limits.
+  MeshLimits limits;
+  limits.max_triangles = mesh.face_count() - 1;
+  try {
+    read_draco_file(as_bytes(drc), limits);
+    ADD_FAILURE() << "a mesh over max_triangles was read";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.check(), "too_large");
+  }
+}
+
+// The fuzzer's find: a tetrahedron whose POSITION data type was changed to bool (byte 29,
+// 9 -> 11). Draco converts bool values by loading bytes as bool (undefined behaviour for
+// 128, which the sanitized build reports): refused before converting.
+TEST(DracoFile, BoolPositionsAreRefused) {
+  std::string drc;
+  const std::string hex =
+      "445241434f0202010000000404010001020003010002030103020101000b030000000000803f00003f3f"
+      "000080800000803f000080bf010080bf000080bf0000803f000080bf000080bf000080bf0000803f";
+  for (size_t k = 0; k < hex.size(); k += 2)
+    drc.push_back(static_cast<char>(std::stoi(hex.substr(k, 2), nullptr, 16)));
+  try {
+    read_draco_file(as_bytes(drc));
+    ADD_FAILURE() << "bool positions were read";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.check(), "parse");
+    EXPECT_NE(std::string(e.what()).find("not numeric"), std::string::npos) << e.what();
+  }
+}
+
+TEST(DracoFile, APointCloudIsRefusedAsOne) {
+  draco::PointCloud cloud;
+  add_positions(cloud, testing::icosphere(1).positions);
+  draco::Encoder encoder;
+  draco::EncoderBuffer buffer;
+  ASSERT_TRUE(encoder.EncodePointCloudToBuffer(cloud, &buffer).ok());
+  const std::string drc(buffer.data(), buffer.size());
+  EXPECT_EQ(sniff_mesh_format(drc), MeshFormat::kDrc);
+  try {
+    read_draco_file(as_bytes(drc));
+    ADD_FAILURE() << "a point cloud was read as a mesh";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.check(), "empty");
+    EXPECT_NE(std::string(e.what()).find("point cloud"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace spheremap
