@@ -310,16 +310,30 @@ TEST(HoleFilling, TheFillsAreListedForTheMapThroughThePartsStep) {
   EXPECT_TRUE(certify(mapped, mapped.float32_check).certified);
 }
 
+// A sphere without its cap above z = 0.6, prepared with the cap filled (refined, faired),
+// and how many faces were its own (the prepared mesh's first ones).
+struct CapFilledSphere {
+  PreparedMesh prepared;
+  size_t own_faces = 0;
+};
+CapFilledSphere cap_filled_sphere() {
+  PolygonMesh input = sphere_without_cap(4, 0.6);
+  CapFilledSphere out;
+  out.own_faces = input.face_count();
+  PrepareOptions prepare;
+  prepare.max_hole_fill = 1.0;
+  out.prepared = prepare_input(input, nullptr, prepare);
+  return out;
+}
+
 TEST(HoleFilling, WeighingTheFillDownGivesTheInputsFacesTheirRoom) {
   // A sphere without its cap above z = 0.6, the cap filled (refined, faired): with the
   // fill weighed 0.1 in the energy, the input's own faces take more of the sphere, their
   // area distortion (mean |log| of the area ratio) well below that with the fill weighed
   // like them (the lat-long sphere of bench/fill_bench: 0.23 -> 0.09).
-  PolygonMesh input = sphere_without_cap(4, 0.6);
-  const size_t own_faces = input.face_count();
-  PrepareOptions prepare;
-  prepare.max_hole_fill = 1.0;
-  const PreparedMesh prepared = prepare_input(input, nullptr, prepare);
+  const CapFilledSphere sphere = cap_filled_sphere();
+  const PreparedMesh& prepared = sphere.prepared;
+  const size_t own_faces = sphere.own_faces;
   ASSERT_TRUE(input_failures(prepared).empty());
   const PolygonMesh& mesh = prepared.welded.mesh;
   const OrientedTriangles oriented = oriented_triangles(mesh);
@@ -339,11 +353,9 @@ TEST(HoleFilling, WeighingTheFillDownGivesTheInputsFacesTheirRoom) {
 // purpose, is left out of them, and each own face's share of the sphere is taken of the
 // part the own faces cover.
 TEST(HoleFilling, TheQualityMetricsMeasureTheInputsOwnFaces) {
-  PolygonMesh input = sphere_without_cap(4, 0.6);
-  const size_t own_faces = input.face_count();
-  PrepareOptions prepare;
-  prepare.max_hole_fill = 1.0;
-  const PreparedMesh prepared = prepare_input(input, nullptr, prepare);
+  const CapFilledSphere sphere = cap_filled_sphere();
+  const PreparedMesh& prepared = sphere.prepared;
+  const size_t own_faces = sphere.own_faces;
   ASSERT_TRUE(input_failures(prepared).empty());
   ASSERT_GT(prepared.welded.mesh.face_count(), own_faces);
   const MappedMesh mapped = map_prepared(prepared, {});

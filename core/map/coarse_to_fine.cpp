@@ -110,6 +110,12 @@ class CoarseToFine {
     export_sphere();
   }
 
+  // The fine level's faces all weigh 1 from here on (the fills' weights dropped).
+  void weigh_every_face_alike() {
+    fine_weights_.clear();
+    represented_.clear();
+  }
+
   // The stretch-optimized map (ALGORITHM §F): from the tetrahedron, every level is
   // inserted kernel-safe into the optimized map of the level below, then optimized
   // itself, so thin parts are opened while they are a few triangles wide instead of being
@@ -117,12 +123,6 @@ class CoarseToFine {
   // (the caller falls back to the fast map) when a level cannot be made fold-free.
   // relieve_hot_spots: each level's optimization starts by relieving what the insertions
   // squeezed (StretchOptions::relieve_hot_spots).
-  // The fine level's faces all weigh 1 from here on (the fills' weights dropped).
-  void weigh_every_face_alike() {
-    fine_weights_.clear();
-    represented_.clear();
-  }
-
   void run_optimized(bool relieve_hot_spots) {
     relieve_hot_spots_ = relieve_hot_spots;
     smoothing_ = options_.smoothing;
