@@ -16,10 +16,13 @@ int run_info(int argc, char** argv) {
     std::cout
         << "Usage: spheremap info INPUT [--weld-tolerance T] [--mesh INDEX|NAME]\n"
            "                      [--prepare exact|repair|parts|wrap]\n\n"
-           "Prints the topology report of INPUT (.obj, .off, .stl, .ply, .glb, .gltf) as JSON:\n"
-           "vertices, edges, faces, face sizes, boundary, manifoldness, orientation,\n"
+           "Prints the topology report of INPUT (.obj, .off, .stl, .ply, .drc, .glb, .gltf) as\n"
+           "JSON: vertices, edges, faces, face sizes, boundary, manifoldness, orientation,\n"
            "components, genus, and whether it can be mapped (with the failed checks and,\n"
-           "where an option would help, that option as \"fix\"). A file that cannot be read\n"
+           "where an option would help, that option as \"fix\"). The top level describes the\n"
+           "mesh that would be mapped, as --prepare leaves it (cleaned, holes filled, handles\n"
+           "closed, parts or an envelope); \"input\" the file as read, before any of that, and\n"
+           "\"preparation\" what was done. A file that cannot be read\n"
            "at all is still answered in JSON: {\"mappable\": false, \"error\": {\"check\", "
            "\"message\"}}.\n"
            "Exit 0 when it can be mapped, 1 usage error, 2 when it cannot be mapped or read.\n";

@@ -120,6 +120,37 @@ TEST(PrepareAuto, AMeshThatMapsIsUntouched) {
   EXPECT_EQ(a.map.sphere, b.map.sphere);
 }
 
+// The report's top level is the mesh that is mapped; "input" is the file as read. A torus
+// whose handle is capped maps as genus 0, but the report must still say it is a torus.
+TEST(PrepareAuto, TheReportSaysWhatTheInputWasBesideWhatIsMapped) {
+  PolygonMesh torus = testing::torus(16, 12);
+  const size_t torus_faces = torus.face_count();
+  const nlohmann::json capped = topology_json(prepare_input(torus, nullptr, automatic()));
+  EXPECT_EQ(capped["preparation"]["decided"], "repair");
+  EXPECT_EQ(capped["genus"], 0);
+  EXPECT_EQ(capped["input"]["genus"], 1);
+  EXPECT_EQ(capped["input"]["euler_characteristic"], 0);
+  EXPECT_EQ(capped["input"]["faces"], torus_faces);
+  EXPECT_GT(capped["faces"].get<size_t>(), torus_faces);  // the caps' faces
+
+  PolygonMesh dome = testing::dome(2);  // wrapped whole: "input" is the dome, not its envelope
+  const size_t dome_faces = dome.face_count();
+  const nlohmann::json wrapped = topology_json(prepare_input(dome, nullptr, automatic()));
+  EXPECT_EQ(wrapped["preparation"]["decided"], "wrap");
+  EXPECT_EQ(wrapped["input"]["faces"], dome_faces);
+  EXPECT_EQ(wrapped["input"]["closed"], false);
+  EXPECT_EQ(wrapped["input"]["boundary_loops"], 1);
+  EXPECT_EQ(wrapped["closed"], true);
+  EXPECT_NE(wrapped["faces"], dome_faces);
+
+  PolygonMesh forced = testing::dome(2);  // the same under --prepare wrap
+  PrepareOptions wrap = automatic();
+  wrap.method = PrepareMethod::kWrap;
+  const nlohmann::json wrapped_forced = topology_json(prepare_input(forced, nullptr, wrap));
+  EXPECT_EQ(wrapped_forced["input"]["faces"], dome_faces);
+  EXPECT_EQ(wrapped_forced["input"]["boundary_loops"], 1);
+}
+
 // A scatter of many fragments (here 100 separate triangles) is wrapped as one envelope,
 // not part by part.
 TEST(PrepareAuto, ManyFragmentsAreWrappedAsOne) {

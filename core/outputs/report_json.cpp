@@ -139,19 +139,14 @@ std::vector<ValidationFailure> input_failures(const PreparedMesh& prepared,
   return failures;
 }
 
-nlohmann::json topology_json(const PreparedMesh& prepared, const GltfReadStats* gltf) {
-  const TopologyReport& r = prepared.topology;
+namespace {
+
+// What a topology report says of a surface's shape, as JSON (the fields `info` prints).
+nlohmann::json shape_json(const TopologyReport& r) {
   nlohmann::json sizes = nlohmann::json::object();
   for (auto [corners, count] : r.face_sizes) sizes[std::to_string(corners)] = count;
-  nlohmann::json failures = nlohmann::json::array();
-  for (const ValidationFailure& f : input_failures(prepared, gltf)) {
-    failures.push_back({{"check", f.check}, {"message", f.message}});
-    if (!f.fix.empty()) failures.back()["fix"] = fix_json(f.fix);
-  }
   const long long genus = r.genus();
-  nlohmann::json report = {
-      {"input_vertices", prepared.welded.input_to_welded.size()},
-      {"unreferenced_vertices", prepared.welded.unreferenced_vertices},
+  return {
       {"vertices", r.vertices},
       {"edges", r.edges},
       {"faces", r.faces},
@@ -172,10 +167,27 @@ nlohmann::json topology_json(const PreparedMesh& prepared, const GltfReadStats* 
       {"component_faces", r.component_faces},
       {"non_finite_vertices", r.non_finite_vertices},
       {"zero_area_faces", r.zero_area_faces},
-      {"mappable", failures.empty()},
-      {"failures", failures},
-      {"preparation", preparation_json(prepared.preparation)},
   };
+}
+
+}  // namespace
+
+nlohmann::json topology_json(const PreparedMesh& prepared, const GltfReadStats* gltf) {
+  nlohmann::json failures = nlohmann::json::array();
+  for (const ValidationFailure& f : input_failures(prepared, gltf)) {
+    failures.push_back({{"check", f.check}, {"message", f.message}});
+    if (!f.fix.empty()) failures.back()["fix"] = fix_json(f.fix);
+  }
+  nlohmann::json report = shape_json(prepared.topology);
+  report["input_vertices"] = prepared.welded.input_to_welded.size();
+  report["unreferenced_vertices"] = prepared.welded.unreferenced_vertices;
+  report["mappable"] = failures.empty();
+  report["failures"] = failures;
+  report["preparation"] = preparation_json(prepared.preparation);
+  // The top level is the mesh that is mapped (the input as prepared: cleaned, filled, cut
+  // into parts or wrapped); "input" is the file as read, so a torus whose handle was closed
+  // does not read as genus 0 alone.
+  if (prepared.input_topology) report["input"] = shape_json(*prepared.input_topology);
   if (!prepared.parts.empty()) report["parts"] = parts_json(prepared, nullptr);
   // Only when there are some: reports of files read without leniency stay as they were.
   if (gltf && !gltf->warnings.empty()) report["warnings"] = gltf->warnings;

@@ -104,9 +104,13 @@ PreparedMesh prepare_welded(WeldResult welded, size_t input_faces, const Prepare
   PreparedMesh prepared;
   StopCheck stop(&options.should_stop);
   prepared.welded = std::move(welded);
-  if (options.largest_component) keep_largest_component(prepared.welded);
+  if (options.largest_component) {
+    prepared.input_topology = analyze_topology(prepared.welded.mesh, &stop);
+    keep_largest_component(prepared.welded);
+  }
   stop.check();
   prepared.topology = analyze_topology(prepared.welded.mesh, &stop);
+  if (!prepared.input_topology) prepared.input_topology = prepared.topology;
   prepared.preparation.input_faces = input_faces;
   if (!options.largest_component && prepared.topology.component_vertices.size() > 1) {
     WeldResult largest = prepared.welded;
@@ -283,6 +287,7 @@ PreparedMesh prepare_once(PolygonMesh& input, GltfAppearance* look, const Prepar
     input = std::move(cleanup.mesh);
     if (look) move_face_ranges(*look, cleanup.source_face);
     prepared = prepare_mesh(input, options);
+    prepared.input_topology = std::move(as_given.input_topology);
   } else {  // nothing safe to clean: the input as given, already prepared
     prepared = std::move(as_given);
   }
@@ -583,7 +588,11 @@ std::string decided(const PreparedMesh& prepared) {
 
 // The whole input replaced by its envelope; the input and its look moved to `original`.
 // Throws (and leaves both as they were) when the envelope cannot be made.
-PreparedMesh wrap_whole(PolygonMesh& input, GltfAppearance* look, const PrepareOptions& options) {
+// `as_read`: the input's own topology when a caller has it (the input may have been cleaned
+// since); otherwise it is taken from `input`.
+PreparedMesh wrap_whole(PolygonMesh& input, GltfAppearance* look, const PrepareOptions& options,
+                        std::optional<TopologyReport> as_read = {}) {
+  if (!as_read) as_read = prepare_mesh(input, options).input_topology;
   const std::function<bool()> stop = envelope_stop(options);
   Envelope envelope = build_envelope(input, options.envelope, &stop);
   const size_t input_faces = input.face_count();
@@ -599,6 +608,7 @@ PreparedMesh wrap_whole(PolygonMesh& input, GltfAppearance* look, const PrepareO
   prepared.preparation.method = PrepareMethod::kWrap;
   prepared.preparation.input_faces = input_faces;
   prepared.preparation.envelope = envelope.report;
+  prepared.input_topology = std::move(as_read);
   return prepared;
 }
 
@@ -669,7 +679,7 @@ PreparedMesh prepare_input(PolygonMesh& input, GltfAppearance* look,
     // One part that does not map (or parts no envelope could be made of): the whole
     // asset's envelope. When even that cannot be made, the refusal says what the parts fail.
     try {
-      PreparedMesh wrapped = wrap_whole(input, look, options);
+      PreparedMesh wrapped = wrap_whole(input, look, options, prepared.input_topology);
       wrapped.preparation.method = PrepareMethod::kAuto;
       wrapped.preparation.decided = "wrap";
       return wrapped;
@@ -730,7 +740,7 @@ void build_envelopes(PreparedMesh& prepared, PolygonMesh& input, GltfAppearance*
     }
   }
   try {
-    PreparedMesh wrapped = wrap_whole(input, look, options);
+    PreparedMesh wrapped = wrap_whole(input, look, options, prepared.input_topology);
     wrapped.preparation.method = PrepareMethod::kAuto;
     wrapped.preparation.decided = "wrap";
     prepared = std::move(wrapped);

@@ -6,6 +6,7 @@
 
 #include <functional>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 
@@ -139,7 +140,13 @@ struct PreparedMesh {
   // The whole input wrapped: what it was; null otherwise (then the input is the original,
   // and a wrapped part's faces are PartReport::original_faces).
   std::shared_ptr<const WrappedOriginal> original;
-  TopologyReport topology;
+  TopologyReport topology;  // of `welded`: the mesh that is mapped
+  // The input's own topology as read (welded at weld_tolerance, before the largest
+  // component is kept, and before any cleaning, split, fill, cut or envelope), so that a
+  // report says what the file is as well as what was made of it. Empty where nothing was
+  // welded (an envelope left to the worker) and after the worker protocol (the intake
+  // reports it).
+  std::optional<TopologyReport> input_topology;
   PreparationReport preparation;
   // With several components (and largest_component off): what the largest alone fails,
   // empty when it maps; so `largest_component` is offered only where it works. Under
