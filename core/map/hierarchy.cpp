@@ -86,16 +86,12 @@ class CollapsibleMesh {
   }
 
   // Link condition: ring(u) and ring(v) share exactly the two vertices opposite u->v.
-  bool link_condition(uint32_t v, const std::vector<uint32_t>& ring_u) const {
+  // `in_ring_u` flags ring(u)'s vertices: one pass over v's ring instead of a search of v's
+  // triangles per vertex of ring(u) (neither ring holds u or v twice: the mesh stays a
+  // closed manifold, and u is not in ring(u) nor v in ring(v)).
+  bool link_condition(uint32_t v, const std::vector<char>& in_ring_u) const {
     size_t shared = 0;
-    for (uint32_t w : ring_u) {
-      if (w == v) continue;
-      for (uint32_t t : incident_[v])
-        if (tris_[t][0] == w || tris_[t][1] == w || tris_[t][2] == w) {
-          ++shared;
-          break;
-        }
-    }
+    for_each_neighbor(v, [&](uint32_t w) { shared += in_ring_u[w]; });
     return shared == 2;
   }
 
@@ -193,7 +189,8 @@ struct Keys {
 // refreshes those at its end, and `order` with them.
 size_t collapse_round(CollapsibleMesh& mesh, CollapseCost& cost, bool geometric_test,
                       CollapseLog& log, std::vector<char>& touched, std::vector<char>& stale,
-                      Order& order, Keys& keys, HierarchyClock& clock, int threads) {
+                      std::vector<char>& in_ring, Order& order, Keys& keys, HierarchyClock& clock,
+                      int threads) {
   std::vector<uint32_t> ring;
   std::vector<uint32_t> stale_list, grown;
   std::vector<std::pair<double, uint32_t>> candidates;
@@ -207,10 +204,10 @@ size_t collapse_round(CollapsibleMesh& mesh, CollapseCost& cost, bool geometric_
     if (mesh.star_touched(u, touched)) continue;
     mesh.ordered_ring(u, ring);
     candidates.clear();
-    for (uint32_t w : ring) candidates.push_back({cost(u, w), w});
+    for (uint32_t w : ring) candidates.push_back({cost(u, w), w}), in_ring[w] = 1;
     std::sort(candidates.begin(), candidates.end());
     for (const auto& [price, v] : candidates) {
-      if (!mesh.link_condition(v, ring)) continue;
+      if (!mesh.link_condition(v, in_ring)) continue;
       if (geometric_test && !mesh.keeps_geometry(u, v)) continue;
       log.add(u, v, ring);
       mesh.collapse(u, v);
@@ -224,6 +221,7 @@ size_t collapse_round(CollapsibleMesh& mesh, CollapseCost& cost, bool geometric_
       ++collapsed;
       break;
     }
+    for (uint32_t w : ring) in_ring[w] = 0;
   }
   // New keys for the stale vertices still alive (every touched vertex is stale: u, and
   // its ring, now v's neighbours), in parallel: reading the mesh and quadrics is most of
@@ -300,7 +298,7 @@ Collapsed collapse_all(std::span<const Vec3> positions, std::span<const Triangle
   Collapsed out;
   out.sizes.push_back(static_cast<uint32_t>(n));
   bool geometric_test = true;
-  std::vector<char> touched(n, 0), stale(n, 0);
+  std::vector<char> touched(n, 0), stale(n, 0), in_ring(n, 0);
   CollapseCost cost(positions, triangles);
   Order order(n);
   Keys keys{std::vector<double>(n), std::vector<uint32_t>(n), std::vector<char>(n, 0)};
@@ -313,7 +311,7 @@ Collapsed collapse_all(std::span<const Vec3> positions, std::span<const Triangle
   std::sort(order.begin(), order.end());
   while (mesh.alive_vertices() > 4) {
     const size_t collapsed = collapse_round(mesh, cost, geometric_test, out.log, touched, stale,
-                                            order, keys, clock, threads);
+                                            in_ring, order, keys, clock, threads);
     if (collapsed == 0) {
       if (!geometric_test) throw std::runtime_error("hierarchy: no collapsible edge left");
       geometric_test = false;
