@@ -592,7 +592,10 @@ std::string decided(const PreparedMesh& prepared) {
 // since); otherwise it is taken from `input`.
 PreparedMesh wrap_whole(PolygonMesh& input, GltfAppearance* look, const PrepareOptions& options,
                         std::optional<TopologyReport> as_read = {}) {
-  if (!as_read) as_read = prepare_mesh(input, options).input_topology;
+  if (!as_read) {  // the weld and the report alone: no largest-part check of a soup
+    StopCheck stop(&options.should_stop);
+    as_read = analyze_topology(weld(input, options.weld_tolerance, &stop).mesh, &stop);
+  }
   const std::function<bool()> stop = envelope_stop(options);
   Envelope envelope = build_envelope(input, options.envelope, &stop);
   const size_t input_faces = input.face_count();
