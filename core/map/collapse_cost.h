@@ -14,6 +14,7 @@
 // 2.02 -> 1.90, scorpion 2.54 -> 2.40, horse 1.64 -> 1.60; BENCHMARKS.md has the rest.
 #pragma once
 
+#include <algorithm>
 #include <span>
 #include <vector>
 
@@ -26,7 +27,8 @@ class CollapseCost {
   // Precondition: every index of `triangles` is below positions.size().
   CollapseCost(std::span<const Vec3> positions, std::span<const Triangle> triangles);
 
-  // The cost of moving u onto v (both alive).
+  // The cost of moving u onto v (both alive). Inline (below): the hierarchy asks it about
+  // 17 times per vertex; inlined, horse's hierarchy_bench run takes 885M -> 844M instructions.
   double operator()(uint32_t u, uint32_t v) const;
 
   // After the collapse u -> v: v stands for u's planes too.
@@ -48,5 +50,25 @@ class CollapseCost {
   std::span<const Vec3> x_;
   std::vector<Quadric> quadrics_;
 };
+
+// The squared edge length's weight next to the mean squared plane distance: the plane
+// term decides wherever a collapse moves the surface by more than a hundredth of the edge.
+// Chosen on the stress set and random limbed shapes (not the corpus): 1e-3 and 1e-5 gave
+// the same or worse stretch there (BENCHMARKS.md, "What we measured on the way").
+inline constexpr double kEdgeLengthWeight = 1e-4;
+
+inline double CollapseCost::operator()(uint32_t u, uint32_t v) const {
+  Quadric q = quadrics_[u];
+  q += quadrics_[v];
+  const Vec3& p = x_[v];
+  // The constant terms are added last, one at a time, as the hierarchy always summed
+  // them: another rounding reorders ties (measured: a different stress-fingers hierarchy).
+  const double error = p.x * (q.a00 * p.x + 2 * q.a01 * p.y + 2 * q.a02 * p.z) +
+                       p.y * (q.a11 * p.y + 2 * q.a12 * p.z) + q.a22 * p.z * p.z +
+                       2 * (q.b0 * p.x + q.b1 * p.y + q.b2 * p.z) + quadrics_[u].c + quadrics_[v].c;
+  // Rounding can take an error of 0 slightly below it.
+  const double mean = q.weight > 0 ? std::max(0.0, error) / q.weight : 0.0;
+  return mean + kEdgeLengthWeight * squared_norm(x_[u] - p);
+}
 
 }  // namespace spheremap
