@@ -15,8 +15,10 @@
 #include "core/io/mesh_file.h"
 #include "core/map/certification.h"
 #include "core/map/pipeline.h"
+#include "core/mesh/surface_distance.h"
 #include "core/mesh/topology.h"
 #include "core/mesh/weld.h"
+#include "core/outputs/map_outputs.h"
 #include "core/outputs/report_json.h"
 #include "core/outputs/sphere_asset.h"
 #include "core/prepare/handle_closing.h"
@@ -98,6 +100,28 @@ void expect_closed_and_certified(PolygonMesh input, size_t genus, const PrepareO
 TEST(HandleClosing, ATorusIsClosedToGenusZeroAndMapsCertified) {
   expect_closed_and_certified(testing::torus(12, 24), 1, repair());
   expect_closed_and_certified(testing::torus(12, 24), 1, PrepareOptions{});  // parts
+}
+
+// The remesh of a torus whose handle was capped crosses the caps: its distance to the
+// input is as far as the cap is wide, not the 1% it is from the capped surface, and the
+// metrics must say the former (measured to the input's own faces, as the benchmark does).
+TEST(HandleClosing, TheRemeshDistanceIsToTheInputsOwnFacesNotItsCaps) {
+  PolygonMesh input = testing::torus(12, 24);
+  const PolygonMesh torus = input;
+  const PreparedMesh prepared = prepare_input(input, nullptr, PrepareOptions{});
+  ASSERT_EQ(prepared.preparation.handles_closed, 1u);
+  const MappedMesh mapped = map_prepared(prepared, {});
+  const RemeshAsset remesh = remesh_asset(mapped, 64, 1);
+  const nlohmann::json& distance = remesh.metrics["distance"];
+
+  const PolygonMesh remeshed = read_gltf(std::span<const uint8_t>(
+      reinterpret_cast<const uint8_t*>(remesh.glb.data()), remesh.glb.size()));
+  const SurfaceDistance expected =
+      surface_distance(torus.positions, fan_triangulate(torus).triangles, remeshed.positions,
+                       fan_triangulate(remeshed).triangles, 1);
+  EXPECT_NEAR(distance["hausdorff"].get<double>(), expected.hausdorff, 1e-6);
+  const double to_caps = remesh.metrics["distance_to_prepared"]["hausdorff"].get<double>();
+  EXPECT_GT(distance["hausdorff"].get<double>(), 3 * to_caps);
 }
 
 TEST(HandleClosing, PlatesWithThroughHolesAreClosedEveryOne) {

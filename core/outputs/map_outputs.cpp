@@ -5,10 +5,12 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <optional>
 
 #include "core/io/glb_writer.h"
 #include "core/io/png_writer.h"
 #include "core/io/scene_glb.h"
+#include "core/map/spherical_map.h"
 #include "core/mesh/stop_check.h"
 #include "core/mesh/surface_distance.h"
 #include "core/mesh/topology.h"
@@ -124,9 +126,24 @@ BuiltRemesh build_remesh(const MappedMesh& mapped, int resolution, int threads,
   const auto failures = mapping_failures(topology);
   stop.check();
   const auto distance_start = std::chrono::steady_clock::now();
-  const SurfaceDistance distance = surface_distance(
-      mesh.positions, oriented.triangles, remesh.positions, remesh.triangles, threads, should_stop);
+  // Against the input's own faces: the faces preparation added (hole fills, handle caps)
+  // are not the original, and a remesh over a cap is as far from the original as the cap
+  // is (a torus with its handle capped: 1% from the capped surface, 10% from the torus).
+  std::vector<Triangle> own;
+  const std::vector<char> filled = filled_mask(oriented.triangles, mapped.prepared.filled);
+  for (size_t k = 0; k < filled.size(); ++k)
+    if (!filled[k]) own.push_back(oriented.triangles[k]);
+  const SurfaceDistance distance =
+      surface_distance(mesh.positions, filled.empty() ? oriented.triangles : own, remesh.positions,
+                       remesh.triangles, threads, should_stop);
   stop.check();
+  // With fills, also against the surface that was mapped: what the sampling alone costs.
+  std::optional<SurfaceDistance> to_prepared;
+  if (!filled.empty()) {
+    to_prepared = surface_distance(mesh.positions, oriented.triangles, remesh.positions,
+                                   remesh.triangles, threads, should_stop);
+    stop.check();
+  }
   BuiltRemesh asset;
   asset.image = geometry_image(remesh);
   const nlohmann::json& image = asset.image.description;
@@ -147,6 +164,8 @@ BuiltRemesh build_remesh(const MappedMesh& mapped, int resolution, int threads,
       {"topology_failures", failure_list},
       {"distance",
        {{"relative_to", "bounding-box diagonal of the original"},
+        {"measured_to", filled.empty() ? "the input's faces"
+                                       : "the input's faces, without the faces preparation added"},
         {"diagonal", distance.diagonal},
         {"rms", distance.rms},
         {"hausdorff", distance.hausdorff},
@@ -159,6 +178,12 @@ BuiltRemesh build_remesh(const MappedMesh& mapped, int resolution, int threads,
         {"distance", seconds_since(distance_start)},
         {"total", seconds_since(start)}}},
   };
+  if (to_prepared)
+    asset.metrics["distance_to_prepared"] = {
+        {"relative_to", "bounding-box diagonal of the surface that was mapped"},
+        {"measured_to", "the input's faces with the faces preparation added (fills, caps)"},
+        {"rms", to_prepared->rms},
+        {"hausdorff", to_prepared->hausdorff}};
   // One vertex per sample (the border's identified samples have equal positions but their
   // own grid coordinates): TEXCOORD_0 is the grid, the geometry image's pixel centres.
   // Normals of the stitched surface, so the border's copies shade alike.
