@@ -265,6 +265,22 @@ TEST(Gltf, ReadsEmbeddedBase64Buffers) {
   EXPECT_EQ(m.vertex_count(), testing::icosphere(1).vertex_count());
 }
 
+// A buffer with neither uri nor GLB chunk is refused only when a mesh reads it: with no
+// meshes (glTF-Validator's accessor/alignment.gltf) the real trouble is nothing to map.
+TEST(Gltf, RefusesADatalessBufferOnlyWhenRead) {
+  const std::string no_meshes =
+      R"({"asset":{"version":"2.0"},"buffers":[{"byteLength":8}],)"
+      R"("bufferViews":[{"buffer":0,"byteLength":8}],)"
+      R"("accessors":[{"bufferView":0,"componentType":5126,"count":2,"type":"SCALAR"}]})";
+  EXPECT_NE(read_error(no_meshes).find("the file has no meshes"), std::string::npos);
+  Glb needed(sphere_glb());
+  needed.json["buffers"][0].erase("uri");
+  const std::string error = read_error(needed.json.dump());  // .gltf JSON: no GLB chunk
+  EXPECT_NE(error.find("reads buffer 0, which has no data (no uri and no GLB binary chunk)"),
+            std::string::npos)
+      << error;
+}
+
 TEST(Gltf, RejectsFilesWithoutTriangles) {
   EXPECT_NE(read_error(R"({"asset":{"version":"2.0"}})").find("no meshes"), std::string::npos);
   Glb points(sphere_glb());

@@ -219,7 +219,7 @@ void Document::load_buffers(std::span<const uint8_t> bin, bool has_bin) {
   if (it == json_.end()) return;
   if (!it->is_array()) fail("buffers is not an array");
   std::vector<std::string> missing;
-  placeholder_.assign(it->size(), 0);
+  placeholder_.assign(it->size(), Empty::kNo);
   for (size_t i = 0; i < it->size(); ++i) {
     const nlohmann::json& b = (*it)[i];
     if (!b.is_object()) fail("buffer " + std::to_string(i) + " is not an object");
@@ -257,11 +257,13 @@ void Document::load_buffers(std::span<const uint8_t> bin, bool has_bin) {
     } else if (i == 0 && has_bin) {
       data = bin;  // read in place: the caller's bytes outlive the Document
     } else if (fallback) {
-      placeholder_[i] = 1;  // its views are all compressed; nothing to read here
+      placeholder_[i] = Empty::kMeshoptFallback;  // its views are all compressed
       buffers_.emplace_back();
       continue;
     } else {
-      fail("buffer " + std::to_string(i) + " has no data (no uri and no GLB binary chunk)");
+      placeholder_[i] = Empty::kNoData;  // refused when read: nothing may need it
+      buffers_.emplace_back();
+      continue;
     }
     if (data.size() < declared)
       fail("buffer " + std::to_string(i) + " declares " + std::to_string(declared) +
@@ -330,9 +332,12 @@ std::span<const uint8_t> Document::buffer_range(const nlohmann::json& object, si
   const uint64_t offset = index_field(object, "byteOffset", SIZE_MAX, "byteOffset", 0);
   const uint64_t length = index_field(object, "byteLength", SIZE_MAX, "byteLength", SIZE_MAX);
   if (length == SIZE_MAX) fail(name + " has no byteLength");
-  if (placeholder_[buffer])
+  if (placeholder_[buffer] == Empty::kMeshoptFallback)
     fail(name + " reads buffer " + std::to_string(buffer) +
          ", which only stands in for EXT_meshopt_compression data and holds none");
+  if (placeholder_[buffer] == Empty::kNoData)
+    fail(name + " reads buffer " + std::to_string(buffer) +
+         ", which has no data (no uri and no GLB binary chunk)");
   const uint64_t available = buffers_[buffer].size();
   if (offset > available || length > available - offset)
     fail(name + " (bytes " + std::to_string(offset) + "+" + std::to_string(length) +

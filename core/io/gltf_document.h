@@ -104,8 +104,10 @@ class Document {
   size_t resource_limit_;
   mutable size_t resource_budget_;
   mutable StopCheck stop_;
-  // Buffers that only stand in for EXT_meshopt_compression data ("fallback": true, no uri).
-  std::vector<char> placeholder_;
+  // Buffers that hold no bytes, and why; refused only when something reads them, so a
+  // file whose meshes do not need them (or that has no meshes) gets the real complaint.
+  enum class Empty : char { kNo, kMeshoptFallback, kNoData };
+  std::vector<Empty> placeholder_;
   // Decoded EXT_meshopt_compression views, by view index, and the bytes left to decode.
   mutable std::map<size_t, std::vector<uint8_t>> decoded_views_;
   mutable size_t decode_budget_;
