@@ -455,6 +455,12 @@ TEST(GltfDraco, DeclaredCountsAreCheckedBeforeDecoding) {
     return s.substr(0, 11) + metadata + s.substr(11);
   });
   EXPECT_NE(read_error(nested).find("nests metadata over 16 deep"), std::string::npos);
+  // A point cloud stream (bitstream 2.3, type 0, sequential): its header's count is told.
+  const std::string cloud = patched_draco([](const std::string&) {
+    return std::string("DRACO\x02\x03\x00\x00\x00\x00", 11) + std::string("\xa2\0\0\0", 4);
+  });
+  EXPECT_NE(read_error(cloud).find("is a point cloud (162 points, no faces)"), std::string::npos)
+      << read_error(cloud);
   const std::string cut = patched_draco([](const std::string& s) { return s.substr(0, 12); });
   EXPECT_NE(read_error(cut).find("ends inside its header"), std::string::npos);
 }

@@ -27,10 +27,16 @@ PolygonMesh read_draco_file(std::span<const uint8_t> bytes, const MeshLimits& li
   if (!is_draco_file(bytes)) refuse("the file does not start with DRACO");
   // Header: magic, major, minor, geometry type (0 point cloud, 1 triangle mesh).
   if (bytes.size() < 8) refuse("the file ends inside its header");
-  if (bytes[7] == 0)
-    throw InputError("empty",
-                     "the file is a Draco point cloud (points, no faces): spheremap maps "
-                     "triangle surfaces");
+  if (bytes[7] == 0) {
+    uint64_t points = 0;
+    try {
+      points = read_draco_point_count(bytes);  // from the header: nothing decoded
+    } catch (const InputError& e) {
+      refuse(e.what());
+    }
+    throw InputError("empty", "drc: the file is a point cloud (" + std::to_string(points) +
+                                  " points, no faces): spheremap maps triangle surfaces");
+  }
   if (bytes[5] != 2 || bytes[6] != 2)
     refuse("the file is Draco bitstream version " + std::to_string(bytes[5]) + "." +
            std::to_string(bytes[6]) +

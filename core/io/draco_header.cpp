@@ -53,7 +53,30 @@ void skip_metadata(Cursor& in, int depth) {
   }
 }
 
+// The header's flags and, when they say so, the metadata: per attribute, then the file's.
+void skip_flags_and_metadata(Cursor& in) {
+  const uint16_t flags = static_cast<uint16_t>(in.byte() | in.byte() << 8);
+  if (!(flags & 0x8000)) return;
+  for (uint64_t attributes = in.varint(); attributes > 0; --attributes) {
+    in.varint();  // the attribute's id
+    skip_metadata(in, 0);
+  }
+  skip_metadata(in, 0);
+}
+
 }  // namespace
+
+uint64_t read_draco_point_count(std::span<const uint8_t> stream) {
+  Cursor in(stream);
+  for (int i = 0; i < 5; ++i) in.byte();  // DRACO
+  in.byte(), in.byte();                   // the version
+  if (in.byte() != 0) refuse("is not a point cloud");
+  in.byte();  // the method: sequential and kd-tree both begin with the count
+  skip_flags_and_metadata(in);
+  uint32_t points = 0;  // an int32, little-endian
+  for (int shift = 0; shift < 32; shift += 8) points |= static_cast<uint32_t>(in.byte()) << shift;
+  return points;
+}
 
 DracoCounts read_draco_counts(std::span<const uint8_t> stream) {
   Cursor in(stream);
@@ -61,19 +84,17 @@ DracoCounts read_draco_counts(std::span<const uint8_t> stream) {
   for (int i = 0; i < 5; ++i)
     if (in.byte() != static_cast<uint8_t>(magic[i])) refuse("does not start with DRACO");
   const int major = in.byte(), minor = in.byte();
+  // Point clouds are bitstream 2.3: said as what they are, not as a wrong version.
+  const uint8_t type = in.byte();
+  if (type == 0)
+    refuse("is a point cloud (" + std::to_string(read_draco_point_count(stream)) +
+           " points, no faces): spheremap maps triangle surfaces");
   if (major != 2 || minor != 2)
     refuse("is bitstream version " + std::to_string(major) + "." + std::to_string(minor) +
            "; glTF's KHR_draco_mesh_compression streams are version 2.2");
-  if (in.byte() != 1) refuse("holds a point cloud, not a triangle mesh");
+  if (type != 1) refuse("has geometry type " + std::to_string(type) + ", not a triangle mesh");
   const uint8_t method = in.byte();
-  const uint16_t flags = static_cast<uint16_t>(in.byte() | in.byte() << 8);
-  if (flags & 0x8000) {  // metadata: per attribute, then the file's
-    for (uint64_t attributes = in.varint(); attributes > 0; --attributes) {
-      in.varint();  // the attribute's id
-      skip_metadata(in, 0);
-    }
-    skip_metadata(in, 0);
-  }
+  skip_flags_and_metadata(in);
   DracoCounts counts;
   if (method == 0) {  // sequential
     counts.faces = in.varint();

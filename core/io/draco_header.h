@@ -20,6 +20,11 @@ struct DracoCounts {
 // Throws InputError("gltf") when the stream is not a Draco triangle mesh of bitstream
 // version 2.2 (what KHR_draco_mesh_compression encoders write), or its header or
 // metadata is malformed (sizes past the end, sub-metadata nested over 16 deep).
+// A point cloud stream is refused saying how many points it holds.
 DracoCounts read_draco_counts(std::span<const uint8_t> stream);
+
+// The points a Draco point cloud stream (geometry type 0) declares, read from its header
+// and metadata without decoding; throws InputError("gltf") when they are malformed.
+uint64_t read_draco_point_count(std::span<const uint8_t> stream);
 
 }  // namespace spheremap
