@@ -4,9 +4,8 @@ fetch tool: /work/.mirror/OWNER+NAME/repo): each chosen mesh file plus the files
 (buffers, images), and MANIFEST.tsv (file kind source path bytes repo commit licence). Files
 over 50 MB, absent from the snapshot, or Git LFS pointers are skipped.
 Usage: python3 bench/reach/assemble-set2.py; then COMPARE=none PREPARE=auto JOBS=1
-bench/reach/run.sh build/cli/spheremap /work/reach-set2"""
-import json, os, re, subprocess, sys
-M = "/work/.mirror"
+bench/reach/run.sh build/cli/spheremap /work/reach-set2
+The selection itself is reach_select.py (shared with the other set scripts)."""
 OUT = "/work/reach-set2"
 REPOS = {  # repo -> (short name, licence as stated, include regex, exclude regex)
  "google/draco": ("draco", "Apache-2.0 (repo LICENSE; testdata/KhronosSampleModels: Khronos sample-model licences)",
@@ -26,42 +25,6 @@ REPOS = {  # repo -> (short name, licence as stated, include regex, exclude rege
    r"fixtures/models/space\.glb"),
  "zeux/meshoptimizer": ("meshoptimizer", "MIT (repo LICENSE.md)", r"^(demo/pirate\.(glb|obj)|gltf/fuzz\.glb)$", r"^$"),
 }
-def git(repo, *args, text=True):
-    return subprocess.run(["git", "--git-dir", f"{M}/{repo.replace('/', '+')}/repo", *args],
-                          capture_output=True, text=text, check=True).stdout
-rows = []
-for repo, (short, lic, inc, exc) in REPOS.items():
-    commit = git(repo, "rev-parse", "HEAD").strip()
-    sizes = {}
-    for line in git(repo, "ls-tree", "-r", "-l", "HEAD").splitlines():
-        meta, path = line.split("\t", 1)
-        size = meta.split()[3]
-        sizes[path] = int(size) if size.isdigit() else None
-    def copy(path):
-        data = git(repo, "show", f"HEAD:{path}", text=False)
-        dst = f"{OUT}/{short}/{path}"
-        os.makedirs(os.path.dirname(dst), exist_ok=True)
-        open(dst, "wb").write(data)
-        return data
-    for path in sorted(sizes):
-        if not re.search(inc, path) or re.search(exc, path): continue
-        size = sizes[path]
-        if size is None or size > 50e6: continue  # absent from the snapshot, or too big
-        try: data = copy(path)
-        except subprocess.CalledProcessError: continue
-        if data.startswith(b"version https://git-lfs"): os.remove(f"{OUT}/{short}/{path}"); continue
-        if path.endswith(".gltf"):
-            try: doc = json.loads(data)
-            except ValueError: doc = {}
-            for item in (doc.get("buffers") or []) + (doc.get("images") or []):
-                uri = item.get("uri", "") if isinstance(item, dict) else ""
-                if uri and not uri.startswith("data:"):
-                    dep = os.path.normpath(os.path.join(os.path.dirname(path), uri.replace("%20", " ")))
-                    if sizes.get(dep): copy(dep)
-        first, _, rest = path.partition("/")
-        rows.append([f"{short}/{path}", short, first, rest, str(len(data)), repo, commit, lic])
-with open(f"{OUT}/MANIFEST.tsv", "w") as f:
-    f.write("file\tkind\tsource\tpath\tbytes\trepo\tcommit\tlicence\n")
-    for r in rows: f.write("\t".join(r) + "\n")
-import collections
-print(len(rows), collections.Counter(r[1] for r in rows))
+from reach_select import Source, assemble
+assemble([Source(repo, short, lic, inc, None if exc == r"^$" else exc) for repo, (short, lic, inc, exc) in REPOS.items()],
+         OUT, max_bytes=50e6)
