@@ -13,6 +13,7 @@
 #include "core/io/mesh_file.h"
 #include "core/io/mesh_format.h"
 #include "core/mesh/input_error.h"
+#include "tests/draco_writer.h"
 #include "tests/mesh_generators.h"
 
 namespace spheremap {
@@ -20,35 +21,6 @@ namespace {
 
 std::span<const uint8_t> as_bytes(const std::string& s) {
   return {reinterpret_cast<const uint8_t*>(s.data()), s.size()};
-}
-
-void add_positions(draco::PointCloud& out, const std::vector<Vec3>& positions) {
-  out.set_num_points(static_cast<uint32_t>(positions.size()));
-  draco::GeometryAttribute attribute;
-  attribute.Init(draco::GeometryAttribute::POSITION, nullptr, 3, draco::DT_FLOAT32, false, 12, 0);
-  const int id = out.AddAttribute(attribute, true, static_cast<uint32_t>(positions.size()));
-  for (uint32_t i = 0; i < positions.size(); ++i) {
-    const float f[3] = {static_cast<float>(positions[i].x), static_cast<float>(positions[i].y),
-                        static_cast<float>(positions[i].z)};
-    out.attribute(id)->SetAttributeValue(draco::AttributeValueIndex(i), f);
-  }
-}
-
-// The .drc draco_encoder would write for the triangle mesh (positions unquantized).
-std::string encode_drc(const PolygonMesh& mesh, draco::MeshEncoderMethod method) {
-  draco::Mesh out;
-  add_positions(out, mesh.positions);
-  out.SetNumFaces(mesh.face_count());
-  for (uint32_t f = 0; f < mesh.face_count(); ++f) {
-    draco::Mesh::Face face;
-    for (int c = 0; c < 3; ++c) face[c] = draco::PointIndex(mesh.face(f)[c]);
-    out.SetFace(draco::FaceIndex(f), face);
-  }
-  draco::Encoder encoder;
-  encoder.SetEncodingMethod(method);
-  draco::EncoderBuffer buffer;
-  EXPECT_TRUE(encoder.EncodeMeshToBuffer(out, &buffer).ok());
-  return std::string(buffer.data(), buffer.size());
 }
 
 // The check and message read_draco_file refuses `drc` with ("read" when it is read).
@@ -70,7 +42,7 @@ Vec3 rounded(const Vec3& p) {
 
 TEST(DracoFile, SequentialEncodingReadsBackEqual) {
   const PolygonMesh mesh = testing::icosphere(2);
-  const std::string drc = encode_drc(mesh, draco::MESH_SEQUENTIAL_ENCODING);
+  const std::string drc = testing::drc_bytes(mesh, draco::MESH_SEQUENTIAL_ENCODING);
   const PolygonMesh read = read_draco_file(as_bytes(drc));
   ASSERT_EQ(read.vertex_count(), mesh.vertex_count());
   EXPECT_EQ(read.offsets, mesh.offsets);
@@ -86,7 +58,7 @@ TEST(DracoFile, SequentialEncodingReadsBackEqual) {
 
 TEST(DracoFile, EdgebreakerEncodingReadsBackTheSameTriangles) {
   const PolygonMesh mesh = testing::icosphere(2);
-  const std::string drc = encode_drc(mesh, draco::MESH_EDGEBREAKER_ENCODING);
+  const std::string drc = testing::drc_bytes(mesh, draco::MESH_EDGEBREAKER_ENCODING);
   const PolygonMesh read = read_draco_file(as_bytes(drc));
   ASSERT_EQ(read.face_count(), mesh.face_count());
   // Edgebreaker renumbers: the same triangles by their corners' positions, as sets.
@@ -113,7 +85,7 @@ TEST(DracoFile, EdgebreakerEncodingReadsBackTheSameTriangles) {
 
 TEST(DracoFile, SniffedByMagicAndReadByExtension) {
   const PolygonMesh mesh = testing::icosphere(1);
-  const std::string drc = encode_drc(mesh, draco::MESH_EDGEBREAKER_ENCODING);
+  const std::string drc = testing::drc_bytes(mesh, draco::MESH_EDGEBREAKER_ENCODING);
   EXPECT_EQ(sniff_mesh_format(drc), MeshFormat::kDrc);
   EXPECT_EQ(format_from_extension("DRC"), MeshFormat::kDrc);
   EXPECT_EQ(parse_mesh_text(drc, MeshFormat::kDrc).face_count(), mesh.face_count());
@@ -126,7 +98,7 @@ TEST(DracoFile, SniffedByMagicAndReadByExtension) {
 // Every truncation of the file: a clear error, never a crash (the sanitized build checks).
 TEST(DracoFile, TruncatedFilesAreRefused) {
   for (auto method : {draco::MESH_SEQUENTIAL_ENCODING, draco::MESH_EDGEBREAKER_ENCODING}) {
-    const std::string drc = encode_drc(testing::icosphere(1), method);
+    const std::string drc = testing::drc_bytes(testing::icosphere(1), method);
     for (size_t size = 0; size < drc.size(); ++size) {
       const Refusal cut = refusal(drc.substr(0, size));
       EXPECT_EQ(cut.check, "parse") << size << " of " << drc.size() << ": " << cut.message;
@@ -155,7 +127,7 @@ std::string with_counts(const std::string& drc, uint64_t faces, uint64_t points)
 
 TEST(DracoFile, ForgedCountsAreRefusedBeforeDecoding) {
   const PolygonMesh mesh = testing::icosphere(1);
-  const std::string drc = encode_drc(mesh, draco::MESH_SEQUENTIAL_ENCODING);
+  const std::string drc = testing::drc_bytes(mesh, draco::MESH_SEQUENTIAL_ENCODING);
   ASSERT_EQ(with_counts(drc, mesh.face_count(), mesh.vertex_count()), drc);
   // Draco would allocate by these (4 billion faces): refused by the header alone.
   const Refusal forged = refusal(with_counts(drc, 0xFFFFFFFFu, mesh.vertex_count()));
@@ -187,7 +159,7 @@ TEST(DracoFile, BoolPositionsAreRefused) {
 
 TEST(DracoFile, APointCloudIsRefusedAsOne) {
   draco::PointCloud cloud;
-  add_positions(cloud, testing::icosphere(1).positions);
+  testing::add_draco_positions(cloud, testing::icosphere(1).positions);
   draco::Encoder encoder;
   draco::EncoderBuffer buffer;
   ASSERT_TRUE(encoder.EncodePointCloudToBuffer(cloud, &buffer).ok());

@@ -1,7 +1,5 @@
 // The HTTP service end to end: the real server on a loopback port, a real HTTP client
 // (cpp-httplib's), real meshes (generated, and the shared corpus when present).
-#include <draco/compression/encode.h>
-#include <draco/mesh/mesh.h>
 #include <gtest/gtest.h>
 
 #include <arpa/inet.h>
@@ -27,6 +25,7 @@
 #include "core/mesh/sphere_geometry.h"
 #include "server/job_store.h"
 #include "tests/corpus.h"
+#include "tests/draco_writer.h"
 #include "tests/gltf_files.h"
 #include "tests/mesh_generators.h"
 #include "tests/mesh_writers.h"
@@ -308,35 +307,11 @@ TEST(Service, ObjStlAndPlyUploadsMap) {
 
 // A raw .drc as draco_encoder writes it (sequential, positions unquantized). Draco has no
 // registered media type: it is sent as octet-stream (sniffed) or a part named *.drc.
-std::string drc_of(const PolygonMesh& mesh) {
-  draco::Mesh out;
-  out.set_num_points(static_cast<uint32_t>(mesh.vertex_count()));
-  draco::GeometryAttribute attribute;
-  attribute.Init(draco::GeometryAttribute::POSITION, nullptr, 3, draco::DT_FLOAT32, false, 12, 0);
-  const int id = out.AddAttribute(attribute, true, static_cast<uint32_t>(mesh.vertex_count()));
-  for (uint32_t i = 0; i < mesh.vertex_count(); ++i) {
-    const Vec3& p = mesh.positions[i];
-    const float f[3] = {static_cast<float>(p.x), static_cast<float>(p.y), static_cast<float>(p.z)};
-    out.attribute(id)->SetAttributeValue(draco::AttributeValueIndex(i), f);
-  }
-  out.SetNumFaces(mesh.face_count());
-  for (uint32_t f = 0; f < mesh.face_count(); ++f) {
-    draco::Mesh::Face face;
-    for (int c = 0; c < 3; ++c) face[c] = draco::PointIndex(mesh.face(f)[c]);
-    out.SetFace(draco::FaceIndex(f), face);
-  }
-  draco::Encoder encoder;
-  encoder.SetEncodingMethod(draco::MESH_SEQUENTIAL_ENCODING);
-  draco::EncoderBuffer buffer;
-  EXPECT_TRUE(encoder.EncodeMeshToBuffer(out, &buffer).ok());
-  return std::string(buffer.data(), buffer.size());
-}
-
 TEST(Service, RawDracoUploadsMap) {
   TestServer server(small_config());
   auto client = server.client();
   const PolygonMesh sphere = testing::icosphere(2);
-  const std::string drc = drc_of(sphere);
+  const std::string drc = testing::drc_bytes(sphere);
   httplib::Result posts[] = {
       client.Post("/v1/jobs", drc, "application/octet-stream"),
       client.Post("/v1/jobs", httplib::MultipartFormDataItems{{"mesh", drc, "mesh.drc", ""}})};
