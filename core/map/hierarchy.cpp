@@ -5,6 +5,8 @@
 #include "core/mesh/parallel.h"
 
 #include <algorithm>
+#include <bit>
+#include <numeric>
 #include <stdexcept>
 
 namespace spheremap {
@@ -25,6 +27,12 @@ class HierarchyClock {
   size_t count_ = 0;
 };
 
+// best = min(best, (cost, v)) in the order of pairs, written out: std::pair's comparison
+// goes through a double's three-way comparison, the hierarchy's most frequent one.
+inline void keep_cheaper(std::pair<double, uint32_t>& best, double cost, uint32_t v) {
+  if (cost < best.first || (cost == best.first && v < best.second)) best = {cost, v};
+}
+
 // A triangle mesh that supports half-edge collapses: triangles with alive flags and
 // per-vertex lists of incident alive triangles.
 class CollapsibleMesh {
@@ -34,7 +42,10 @@ class CollapsibleMesh {
         tris_(triangles.begin(), triangles.end()),
         tri_alive_(triangles.size(), 1),
         incident_(positions.size(), triangles),
-        alive_vertices_(positions.size()) {}
+        alive_vertices_(positions.size()),
+        listed_(triangles.size()) {
+    std::iota(listed_.begin(), listed_.end(), 0u);
+  }
 
   size_t alive_vertices() const { return alive_vertices_; }
   bool alive(uint32_t v) const { return !incident_.empty(v); }
@@ -79,7 +90,7 @@ class CollapsibleMesh {
   // among equal costs: the first candidate collapse_round would try).
   std::pair<double, uint32_t> cheapest_collapse(uint32_t u, const CollapseCost& cost) const {
     std::pair<double, uint32_t> best{INFINITY, u};
-    for_each_neighbor(u, [&](uint32_t w) { best = std::min(best, {cost(u, w), w}); });
+    for_each_neighbor(u, [&](uint32_t w) { keep_cheaper(best, cost(u, w), w); });
     return best;
   }
 
@@ -126,10 +137,14 @@ class CollapsibleMesh {
     --alive_vertices_;
   }
 
-  std::vector<Triangle> alive_triangles() const {
+  // The alive triangles in id order. Each call drops the ids that died since the last one
+  // from `listed_`, so the level snapshots read about twice the finest level's triangles
+  // in all, not every input triangle per level (9M of horse's 342M instructions).
+  std::vector<Triangle> alive_triangles() {
+    std::erase_if(listed_, [&](uint32_t t) { return !tri_alive_[t]; });
     std::vector<Triangle> out;
-    for (uint32_t t = 0; t < tris_.size(); ++t)
-      if (tri_alive_[t]) out.push_back(tris_[t]);
+    out.reserve(listed_.size());
+    for (uint32_t t : listed_) out.push_back(tris_[t]);
     return out;
   }
 
@@ -139,6 +154,7 @@ class CollapsibleMesh {
   std::vector<char> tri_alive_;
   IncidenceLists incident_;
   size_t alive_vertices_;
+  std::vector<uint32_t> listed_;  // ascending; every alive triangle, and some dead ones
   mutable std::vector<std::array<uint32_t, 2>> pairs_;
 };
 
@@ -161,11 +177,27 @@ struct CollapseLog {
   }
 };
 
+// A vertex's place in the order: (cheapest collapse cost, id) as two integers. A cost is
+// never negative nor NaN (a clamped mean squared distance plus a squared length), and the
+// bits of such doubles order as the doubles do, so comparing the bits orders the entries
+// as comparing the pair of double and id did, without a floating-point comparison's
+// partial ordering (those comparisons were 7% of the hierarchy's instructions, horse).
+struct OrderEntry {
+  uint64_t cost_bits;
+  uint32_t vertex;
+
+  OrderEntry() = default;
+  OrderEntry(double cost, uint32_t v) : cost_bits(std::bit_cast<uint64_t>(cost)), vertex(v) {}
+  friend bool operator<(const OrderEntry& a, const OrderEntry& b) {
+    return a.cost_bits < b.cost_bits || (a.cost_bits == b.cost_bits && a.vertex < b.vertex);
+  }
+};
+
 // Alive vertices by (cheapest collapse cost, id), kept sorted across rounds: a round
 // changes the keys of the vertices around its collapses only, so it re-sorts those and
 // merges them back instead of sorting every alive vertex again (that sort and a scan of
 // all n vertices per round were a fifth of the hierarchy's time at 100K faces).
-using Order = std::vector<std::pair<double, uint32_t>>;
+using Order = std::vector<OrderEntry>;
 
 // Per vertex: its key (the cost of its cheapest collapse) and the neighbour it collapses
 // onto at that cost. A collapse u -> v changes only the quadric of v and the neighbours of
@@ -211,7 +243,8 @@ size_t collapse_round(CollapsibleMesh& mesh, CollapseCost& cost, bool geometric_
   auto allowed = [&](uint32_t u, uint32_t v) {
     return mesh.link_condition(v, in_ring) && (!geometric_test || mesh.keeps_geometry(u, v));
   };
-  for (const auto& [key, u] : order) {
+  for (const OrderEntry& entry : order) {
+    const uint32_t u = entry.vertex;
     if (mesh.alive_vertices() <= 4) break;
     clock.tick();
     if (mesh.star_touched(u, touched)) continue;
@@ -240,7 +273,7 @@ size_t collapse_round(CollapsibleMesh& mesh, CollapseCost& cost, bool geometric_
   // its ring, now v's neighbours), in parallel: reading the mesh and quadrics is most of
   // a round's time. `threads` threads, as asked: without num_threads a --threads 1 run had a
   // second thread, spinning between rounds (13% of its CPU samples, horse, fast).
-  Order merged;
+  std::vector<std::pair<double, uint32_t>> merged;
   for (uint32_t w : stale_list)
     if (mesh.alive(w)) merged.push_back({keys.key[w], w});
   const long long count = static_cast<long long>(merged.size());
@@ -255,7 +288,7 @@ size_t collapse_round(CollapsibleMesh& mesh, CollapseCost& cost, bool geometric_
     } else {
       best = {keys.key[w], onto};
       mesh.for_each_neighbor(w, [&](uint32_t t) {
-        if (keys.grew[t]) best = std::min(best, {cost(w, t), t});
+        if (keys.grew[t]) keep_cheaper(best, cost(w, t), t);
       });
     }
     entry.first = best.first;
@@ -271,12 +304,11 @@ size_t collapse_round(CollapsibleMesh& mesh, CollapseCost& cost, bool geometric_
     keys.key[entry.second] = entry.first;
     return same;
   });
-  std::erase_if(order,
-                [&](const std::pair<double, uint32_t>& entry) { return stale[entry.second] != 0; });
+  std::erase_if(order, [&](const OrderEntry& entry) { return stale[entry.vertex] != 0; });
   for (uint32_t w : stale_list) stale[w] = touched[w] = 0;
-  std::sort(merged.begin(), merged.end());
   const size_t kept = order.size();
-  order.insert(order.end(), merged.begin(), merged.end());
+  for (const auto& [key, w] : merged) order.emplace_back(key, w);
+  std::sort(order.begin() + static_cast<std::ptrdiff_t>(kept), order.end());
   std::inplace_merge(order.begin(), order.begin() + static_cast<std::ptrdiff_t>(kept), order.end());
   return collapsed;
 }
@@ -316,7 +348,7 @@ Collapsed collapse_all(std::span<const Vec3> positions, std::span<const Triangle
   for (uint32_t u = 0; u < n; ++u) {
     clock.tick();
     const auto [key, onto] = mesh.cheapest_collapse(u, cost);
-    order[u] = {key, u};
+    order[u] = OrderEntry(key, u);
     keys.key[u] = key, keys.onto[u] = onto;
   }
   std::sort(order.begin(), order.end());
