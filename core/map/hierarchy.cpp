@@ -6,7 +6,7 @@
 
 #include <algorithm>
 #include <bit>
-#include <numeric>
+#include <cstring>
 #include <stdexcept>
 
 namespace spheremap {
@@ -42,10 +42,7 @@ class CollapsibleMesh {
         tris_(triangles.begin(), triangles.end()),
         tri_alive_(triangles.size(), 1),
         incident_(positions.size(), triangles),
-        alive_vertices_(positions.size()),
-        listed_(triangles.size()) {
-    std::iota(listed_.begin(), listed_.end(), 0u);
-  }
+        alive_vertices_(positions.size()) {}
 
   size_t alive_vertices() const { return alive_vertices_; }
   bool alive(uint32_t v) const { return !incident_.empty(v); }
@@ -137,14 +134,23 @@ class CollapsibleMesh {
     --alive_vertices_;
   }
 
-  // The alive triangles in id order. Each call drops the ids that died since the last one
-  // from `listed_`, so the level snapshots read about twice the finest level's triangles
-  // in all, not every input triangle per level (9M of horse's 342M instructions).
-  std::vector<Triangle> alive_triangles() {
-    std::erase_if(listed_, [&](uint32_t t) { return !tri_alive_[t]; });
+  // The alive triangles in id order. The alive flags are read eight at a time and a word
+  // of dead ones is skipped: at the coarse levels most are dead, and a list of the alive
+  // ids instead would cost 4 bytes per triangle where the 17M-triangle map peaks (measured:
+  // +0.06 GiB). Of horse's 345M instructions the snapshots took 9M reading flag by flag.
+  std::vector<Triangle> alive_triangles() const {
     std::vector<Triangle> out;
-    out.reserve(listed_.size());
-    for (uint32_t t : listed_) out.push_back(tris_[t]);
+    const size_t count = tris_.size();
+    size_t t = 0;
+    for (; t + 8 <= count; t += 8) {
+      uint64_t word;
+      std::memcpy(&word, tri_alive_.data() + t, sizeof word);
+      if (word == 0) continue;
+      for (size_t k = t; k < t + 8; ++k)
+        if (tri_alive_[k]) out.push_back(tris_[k]);
+    }
+    for (; t < count; ++t)
+      if (tri_alive_[t]) out.push_back(tris_[t]);
     return out;
   }
 
@@ -154,7 +160,6 @@ class CollapsibleMesh {
   std::vector<char> tri_alive_;
   IncidenceLists incident_;
   size_t alive_vertices_;
-  std::vector<uint32_t> listed_;  // ascending; every alive triangle, and some dead ones
   mutable std::vector<std::array<uint32_t, 2>> pairs_;
 };
 
