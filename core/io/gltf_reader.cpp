@@ -121,14 +121,17 @@ class Reader {
     for (size_t m = 0; m < mesh_count; ++m)
       if (draws_[m] > 1 && (stats_.repeated_mesh < 0 || draws_[m] > stats_.repeated_mesh_draws))
         stats_.repeated_mesh = static_cast<int>(m), stats_.repeated_mesh_draws = draws_[m];
+    // Nothing to map (points or lines only): the check the other readers and the mesh
+    // checks give a mesh without faces, not a malformed file.
     if (mesh_.face_count() == 0 && point_primitives_ > 0 &&
         point_primitives_ == stats_.skipped_primitives && stats_.primitives == 0)
-      fail("the file is a point cloud (" + std::to_string(points_) +
-           " points, no faces): spheremap maps triangle surfaces");
+      throw InputError("empty", "the file is a point cloud (" + std::to_string(points_) +
+                                    " points, no faces): spheremap maps triangle surfaces");
     if (mesh_.face_count() == 0)
-      fail("no triangles to map: " + std::to_string(stats_.skipped_primitives) +
-           " primitive(s) of points or lines, " + std::to_string(stats_.primitives) +
-           " of triangles");
+      throw InputError(
+          "empty", "no triangles to map: " + std::to_string(stats_.skipped_primitives) +
+                       " primitive(s) of points or lines, " + std::to_string(stats_.primitives) +
+                       " of triangles");
     return std::move(mesh_);
   }
 
