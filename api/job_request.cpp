@@ -130,7 +130,7 @@ PolygonMesh read_gltf_body(Body& body, const GltfReadOptions& options, GltfReadS
       throw Problem(413, "too_large", "Mesh too large", e.what(), extra);
     if (e.check() == "missing_resources")
       throw Problem(422, "missing_resources", "Files of the glTF are missing", e.what(), extra);
-    if (e.check() == "instancing")
+    if (e.check() == "instancing" || e.check() == "empty")  // empty: points or lines only
       throw Problem(422, "not_mappable", "Mesh cannot be mapped", e.what() + hint, extra);
     // Sent as glTF but another format's bytes: say which type to send.
     std::string other;

@@ -171,5 +171,24 @@ TEST(DracoFile, APointCloudIsRefusedAsOne) {
       << cloud_refusal.message;
 }
 
+// A point cloud whose header is cut short: the header reader's message is wrapped once
+// ("drc: the Draco stream ends inside its header"), with one prefix, as every other.
+TEST(DracoFile, ATruncatedPointCloudHeaderIsToldWithOnePrefix) {
+  draco::PointCloud cloud;
+  testing::add_draco_positions(cloud, testing::icosphere(1).positions);
+  draco::Encoder encoder;
+  draco::EncoderBuffer buffer;
+  ASSERT_TRUE(encoder.EncodePointCloudToBuffer(cloud, &buffer).ok());
+  const std::string drc(buffer.data(), buffer.size());
+  EXPECT_EQ(refusal(drc.substr(0, 9)).message, "drc: the Draco stream ends inside its header");
+  for (size_t size = 8; size < drc.size(); ++size) {
+    const Refusal cut = refusal(drc.substr(0, size));
+    if (cut.check == "empty") continue;  // the header, which holds the count, is whole
+    EXPECT_EQ(cut.check, "parse") << size << ": " << cut.message;
+    EXPECT_EQ(cut.message.rfind("drc: the Draco stream ", 0), 0u) << cut.message;
+    EXPECT_EQ(cut.message.find("drc:", 1), std::string::npos) << cut.message;
+  }
+}
+
 }  // namespace
 }  // namespace spheremap

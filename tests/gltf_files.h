@@ -58,12 +58,12 @@ inline std::string sphere_glb() {
   return format_glb(glb);
 }
 
-// The message of the InputError("gltf") reading `bytes` raises (a test failure if none).
-inline std::string read_error(const std::string& bytes) {
+// The message of the InputError(`check`) reading `bytes` raises (a test failure if none).
+inline std::string read_error(const std::string& bytes, const char* check = "gltf") {
   try {
     read_gltf(as_bytes(bytes));
   } catch (const InputError& e) {
-    EXPECT_EQ(e.check(), "gltf");
+    EXPECT_EQ(e.check(), check);
     return e.what();
   }
   ADD_FAILURE() << "expected an InputError";

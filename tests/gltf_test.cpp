@@ -106,7 +106,64 @@ TEST(Gltf, RejectsRangesPastTheirData) {
   EXPECT_NE(read_error(offset.bytes()).find("runs past"), std::string::npos);
   Glb view(sphere_glb());
   view.json["accessors"][0]["bufferView"] = 17;
-  EXPECT_NE(read_error(view.bytes()).find("bufferViews[17] does not exist"), std::string::npos);
+  EXPECT_NE(read_error(view.bytes()).find("accessor 0 refers to bufferView 17, but the file has"),
+            std::string::npos);
+}
+
+// tinygltf's BoundsChecking files, as small as they go: each dangling reference is told
+// where it is resolved, with the index and the count, and ahead of the missing POSITION
+// (all of them lack one).
+TEST(Gltf, TellsOutOfRangeReferencesWhereTheyAreResolved) {
+  auto file = [](const std::string& buffers, const std::string& view, const std::string& accessor,
+                 const std::string& primitive) {
+    return R"({"asset":{"version":"2.0"},"buffers":[)" + buffers + R"(],"bufferViews":[)" + view +
+           R"(],"accessors":[)" + accessor + R"(],"meshes":[{"primitives":[)" + primitive + "]}]}";
+  };
+  const std::string buffer = R"({"byteLength":6,"uri":"data:;base64,AAABAAIA"})";
+  const std::string view = R"({"buffer":0,"byteLength":6})";
+  const std::string indices = R"({"bufferView":0,"componentType":5123,"count":3,"type":"SCALAR"})";
+  const std::string no_position = R"({"attributes":{},"indices":0})";
+  EXPECT_EQ(read_error(file(buffer, view, indices, no_position)),
+            "mesh 0 primitive 0 has no POSITION attribute");
+  EXPECT_EQ(read_error(file("", view,
+                            R"({"bufferView":1,"componentType":5123,"count":3,)"
+                            R"("type":"SCALAR"})",
+                            no_position)),
+            "accessor 0 refers to bufferView 1, but the file has 1 bufferView");
+  EXPECT_EQ(read_error(file("", view, indices, R"({"attributes":{},"indices":1})")),
+            "mesh 0 primitive 0 refers to accessor 1 as its indices, but the file has 1 accessor");
+  EXPECT_EQ(read_error(file(buffer, R"({"buffer":1,"byteLength":6})", indices, no_position)),
+            "bufferView 0 refers to buffer 1, but the file has 1 buffer");
+  EXPECT_EQ(read_error(file("", view, indices, no_position)),
+            "bufferView 0 refers to buffer 0, but the file has no buffers");
+  EXPECT_EQ(read_error(file(buffer, view, indices, R"({"attributes":{"POSITION":5}})")),
+            "mesh 0 primitive 0 refers to accessor 5 as its POSITION, but the file has 1 accessor");
+  EXPECT_EQ(read_error(file(buffer, view, indices, R"({"attributes":{},"indices":-1})")),
+            "mesh 0 primitive 0 refers to accessor -1 as its indices, which is not an index");
+}
+
+// A count or a byte range that is not an integer is told with its real bound, never with
+// a sentinel ("1e+300 is out of range (18446744073709551615 available)").
+TEST(Gltf, TellsNonIntegerSizesWithTheirRealBound) {
+  auto file = [](const std::string& view, const std::string& count) {
+    return R"({"asset":{"version":"2.0"},"buffers":[{"byteLength":6,)"
+           R"("uri":"data:;base64,AAABAAIA"}],"bufferViews":[)" +
+           view + R"(],"accessors":[{"bufferView":0,"componentType":5123,"count":)" + count +
+           R"(,"type":"SCALAR"}],"meshes":[{"primitives":[{"attributes":{},"indices":0}]}]})";
+  };
+  const std::string too_long = read_error(file(R"({"buffer":0,"byteLength":1e300})", "3"));
+  EXPECT_EQ(too_long,
+            "bufferView 0's byteLength 1e+300 is not a byte count (an integer from 0 to 6, the "
+            "size of buffer 0)");
+  EXPECT_EQ(read_error(file(R"({"buffer":0,"byteOffset":-2,"byteLength":6})", "3")),
+            "bufferView 0's byteOffset -2 is not a byte offset (an integer from 0 to 6, the size "
+            "of buffer 0)");
+  EXPECT_EQ(read_error(file(R"({"buffer":0,"byteLength":6})", "1.5")),
+            "accessor 0's count 1.5 is not an element count (a non-negative integer)");
+  // The largest integer is a byte count, past the buffer: not "no byteLength".
+  EXPECT_NE(read_error(file(R"({"buffer":0,"byteLength":18446744073709551615})", "3"))
+                .find("runs past its buffer of 6 bytes"),
+            std::string::npos);
 }
 
 // byteStride 0 is not valid glTF, but exporters write it meaning "packed" and viewers read
@@ -285,10 +342,10 @@ TEST(Gltf, RejectsFilesWithoutTriangles) {
   EXPECT_NE(read_error(R"({"asset":{"version":"2.0"}})").find("no meshes"), std::string::npos);
   Glb points(sphere_glb());
   points.json["meshes"][0]["primitives"][0]["mode"] = 0;
-  EXPECT_NE(read_error(points.bytes()).find("is a point cloud (42 points, no faces)"),
+  EXPECT_NE(read_error(points.bytes(), "empty").find("is a point cloud (42 points, no faces)"),
             std::string::npos);
   points.json["meshes"][0]["primitives"][0]["mode"] = 1;
-  EXPECT_NE(read_error(points.bytes()).find("1 primitive(s) of points or lines"),
+  EXPECT_NE(read_error(points.bytes(), "empty").find("1 primitive(s) of points or lines"),
             std::string::npos);
   EXPECT_NE(read_error("[1, 2]").find("not glTF: neither a GLB"), std::string::npos);
   EXPECT_NE(read_error("{not json at all").find("does not parse as an object"), std::string::npos);
@@ -375,7 +432,9 @@ TEST(GltfDraco, RejectsBrokenDracoReferences) {
   };
   Glb view(file);
   draco(view)["bufferView"] = 99;
-  EXPECT_NE(read_error(view.bytes()).find("bufferViews[99] does not exist"), std::string::npos);
+  EXPECT_NE(read_error(view.bytes())
+                .find("'s KHR_draco_mesh_compression refers to bufferView 99, but the file has"),
+            std::string::npos);
   Glb attribute(file);
   draco(attribute)["attributes"]["POSITION"] = 99;
   EXPECT_NE(read_error(attribute.bytes()).find("no 3-component attribute with id 99"),

@@ -1,5 +1,6 @@
 // Point clouds (vertices, no faces) in each format are refused saying that they are point
-// clouds, under the checks the API already answers them with.
+// clouds, files of lines saying lines; every format under the one check `empty` (the API's
+// 422 not_mappable).
 #include <gtest/gtest.h>
 
 #include "core/io/mesh_format.h"
@@ -31,6 +32,28 @@ TEST(PointCloud, ObjOfVertexLinesOnly) {
   expect_point_cloud(failures_of(parse_obj("v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\n")), 4);
 }
 
+// OBJ `p` elements are points: the file is a point cloud like one of `v` lines only.
+TEST(PointCloud, ObjOfPointElements) {
+  expect_point_cloud(failures_of(parse_obj("v 0 0 0\nv 1 0 0\nv 0 1 0\np 1 2 3\n")), 3);
+}
+
+// `l` polylines and no faces: said as lines, with their segments counted (a polyline of
+// n points is n - 1 segments), under the check a mesh without faces fails.
+TEST(PointCloud, ObjOfLinesIsNotCalledOne) {
+  const std::string obj = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nl 1 2\nl 1 2 3 4 1\nl 4\np 1 2\n";
+  try {
+    parse_obj(obj);
+    ADD_FAILURE() << "an OBJ of lines was read";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.check(), "empty");
+    EXPECT_EQ(std::string(e.what()),
+              "the file has 4 vertices and 5 line segments, no faces: spheremap maps triangle "
+              "surfaces");
+  }
+  // With faces, lines are skipped as before.
+  EXPECT_EQ(parse_obj(obj + "f 1 2 3\n").face_count(), 1u);
+}
+
 TEST(PointCloud, PlyWithZeroFaces) {
   const std::string ply =
       "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
@@ -47,8 +70,10 @@ TEST(PointCloud, PlyWithoutAFaceElement) {
     parse_ply(ply);
     ADD_FAILURE() << "a PLY without faces was read";
   } catch (const InputError& e) {
-    EXPECT_EQ(e.check(), "parse");  // as before: the API answers it malformed_mesh
-    EXPECT_NE(std::string(e.what()).find(std::string(kPointCloud) + "3 points"), std::string::npos)
+    EXPECT_EQ(e.check(), "empty");  // as the other formats' (it was "parse": 400)
+    EXPECT_NE(std::string(e.what()).find(std::string(kPointCloud) +
+                                         "3 points, no 'face' or 'tristrips' element)"),
+              std::string::npos)
         << e.what();
   }
 }
@@ -63,7 +88,7 @@ TEST(PointCloud, GltfOfPointsPrimitives) {
     read_gltf(testing::as_bytes(glb.bytes()));
     ADD_FAILURE() << "a glTF of points was read";
   } catch (const InputError& e) {
-    EXPECT_EQ(e.check(), "gltf");
+    EXPECT_EQ(e.check(), "empty");  // as an OBJ's: nothing to map, not a malformed file
     EXPECT_NE(std::string(e.what()).find(std::string(kPointCloud) + "42 points"), std::string::npos)
         << e.what();
   }
@@ -76,6 +101,7 @@ TEST(PointCloud, GltfOfLinesIsNotCalledOne) {
     read_gltf(testing::as_bytes(glb.bytes()));
     ADD_FAILURE() << "a glTF of lines was read";
   } catch (const InputError& e) {
+    EXPECT_EQ(e.check(), "empty");
     EXPECT_EQ(std::string(e.what()).find("point cloud"), std::string::npos) << e.what();
     EXPECT_NE(std::string(e.what()).find("no triangles to map"), std::string::npos) << e.what();
   }

@@ -1007,6 +1007,15 @@ TEST(Service, InvalidMeshesGet422WithTheirCheck) {
     expect_problem(result, 422, "not_mappable");
     EXPECT_EQ(json::parse(result->body)["check"], check) << result->body;
   }
+  // Points or lines only: nothing to map, in glTF as in OBJ (422 `empty`, not malformed).
+  testing::Glb points(testing::sphere_glb());
+  points.json["meshes"][0]["primitives"][0]["mode"] = 0;
+  auto glb_points = post_glb(client, points.bytes());
+  expect_problem(glb_points, 422, "not_mappable");
+  EXPECT_EQ(json::parse(glb_points->body)["check"], "empty") << glb_points->body;
+  auto obj_lines = client.Post("/v1/jobs", "v 0 0 0\nv 1 0 0\nl 1 2\n", "model/obj");
+  expect_problem(obj_lines, 422, "not_mappable");
+  EXPECT_EQ(json::parse(obj_lines->body)["check"], "empty") << obj_lines->body;
   auto prometheus = client.Get("/metrics")->body;
   EXPECT_NE(prometheus.find("spheremap_rejections_total{reason=\"genus\"} 1"), std::string::npos);
 }

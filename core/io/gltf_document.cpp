@@ -123,6 +123,15 @@ size_t index_field(const nlohmann::json& object, const char* key, size_t limit, 
   return static_cast<size_t>(it->get<uint64_t>());
 }
 
+std::optional<uint64_t> whole_field(const nlohmann::json& object, const char* key,
+                                    const std::string& owner, const std::string& expected) {
+  const auto it = object.find(key);
+  if (it == object.end()) return std::nullopt;
+  if (!it->is_number_unsigned())
+    fail(owner + "'s " + key + " " + describe_json(*it) + " is not " + expected);
+  return it->get<uint64_t>();
+}
+
 Document::Document(std::span<const uint8_t> bytes, const GltfResources* resources,
                    const DocumentLimits& limits)
     : resources_(resources),
@@ -223,11 +232,11 @@ void Document::load_buffers(std::span<const uint8_t> bin, bool has_bin) {
   for (size_t i = 0; i < it->size(); ++i) {
     const nlohmann::json& b = (*it)[i];
     if (!b.is_object()) fail("buffer " + std::to_string(i) + " is not an object");
-    const auto length_it = b.find("byteLength");
-    if (length_it == b.end() || !length_it->is_number_unsigned())
-      fail("buffer " + std::to_string(i) + " has no valid byteLength");
-    const uint64_t declared = length_it->get<uint64_t>();
     const std::string name = "buffer " + std::to_string(i);
+    const std::optional<uint64_t> length =
+        whole_field(b, "byteLength", name, "a byte count (a non-negative integer)");
+    if (!length) fail(name + " has no byteLength");
+    const uint64_t declared = *length;
     std::span<const uint8_t> data;
     const auto meshopt = b.find("extensions");
     const bool fallback = meshopt != b.end() && meshopt->is_object() &&
@@ -317,32 +326,56 @@ void Document::charge(size_t bytes, const std::string& what) const {
 const nlohmann::json& Document::element(const char* key, size_t index) const {
   const auto it = json_.find(key);
   if (it == json_.end() || !it->is_array() || index >= it->size())
-    fail(std::string(key) + "[" + std::to_string(index) + "] does not exist");
+    fail(std::string(key) + "[" + std::to_string(index) + "] does not exist (the file has " +
+         std::to_string(it == json_.end() || !it->is_array() ? 0 : it->size()) + ")");
   const nlohmann::json& e = (*it)[index];
   if (!e.is_object()) fail(std::string(key) + "[" + std::to_string(index) + "] is not an object");
   return e;
 }
 
+size_t Document::reference(const nlohmann::json& object, const char* key, const char* array,
+                           const std::string& owner) const {
+  const auto it = object.find(key);
+  if (it == object.end()) return SIZE_MAX;
+  const auto list = json_.find(array);
+  const size_t count = list != json_.end() && list->is_array() ? list->size() : 0;
+  std::string noun(array);
+  noun.pop_back();  // "bufferViews" -> "bufferView"
+  const std::string refers = owner + " refers to " + noun + " " + describe_json(*it) +
+                             (noun == key ? "" : std::string(" as its ") + key);
+  if (!it->is_number_unsigned()) fail(refers + ", which is not an index");
+  if (it->get<uint64_t>() >= count)
+    fail(refers + ", but the file has " +
+         (count == 0   ? "no " + std::string(array)
+          : count == 1 ? "1 " + noun
+                       : std::to_string(count) + " " + array));
+  return static_cast<size_t>(it->get<uint64_t>());
+}
+
 // The bytes `object` (a bufferView, or its EXT_meshopt_compression extension) names by
 // buffer, byteOffset and byteLength, checked against the buffer.
-std::span<const uint8_t> Document::buffer_range(const nlohmann::json& object, size_t buffer_limit,
+std::span<const uint8_t> Document::buffer_range(const nlohmann::json& object,
                                                 const std::string& name) const {
-  const size_t buffer = index_field(object, "buffer", buffer_limit, "bufferView.buffer");
+  const size_t buffer = reference(object, "buffer", "buffers", name);
   if (buffer == SIZE_MAX) fail(name + " has no buffer");
-  const uint64_t offset = index_field(object, "byteOffset", SIZE_MAX, "byteOffset", 0);
-  const uint64_t length = index_field(object, "byteLength", SIZE_MAX, "byteLength", SIZE_MAX);
-  if (length == SIZE_MAX) fail(name + " has no byteLength");
+  const uint64_t available = buffers_[buffer].size();
+  const std::string within = "(an integer from 0 to " + std::to_string(available) +
+                             ", the size of buffer " + std::to_string(buffer) + ")";
+  const uint64_t offset =
+      whole_field(object, "byteOffset", name, "a byte offset " + within).value_or(0);
+  const std::optional<uint64_t> length =
+      whole_field(object, "byteLength", name, "a byte count " + within);
+  if (!length) fail(name + " has no byteLength");
   if (placeholder_[buffer] == Empty::kMeshoptFallback)
     fail(name + " reads buffer " + std::to_string(buffer) +
          ", which only stands in for EXT_meshopt_compression data and holds none");
   if (placeholder_[buffer] == Empty::kNoData)
     fail(name + " reads buffer " + std::to_string(buffer) +
          ", which has no data (no uri and no GLB binary chunk)");
-  const uint64_t available = buffers_[buffer].size();
-  if (offset > available || length > available - offset)
-    fail(name + " (bytes " + std::to_string(offset) + "+" + std::to_string(length) +
+  if (offset > available || *length > available - offset)
+    fail(name + " (bytes " + std::to_string(offset) + "+" + std::to_string(*length) +
          ") runs past its buffer of " + std::to_string(available) + " bytes");
-  return buffers_[buffer].subspan(offset, length);
+  return buffers_[buffer].subspan(offset, *length);
 }
 
 std::span<const uint8_t> Document::buffer_view(size_t index) const {
@@ -351,16 +384,16 @@ std::span<const uint8_t> Document::buffer_view(size_t index) const {
   const auto extensions = view.find("extensions");
   if (extensions == view.end() || !extensions->is_object() ||
       !extensions->contains("EXT_meshopt_compression"))
-    return buffer_range(view, buffers_.size(), name);
+    return buffer_range(view, name);
   if (const auto done = decoded_views_.find(index); done != decoded_views_.end())
     return done->second;
   const nlohmann::json& meshopt = (*extensions)["EXT_meshopt_compression"];
   if (!meshopt.is_object()) fail(name + ": EXT_meshopt_compression is not an object");
-  const size_t length = index_field(view, "byteLength", SIZE_MAX, "byteLength", SIZE_MAX);
-  if (length == SIZE_MAX) fail(name + " has no byteLength");
-  std::vector<uint8_t> decoded =
-      decode_meshopt_view(meshopt, buffer_range(meshopt, buffers_.size(), name + " (compressed)"),
-                          length, decode_budget_, index);
+  const std::optional<uint64_t> length =
+      whole_field(view, "byteLength", name, "a byte count (a non-negative integer)");
+  if (!length) fail(name + " has no byteLength");
+  std::vector<uint8_t> decoded = decode_meshopt_view(
+      meshopt, buffer_range(meshopt, name + " (compressed)"), *length, decode_budget_, index);
   decode_budget_ -= decoded.size();
   return decoded_views_.emplace(index, std::move(decoded)).first->second;
 }
@@ -369,20 +402,26 @@ Document::AccessorView Document::accessor(size_t index) const {
   const nlohmann::json& a = element("accessors", index);
   const std::string name = "accessor " + std::to_string(index);
   const auto sparse = a.find("sparse");
-  const size_t view_index = index_field(a, "bufferView", SIZE_MAX, "accessor.bufferView");
+  const size_t view_index = reference(a, "bufferView", "bufferViews", name);
   AccessorView v;
-  v.component_type = static_cast<int>(index_field(a, "componentType", 6000, "componentType", 0));
-  const size_t csize = component_size(v.component_type);
-  if (csize == 0) fail(name + " has an unknown componentType");
+  const std::optional<uint64_t> type =
+      whole_field(a, "componentType", name, "a componentType (5120 to 5126)");
+  if (!type) fail(name + " has no componentType");
+  const size_t csize = *type <= 5126 ? component_size(static_cast<int>(*type)) : 0;
+  if (csize == 0)
+    fail(name + "'s componentType " + std::to_string(*type) +
+         " is not one glTF defines (5120 to 5123, 5125, 5126)");
+  v.component_type = static_cast<int>(*type);
   if (!a.contains("type") || !a["type"].is_string()) fail(name + " has no type");
   v.components = component_count(a["type"].get<std::string>());
   if (v.components == 0) fail(name + " has an unknown type");
-  v.count = index_field(a, "count", SIZE_MAX, "count", SIZE_MAX);
-  if (v.count == SIZE_MAX) fail(name + " has no count");
+  const std::optional<uint64_t> count =
+      whole_field(a, "count", name, "an element count (a non-negative integer)");
+  if (!count) fail(name + " has no count");
+  v.count = *count;
   v.element_size = csize * static_cast<size_t>(v.components);
   v.stride = v.element_size;
   if (view_index != SIZE_MAX) {
-    const uint64_t offset = index_field(a, "byteOffset", SIZE_MAX, "byteOffset", 0);
     const nlohmann::json& view = element("bufferViews", view_index);
     v.stride = index_field(view, "byteStride", 253, "byteStride", v.element_size);
     // byteStride 0 is outside the spec (4..252, and none on index views), but exporters
@@ -395,6 +434,11 @@ Document::AccessorView Document::accessor(size_t index) const {
     }
     if (v.stride < v.element_size) fail(name + " elements overlap (byteStride too small)");
     const std::span<const uint8_t> bytes = buffer_view(view_index);
+    const uint64_t offset =
+        whole_field(a, "byteOffset", name,
+                    "a byte offset (an integer from 0 to " + std::to_string(bytes.size()) +
+                        ", the size of bufferView " + std::to_string(view_index) + ")")
+            .value_or(0);
     // Checked in 64 bits, and count first bounded by the bytes present: no overflow.
     if (v.count > 0 &&
         (offset > bytes.size() || (v.count - 1) > (bytes.size() - offset) / v.stride ||
@@ -433,10 +477,14 @@ Document::AccessorView Document::zero_filled(size_t index, AccessorView v,
 std::span<const uint8_t> Document::sparse_part(const nlohmann::json& part, size_t count,
                                                size_t size, const std::string& name) const {
   if (!part.is_object()) fail(name + " is not an object");
-  const size_t view = index_field(part, "bufferView", SIZE_MAX, "sparse bufferView");
+  const size_t view = reference(part, "bufferView", "bufferViews", name);
   if (view == SIZE_MAX) fail(name + " has no bufferView");
-  const uint64_t offset = index_field(part, "byteOffset", SIZE_MAX, "byteOffset", 0);
   const std::span<const uint8_t> bytes = buffer_view(view);
+  const uint64_t offset =
+      whole_field(part, "byteOffset", name,
+                  "a byte offset (an integer from 0 to " + std::to_string(bytes.size()) +
+                      ", the size of bufferView " + std::to_string(view) + ")")
+          .value_or(0);
   if (offset > bytes.size() || count > (bytes.size() - offset) / size)
     fail(name + " (" + std::to_string(count) + " elements) runs past its bufferView of " +
          std::to_string(bytes.size()) + " bytes");
@@ -599,7 +647,8 @@ std::vector<double> Document::read_attribute(size_t index, int* components) cons
 
 std::optional<std::string> Document::image_bytes(size_t index) const {
   const nlohmann::json& image = element("images", index);
-  if (const size_t view = index_field(image, "bufferView", SIZE_MAX, "image.bufferView");
+  if (const size_t view =
+          reference(image, "bufferView", "bufferViews", "image " + std::to_string(index));
       view != SIZE_MAX) {
     const std::span<const uint8_t> bytes = buffer_view(view);
     charge(bytes.size(), "image " + std::to_string(index));

@@ -64,6 +64,11 @@ class Document {
 
   // Array element `index` of json()[key], or fail naming the reference.
   const nlohmann::json& element(const char* key, size_t index) const;
+  // The index `object[key]` holds into json()[array], SIZE_MAX when absent. One that is not
+  // an index or is past the array's end fails where it is resolved, saying so, e.g.
+  // "accessor 0 refers to bufferView 5, but the file has 1 bufferView" (never "missing").
+  size_t reference(const nlohmann::json& object, const char* key, const char* array,
+                   const std::string& owner) const;
 
   // What was read leniently (bufferViews with byteStride 0 read as tightly packed, as
   // viewers do), one sentence per kind, for the report.
@@ -84,7 +89,7 @@ class Document {
   std::vector<double> read_numbers(const AccessorView& view, size_t index) const;
   void check_required_extensions() const;
   void load_buffers(std::span<const uint8_t> bin_chunk, bool has_bin);
-  std::span<const uint8_t> buffer_range(const nlohmann::json& object, size_t buffer_limit,
+  std::span<const uint8_t> buffer_range(const nlohmann::json& object,
                                         const std::string& name) const;
   bool uses_extension(const char* name) const;
   // The file at `path` from the resources, fetched once and kept; nothing when missing.
@@ -121,5 +126,12 @@ class Document {
 // integer below `limit` -> fail naming `what`.
 size_t index_field(const nlohmann::json& object, const char* key, size_t limit, const char* what,
                    size_t fallback = SIZE_MAX);
+
+// A count, byte offset or byte length: absent -> nullopt; present but not a non-negative
+// integer -> fail "<owner>'s <key> <value> is not <expected>", where `expected` says the
+// real bound (e.g. "a byte count (an integer from 0 to 44, the size of buffer 0)"). The
+// caller checks the range against the bytes it has.
+std::optional<uint64_t> whole_field(const nlohmann::json& object, const char* key,
+                                    const std::string& owner, const std::string& expected);
 
 }  // namespace spheremap::gltf

@@ -121,14 +121,17 @@ class Reader {
     for (size_t m = 0; m < mesh_count; ++m)
       if (draws_[m] > 1 && (stats_.repeated_mesh < 0 || draws_[m] > stats_.repeated_mesh_draws))
         stats_.repeated_mesh = static_cast<int>(m), stats_.repeated_mesh_draws = draws_[m];
+    // Nothing to map (points or lines only): the check the other readers and the mesh
+    // checks give a mesh without faces, not a malformed file.
     if (mesh_.face_count() == 0 && point_primitives_ > 0 &&
         point_primitives_ == stats_.skipped_primitives && stats_.primitives == 0)
-      fail("the file is a point cloud (" + std::to_string(points_) +
-           " points, no faces): spheremap maps triangle surfaces");
+      throw InputError("empty", "the file is a point cloud (" + std::to_string(points_) +
+                                    " points, no faces): spheremap maps triangle surfaces");
     if (mesh_.face_count() == 0)
-      fail("no triangles to map: " + std::to_string(stats_.skipped_primitives) +
-           " primitive(s) of points or lines, " + std::to_string(stats_.primitives) +
-           " of triangles");
+      throw InputError(
+          "empty", "no triangles to map: " + std::to_string(stats_.skipped_primitives) +
+                       " primitive(s) of points or lines, " + std::to_string(stats_.primitives) +
+                       " of triangles");
     return std::move(mesh_);
   }
 
@@ -222,7 +225,10 @@ class Reader {
     const size_t accessor =
         index_field(instancing["attributes"], instancing["attributes"].begin().key().c_str(),
                     accessors, "EXT_mesh_gpu_instancing accessor");
-    return index_field(doc_.element("accessors", accessor), "count", SIZE_MAX, "count", 1);
+    return gltf::whole_field(doc_.element("accessors", accessor), "count",
+                             "accessor " + std::to_string(accessor),
+                             "an element count (a non-negative integer)")
+        .value_or(1);
   }
 
   std::vector<char> visited_;                 // nodes reached by the scene walk
@@ -237,9 +243,12 @@ class Reader {
     if (primitives == mesh.end() || !primitives->is_array())
       fail("mesh " + std::to_string(mesh_index) + " has no primitives");
     const size_t faces_before = mesh_.face_count();
-    for (const auto& p : *primitives) {
-      if (!p.is_object()) fail("a primitive is not an object");
-      add_primitive(p, world, node, mesh);
+    for (size_t k = 0; k < primitives->size(); ++k) {
+      const nlohmann::json& p = (*primitives)[k];
+      const std::string name =
+          "mesh " + std::to_string(mesh_index) + " primitive " + std::to_string(k);
+      if (!p.is_object()) fail(name + " is not an object");
+      add_primitive(p, world, node, mesh, name);
     }
     auto& drawn = stats_.drawn_meshes;
     const auto known = std::find_if(drawn.begin(), drawn.end(),
@@ -251,8 +260,9 @@ class Reader {
     }
   }
 
+  // `name` ("mesh 0 primitive 1") locates the primitive in refusals.
   void add_primitive(const nlohmann::json& p, const Matrix& world, int64_t node,
-                     const nlohmann::json& mesh) {
+                     const nlohmann::json& mesh, const std::string& name) {
     const size_t mode = index_field(p, "mode", 7, "primitive mode", 4);
     if (mode < 4) {
       ++stats_.skipped_primitives;
@@ -266,20 +276,19 @@ class Reader {
     const auto ext = p.find("extensions");
     if (ext != p.end() && ext->is_object() && ext->contains("KHR_draco_mesh_compression")) {
       decode_draco((*ext)["KHR_draco_mesh_compression"], positions, indices,
-                   look_ ? &carried : nullptr);
+                   look_ ? &carried : nullptr, name);
       ++stats_.draco_primitives;
     } else {
+      // Counts against the caps before anything is decoded. The indices' reference (and
+      // their accessor's view and buffer) first: a dangling one is the file's fault, told
+      // as such, where a missing POSITION is only what it lacks.
+      const size_t ia = doc_.reference(p, "indices", "accessors", name);
+      if (ia != SIZE_MAX) check_room(0, triangles_from(doc_.accessor_shape(ia).count, mode));
       const auto attributes = p.find("attributes");
       if (attributes == p.end() || !attributes->is_object() || !attributes->contains("POSITION"))
-        fail("a primitive has no POSITION attribute");
-      const size_t accessors =
-          doc_.json().contains("accessors") ? doc_.json()["accessors"].size() : 0;
-      // Counts against the caps before anything is decoded.
-      const size_t position_accessor =
-          index_field(*attributes, "POSITION", accessors, "POSITION accessor");
+        fail(name + " has no POSITION attribute");
+      const size_t position_accessor = doc_.reference(*attributes, "POSITION", "accessors", name);
       check_room(doc_.accessor_shape(position_accessor).count, 0);
-      const size_t ia = index_field(p, "indices", accessors, "indices accessor");
-      if (ia != SIZE_MAX) check_room(0, triangles_from(doc_.accessor_shape(ia).count, mode));
       positions = doc_.read_positions(position_accessor);
       const size_t vertex_count = positions.size() / 3;
       if (ia != SIZE_MAX) {
@@ -343,9 +352,11 @@ class Reader {
   }
 
   void decode_draco(const nlohmann::json& draco_ext, std::vector<double>& positions,
-                    std::vector<uint32_t>& indices, std::vector<LookAttribute>* look) {
+                    std::vector<uint32_t>& indices, std::vector<LookAttribute>* look,
+                    const std::string& primitive) {
     if (!draco_ext.is_object()) fail("KHR_draco_mesh_compression is not an object");
-    const size_t view = index_field(draco_ext, "bufferView", SIZE_MAX, "Draco bufferView");
+    const size_t view = doc_.reference(draco_ext, "bufferView", "bufferViews",
+                                       primitive + "'s KHR_draco_mesh_compression");
     if (view == SIZE_MAX) fail("KHR_draco_mesh_compression has no bufferView");
     const std::span<const uint8_t> bytes = doc_.buffer_view(view);
     const auto attributes = draco_ext.find("attributes");

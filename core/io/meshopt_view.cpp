@@ -30,11 +30,12 @@ std::vector<uint8_t> decode_meshopt_view(const nlohmann::json& extension,
                                          size_t max_bytes, size_t view_index) {
   const std::string name =
       "bufferView " + std::to_string(view_index) + " (EXT_meshopt_compression)";
-  const size_t count = index_field(extension, "count", SIZE_MAX, "EXT_meshopt_compression count");
+  const std::optional<uint64_t> declared =
+      whole_field(extension, "count", name, "an element count (a non-negative integer)");
   const size_t stride =
       index_field(extension, "byteStride", 257, "EXT_meshopt_compression byteStride");
-  if (count == SIZE_MAX || stride == SIZE_MAX || stride == 0)
-    fail(name + " needs count and byteStride");
+  if (!declared || stride == SIZE_MAX || stride == 0) fail(name + " needs count and byteStride");
+  const size_t count = *declared;
   const std::string mode = text_field(extension, "mode", "");
   const std::string filter = text_field(extension, "filter", "NONE");
   if (count > max_bytes / stride)

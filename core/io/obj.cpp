@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "core/io/text_reader.h"
+#include "core/mesh/input_error.h"
 
 namespace spheremap {
 namespace {
@@ -26,6 +27,7 @@ PolygonMesh parse_obj(std::string_view text) {
   TextReader reader(text, "OBJ");
   reader.join_continued_lines();
   std::vector<uint32_t> corners;
+  size_t line_segments = 0;  // of `l` polylines: counted for the refusal, never stored
   while (reader.next_line()) {
     std::string_view keyword = reader.token();
     if (keyword == "v") {
@@ -48,9 +50,19 @@ PolygonMesh parse_obj(std::string_view text) {
       if (corners.size() < 3)
         reader.fail("a face needs at least 3 corners, found " + std::to_string(corners.size()));
       mesh.add_face(corners);
+    } else if (keyword == "l") {
+      size_t points = 0;
+      while (!reader.token().empty()) ++points;  // bounded by the line's length
+      line_segments += points > 1 ? points - 1 : 0;
     }
-    // Everything else (vt, vn, g, o, s, usemtl, mtllib, l, ...) carries nothing we map.
+    // Everything else (vt, vn, g, o, s, usemtl, mtllib, p, ...) carries nothing we map.
   }
+  // Lines and no faces: said as lines (only points is a point cloud, said by the mesh
+  // checks), under the check a mesh without faces fails.
+  if (mesh.face_count() == 0 && line_segments > 0)
+    throw InputError("empty", "the file has " + std::to_string(mesh.vertex_count()) +
+                                  " vertices and " + std::to_string(line_segments) +
+                                  " line segments, no faces: spheremap maps triangle surfaces");
   return mesh;
 }
 
