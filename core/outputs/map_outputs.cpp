@@ -129,12 +129,9 @@ BuiltRemesh build_remesh(const MappedMesh& mapped, int resolution, int threads,
   // Against the input's own faces: the faces preparation added (hole fills, handle caps)
   // are not the original, and a remesh over a cap is as far from the original as the cap
   // is (a torus with its handle capped: 1% from the capped surface, 10% from the torus).
-  std::vector<Triangle> own;
   const std::vector<char> filled = filled_mask(oriented.triangles, mapped.prepared.filled);
-  for (size_t k = 0; k < filled.size(); ++k)
-    if (!filled[k]) own.push_back(oriented.triangles[k]);
   const SurfaceDistance distance =
-      surface_distance(mesh.positions, filled.empty() ? oriented.triangles : own, remesh.positions,
+      surface_distance(mesh.positions, own_triangles(oriented.triangles, filled), remesh.positions,
                        remesh.triangles, threads, should_stop);
   stop.check();
   // With fills, also against the surface that was mapped: what the sampling alone costs.
