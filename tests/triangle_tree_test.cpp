@@ -83,6 +83,41 @@ TEST(TriangleTree, AnswersAsBruteForceOnAFlatSquashedShape) {
   expect_as_brute_force(scaled(quad_sphere(6), {1, 1, 1e-3}), 3);
 }
 
+// Leaving triangles out of the search answers as a tree of the rest would: as brute force
+// over the kept triangles, for the same queries (on and beside the left-out ones too).
+void expect_leaving_out_as_brute_force(const PolygonMesh& mesh, unsigned seed) {
+  const std::vector<Triangle> triangles = fan_triangulate(mesh).triangles;
+  std::vector<char> left_out(triangles.size(), 0);
+  std::vector<Triangle> kept;
+  for (size_t k = 0; k < triangles.size(); ++k) {
+    left_out[k] = k % 7 == 3 || (k / 40) % 5 == 0;  // scattered triangles and whole patches
+    if (!left_out[k]) kept.push_back(triangles[k]);
+  }
+  const TriangleTree tree(mesh.positions, triangles);
+  size_t nearest_left_out = 0;
+  for (const Vec3& p : queries(mesh.positions, triangles, seed)) {
+    const TriangleTree::Closest answer = tree.closest(p, left_out);
+    ASSERT_EQ(answer.squared_distance, brute_force(mesh.positions, kept, p))
+        << "query " << p.x << " " << p.y << " " << p.z;
+    ASSERT_FALSE(left_out[answer.triangle]);
+    nearest_left_out += left_out[tree.closest(p).triangle];
+  }
+  EXPECT_GT(nearest_left_out, 1000u);  // the queries that a left-out triangle would answer
+}
+
+TEST(TriangleTree, LeavesTrianglesOutAsBruteForceOverTheRest) {
+  expect_leaving_out_as_brute_force(icosphere(3), 4);
+  expect_leaving_out_as_brute_force(twisted(torus(24, 12), 0.7), 5);
+}
+
+TEST(TriangleTree, LeavingEveryTriangleOutAnswersTheLargestDistance) {
+  const PolygonMesh mesh = icosphere(1);
+  const std::vector<Triangle> triangles = fan_triangulate(mesh).triangles;
+  const TriangleTree tree(mesh.positions, triangles);
+  const std::vector<char> all(triangles.size(), 1);
+  EXPECT_EQ(tree.closest({1, 2, 3}, all).squared_distance, std::numeric_limits<double>::max());
+}
+
 TEST(TriangleTree, KeepsNoReferenceToItsInput) {
   const PolygonMesh mesh = icosphere(2);
   std::vector<Vec3> positions = mesh.positions;

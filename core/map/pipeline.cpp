@@ -43,20 +43,16 @@ MappedMesh map_prepared(PreparedMesh prepared, const MapOptions& options,
   // centred and scaled.
   // Of the input's own faces: the faces preparation added (hole fills, handle caps) are
   // weighed down in the map and squeezed on purpose; their distortion is not the input's.
-  std::vector<Triangle> measured;
-  double share = 4 * M_PI;
   const std::vector<char> filled = filled_mask(oriented.triangles, out.prepared.filled);
-  for (size_t k = 0; k < filled.size(); ++k) {
-    const Triangle& t = oriented.triangles[k];
-    if (!filled[k])
-      measured.push_back(t);
-    else
+  double share = 4 * M_PI;
+  for (size_t k = 0; k < filled.size(); ++k)
+    if (filled[k]) {
+      const Triangle& t = oriented.triangles[k];
       share -= spherical_area(out.map.sphere[t[0]], out.map.sphere[t[1]], out.map.sphere[t[2]]);
-  }
-  out.quality = compute_metrics(centered_and_scaled(mesh.positions), out.map.sphere,
-                                filled.empty() ? std::span<const Triangle>(oriented.triangles)
-                                               : std::span<const Triangle>(measured),
-                                options.smoothing.threads, share);
+    }
+  out.quality =
+      compute_metrics(centered_and_scaled(mesh.positions), out.map.sphere,
+                      own_triangles(oriented.triangles, filled), options.smoothing.threads, share);
   out.float32_check =
       verify_map(rounded_to_float32(out.map.sphere), oriented.triangles, mesh, oriented.inward);
   out.metrics_seconds = seconds_since(start);

@@ -27,6 +27,22 @@ SurfaceDistance surface_distance(std::span<const Vec3> a_positions,
                                  std::span<const Triangle> b_triangles, int threads = 0,
                                  const std::function<bool()>* should_stop = nullptr);
 
+// surface_distance(a, b) twice from the same queries: to all of a's triangles, and to those
+// whose `left_out` entry (one per triangle of a) is 0 (`kept`, as if they were a's only
+// triangles, its figures relative to their own diagonal). Each figure equals that of the
+// separate call: the same samples and distances, summed in the same order; b's samples
+// find the nearest kept triangle in the one tree over all (TriangleTree::closest with
+// left_out). E.g. a remesh against the input's own faces and against them with the fills.
+struct SurfaceDistances {
+  SurfaceDistance kept, all;
+};
+SurfaceDistances surface_distances(std::span<const Vec3> a_positions,
+                                   std::span<const Triangle> a_triangles,
+                                   std::span<const char> left_out,
+                                   std::span<const Vec3> b_positions,
+                                   std::span<const Triangle> b_triangles, int threads = 0,
+                                   const std::function<bool()>* should_stop = nullptr);
+
 // The distance of each of `points` to the closest point of a's triangles (one query each,
 // the same tree and frame as surface_distance), relative to a's bounding-box diagonal:
 // e.g. a heat map of how far an envelope's vertices lie from the original. All 0 when a

@@ -66,6 +66,15 @@ double TriangleTree::slack_at(const Vec3& p) const {
 }
 
 TriangleTree::Closest TriangleTree::closest(const Vec3& p) const {
+  return search(p, [](uint32_t) { return false; });
+}
+
+TriangleTree::Closest TriangleTree::closest(const Vec3& p, std::span<const char> left_out) const {
+  return search(p, [left_out](uint32_t triangle) { return left_out[triangle] != 0; });
+}
+
+template <class Skip>
+TriangleTree::Closest TriangleTree::search(const Vec3& p, Skip skip) const {
   Closest best;
   if (order_.empty()) return best;
   const double slack = slack_at(p);
@@ -90,6 +99,7 @@ TriangleTree::Closest TriangleTree::closest(const Vec3& p) const {
     const Node node = entry.node;
     if (node.count) {
       for (uint32_t k = node.first; k < node.first + node.count; ++k) {
+        if (skip(order_[k])) continue;
         const Vec3* c = &corners_[3 * size_t{k}];
         // The triangle's own box first: one farther than the best so far (with the slack)
         // holds no nearer point, and costs a fraction of closest_on_triangle.

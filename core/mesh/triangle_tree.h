@@ -38,6 +38,10 @@ class TriangleTree {
   };
   Closest closest(const Vec3& p) const;
   double squared_distance(const Vec3& p) const { return closest(p).squared_distance; }
+  // The closest point of the triangles whose `left_out` entry (one per triangle given to the
+  // constructor) is 0: the least distance over them, as a tree of those alone answers it,
+  // without building one.
+  Closest closest(const Vec3& p, std::span<const char> left_out) const;
 
  private:
   // A leaf is triangles order_[first, first + count); an inner node (count 0) is
@@ -55,6 +59,9 @@ class TriangleTree {
   // How far (in distance) a computed closest point may stray outside its triangle's box
   // by rounding, with a wide margin, for a query at p.
   double slack_at(const Vec3& p) const;
+  // The search of closest(), over the triangles for which skip(triangle) is false.
+  template <class Skip>
+  Closest search(const Vec3& p, Skip skip) const;
   Node build(size_t begin, size_t end, std::vector<Vec3>& centroids, AxisBox& box);
   // Deeper than any median-split tree of up to 2^62 triangles (leaves of 1-4).
   static constexpr int kMaxDepth = 64;

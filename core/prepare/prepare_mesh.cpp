@@ -586,16 +586,20 @@ std::string decided(const PreparedMesh& prepared) {
   return changed ? "repair" : "exact";
 }
 
+// The input's own topology, for the report's "input" (topology_json): the weld and the
+// report alone, no largest-part check of a soup.
+TopologyReport topology_as_read(const PolygonMesh& input, const PrepareOptions& options) {
+  StopCheck stop(&options.should_stop);
+  return analyze_topology(weld(input, options.weld_tolerance, &stop).mesh, &stop);
+}
+
 // The whole input replaced by its envelope; the input and its look moved to `original`.
 // Throws (and leaves both as they were) when the envelope cannot be made.
-// `as_read`: the input's own topology when a caller has it (the input may have been cleaned
-// since); otherwise it is taken from `input`.
+// `as_read`: the input's own topology as the caller reports it (the input may have been
+// cleaned since; topology_as_read), kept as input_topology; none where nobody reads it (the
+// worker's build_envelopes).
 PreparedMesh wrap_whole(PolygonMesh& input, GltfAppearance* look, const PrepareOptions& options,
-                        std::optional<TopologyReport> as_read = {}) {
-  if (!as_read) {  // the weld and the report alone: no largest-part check of a soup
-    StopCheck stop(&options.should_stop);
-    as_read = analyze_topology(weld(input, options.weld_tolerance, &stop).mesh, &stop);
-  }
+                        std::optional<TopologyReport> as_read) {
   const std::function<bool()> stop = envelope_stop(options);
   Envelope envelope = build_envelope(input, options.envelope, &stop);
   const size_t input_faces = input.face_count();
@@ -692,7 +696,8 @@ PreparedMesh prepare_input(PolygonMesh& input, GltfAppearance* look,
     }
   }
   if (options.method == PrepareMethod::kWrap) {
-    if (!options.defer_envelopes) return wrap_whole(input, look, options);
+    if (!options.defer_envelopes)
+      return wrap_whole(input, look, options, topology_as_read(input, options));
     // Nothing is welded here: the worker prepares the envelope (wrap_whole).
     PreparedMesh prepared;
     prepared.preparation.method = PrepareMethod::kWrap;
@@ -723,7 +728,9 @@ void build_envelopes(PreparedMesh& prepared, PolygonMesh& input, GltfAppearance*
   options.should_stop = should_stop;
   prepared.pending = {};
   if (pending.method == PrepareMethod::kWrap) {
-    prepared = wrap_whole(input, look, options);
+    // No input topology: the job's results do not report it (only info and the intake's
+    // 422 do, and the intake refuses nothing it leaves to the worker).
+    prepared = wrap_whole(input, look, options, std::nullopt);
     return;
   }
   if (pending.parts) {

@@ -191,7 +191,8 @@ PreparedMesh prepare_mesh(const PolygonMesh& input, const PrepareOptions& option
 PreparedMesh prepare_input(PolygonMesh& input, GltfAppearance* look, const PrepareOptions& options);
 
 // Builds what prepare_input left under defer_envelopes (prepared.pending), so that
-// `prepared`, `input` and `look` are what prepare_input would have made without it.
+// `prepared`, `input` and `look` are what prepare_input would have made without it (but for
+// input_topology under kWrap: nothing reads it after the intake, so it is not computed).
 // `should_stop` is asked throughout (InputError "stopped"). Throws InputError when no
 // envelope can be made: build_envelope's checks ("envelope_size", "envelope_empty",
 // "envelope_topology"), under kAuto with what the input, unwrapped, still fails.
