@@ -158,12 +158,7 @@ TEST(DracoFile, BoolPositionsAreRefused) {
 }
 
 TEST(DracoFile, APointCloudIsRefusedAsOne) {
-  draco::PointCloud cloud;
-  testing::add_draco_positions(cloud, testing::icosphere(1).positions);
-  draco::Encoder encoder;
-  draco::EncoderBuffer buffer;
-  ASSERT_TRUE(encoder.EncodePointCloudToBuffer(cloud, &buffer).ok());
-  const std::string drc(buffer.data(), buffer.size());
+  const std::string drc = testing::drc_point_cloud_bytes(testing::icosphere(1).positions);
   EXPECT_EQ(sniff_mesh_format(drc), MeshFormat::kDrc);
   const Refusal cloud_refusal = refusal(drc);
   EXPECT_EQ(cloud_refusal.check, "empty");
@@ -174,12 +169,7 @@ TEST(DracoFile, APointCloudIsRefusedAsOne) {
 // A point cloud whose header is cut short: the header reader's message is wrapped once
 // ("drc: the Draco stream ends inside its header"), with one prefix, as every other.
 TEST(DracoFile, ATruncatedPointCloudHeaderIsToldWithOnePrefix) {
-  draco::PointCloud cloud;
-  testing::add_draco_positions(cloud, testing::icosphere(1).positions);
-  draco::Encoder encoder;
-  draco::EncoderBuffer buffer;
-  ASSERT_TRUE(encoder.EncodePointCloudToBuffer(cloud, &buffer).ok());
-  const std::string drc(buffer.data(), buffer.size());
+  const std::string drc = testing::drc_point_cloud_bytes(testing::icosphere(1).positions);
   EXPECT_EQ(refusal(drc.substr(0, 9)).message, "drc: the Draco stream ends inside its header");
   for (size_t size = 8; size < drc.size(); ++size) {
     const Refusal cut = refusal(drc.substr(0, size));

@@ -35,4 +35,14 @@ std::string drc_bytes(const PolygonMesh& mesh, draco::MeshEncoderMethod method) 
   return std::string(buffer.data(), buffer.size());
 }
 
+std::string drc_point_cloud_bytes(const std::vector<Vec3>& positions) {
+  draco::PointCloud cloud;
+  add_draco_positions(cloud, positions);
+  draco::Encoder encoder;
+  draco::EncoderBuffer buffer;
+  if (!encoder.EncodePointCloudToBuffer(cloud, &buffer).ok())
+    throw std::runtime_error("draco: the test point cloud could not be encoded");
+  return std::string(buffer.data(), buffer.size());
+}
+
 }  // namespace spheremap::testing

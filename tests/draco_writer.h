@@ -20,4 +20,8 @@ void add_draco_positions(draco::PointCloud& out, const std::vector<Vec3>& positi
 std::string drc_bytes(const PolygonMesh& mesh,
                       draco::MeshEncoderMethod method = draco::MESH_SEQUENTIAL_ENCODING);
 
+// The .drc of a point cloud of `positions` (no faces). Throws std::runtime_error when Draco
+// refuses to encode it.
+std::string drc_point_cloud_bytes(const std::vector<Vec3>& positions);
+
 }  // namespace spheremap::testing
