@@ -250,9 +250,14 @@ MappedInput map_input(const Arguments& args, const PrepareOptions& prepare,
     timed_prepare.envelope_should_stop = [limit, clock_start] {
       return std::chrono::steady_clock::now() - clock_start >= std::chrono::duration<double>(limit);
     };
+  // Envelopes are deferred and then built as the service's worker builds them
+  // (build_envelopes), so the command runs the service's path and skips what only `info`
+  // reports (the topology of an input that is wrapped whole).
+  timed_prepare.defer_envelopes = true;
   PreparedMesh prepared;
   try {
     prepared = prepare_input(out.input, &out.look, timed_prepare);
+    build_envelopes(prepared, out.input, &out.look, timed_prepare.envelope_should_stop);
   } catch (const InputError& e) {
     if (e.check() != "stopped" || limit <= 0) throw;
     char message[160];

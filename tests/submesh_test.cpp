@@ -66,5 +66,13 @@ TEST(Submesh, ScratchIsLeftUnusedAndGivesTheSameMesh) {
       EXPECT_EQ(with.vertex[with.mesh.face(k)[c]], mesh.face(faces[k])[c]);
 }
 
+TEST(KeptTriangles, KeepsTheUnmarkedInTheirOrderOrAllWhenNothingIsMarked) {
+  const std::vector<Triangle> triangles = {{0, 1, 2}, {2, 1, 3}, {3, 4, 5}, {5, 4, 0}};
+  const std::vector<char> left_out = {0, 1, 0, 1};
+  EXPECT_EQ(kept_triangles(triangles, left_out), (std::vector<Triangle>{{0, 1, 2}, {3, 4, 5}}));
+  EXPECT_EQ(kept_triangles(triangles, {}), triangles);
+  EXPECT_TRUE(kept_triangles(triangles, std::vector<char>(4, 1)).empty());
+}
+
 }  // namespace
 }  // namespace spheremap

@@ -5,6 +5,7 @@
 
 #include "core/map/map_parts.h"
 #include "core/mesh/sphere_geometry.h"
+#include "core/mesh/submesh.h"
 
 namespace spheremap {
 namespace {
@@ -52,7 +53,7 @@ MappedMesh map_prepared(PreparedMesh prepared, const MapOptions& options,
     }
   out.quality =
       compute_metrics(centered_and_scaled(mesh.positions), out.map.sphere,
-                      own_triangles(oriented.triangles, filled), options.smoothing.threads, share);
+                      kept_triangles(oriented.triangles, filled), options.smoothing.threads, share);
   out.float32_check =
       verify_map(rounded_to_float32(out.map.sphere), oriented.triangles, mesh, oriented.inward);
   out.metrics_seconds = seconds_since(start);

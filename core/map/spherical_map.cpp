@@ -78,16 +78,6 @@ std::vector<char> filled_mask(std::span<const Triangle> triangles,
   return mask;
 }
 
-std::vector<Triangle> own_triangles(std::span<const Triangle> triangles,
-                                    std::span<const char> filled) {
-  if (filled.empty()) return {triangles.begin(), triangles.end()};
-  std::vector<Triangle> own;
-  own.reserve(triangles.size());
-  for (size_t k = 0; k < triangles.size(); ++k)
-    if (!filled[k]) own.push_back(triangles[k]);
-  return own;
-}
-
 namespace {
 
 // Per triangle of `triangles`: filled_weight when it is one of `filled`, 1 otherwise; empty

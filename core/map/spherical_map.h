@@ -147,11 +147,6 @@ OrientedTriangles oriented_triangles(const PolygonMesh& mesh);
 std::vector<char> filled_mask(std::span<const Triangle> triangles,
                               std::span<const Triangle> filled);
 
-// The input's own faces among `triangles`: those whose `filled` entry (filled_mask of the same
-// triangles) is 0, in their order; all of them when `filled` is empty (nothing was added).
-std::vector<Triangle> own_triangles(std::span<const Triangle> triangles,
-                                    std::span<const char> filled);
-
 // The mesh as the map works on it: `input`'s vertices in `order` (order[k] is the input
 // vertex the k-th one was), centred and scaled to the unit ball, and its oriented fan
 // triangles each rotated to its smallest vertex and sorted (canonical_triangles), so the

@@ -25,4 +25,14 @@ MeshPart submesh(const PolygonMesh& mesh, std::span<const uint32_t> faces,
   return part;
 }
 
+std::vector<Triangle> kept_triangles(std::span<const Triangle> triangles,
+                                     std::span<const char> left_out) {
+  if (left_out.empty()) return {triangles.begin(), triangles.end()};
+  std::vector<Triangle> kept;
+  kept.reserve(triangles.size());
+  for (size_t k = 0; k < triangles.size(); ++k)
+    if (!left_out[k]) kept.push_back(triangles[k]);
+  return kept;
+}
+
 }  // namespace spheremap

@@ -25,4 +25,9 @@ struct MeshPart {
 MeshPart submesh(const PolygonMesh& mesh, std::span<const uint32_t> faces,
                  std::vector<uint32_t>* scratch = nullptr);
 
+// The triangles whose `left_out` entry (one per triangle, e.g. filled_mask's marks of the
+// faces a repair added) is 0, in their order; all of them when `left_out` is empty.
+std::vector<Triangle> kept_triangles(std::span<const Triangle> triangles,
+                                     std::span<const char> left_out);
+
 }  // namespace spheremap

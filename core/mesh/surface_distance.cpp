@@ -11,6 +11,7 @@
 #include "core/mesh/parallel_stop.h"
 #include "core/mesh/spatial_order.h"
 #include "core/mesh/stop_check.h"
+#include "core/mesh/submesh.h"
 #include "core/mesh/triangle_tree.h"
 
 namespace spheremap {
@@ -157,9 +158,7 @@ SurfaceDistances surface_distances(std::span<const Vec3> a_positions,
   const UnitFrame frame = unit_frame(a_positions);  // as surface_distance: a's unit frame
   const std::vector<Vec3> a_unit = in_frame(frame, a_positions);
   const std::vector<Vec3> b_unit = in_frame(frame, b_positions);
-  std::vector<Triangle> kept;
-  for (size_t k = 0; k < a_triangles.size(); ++k)
-    if (!left_out[k]) kept.push_back(a_triangles[k]);
+  const std::vector<Triangle> kept = kept_triangles(a_triangles, left_out);
   const double d_all = corner_diagonal(a_unit, a_triangles);
   const double d_kept = corner_diagonal(a_unit, kept);
   out.all.diagonal = frame.length_in_input_units(d_all);
