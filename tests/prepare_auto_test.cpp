@@ -99,6 +99,26 @@ TEST(PrepareAuto, TheKitUnderPartsWritesItsOriginalLayoutSphere) {
   EXPECT_TRUE(sphere.metrics["bijective"].get<bool>()) << sphere.metrics.dump();
 }
 
+// A stray triangle far smaller than the asset's voxel is wrapped on a grid of about 16
+// voxels across it grown by the asset's offset, not 16 across the triangle alone (then its
+// offset, the asset's, spanned some 180 voxels each way: a ball of millions).
+TEST(PrepareAuto, ATinyPartsGridSpansItsOffsetNotItsOwnWidth) {
+  PolygonMesh stray;
+  stray.positions = {{3, 0, 0}, {3.01, 0, 0}, {3, 0.01, 0}};
+  stray.add_face(std::vector<uint32_t>{0, 1, 2});
+  PolygonMesh input = assembled({{testing::icosphere(2), {0, 0, 0}}, {stray, {0, 0, 0}}});
+  const PreparedMesh prepared = prepare_input(input, nullptr, automatic());
+  EXPECT_EQ(prepared.preparation.decided, "parts+wrap");
+  ASSERT_EQ(prepared.parts.size(), 2u);
+  EXPECT_EQ(prepared.parts_left_out(), 0u);
+  const PartReport& tiny = prepared.parts[0].wrapped ? prepared.parts[0] : prepared.parts[1];
+  ASSERT_TRUE(tiny.wrapped);
+  for (int axis = 0; axis < 3; ++axis)
+    EXPECT_LE(tiny.envelope.grid[axis], 16 + 2 * kGridPadding + 2);
+  // Within about the offset (1.5 of the asset's voxels: 1.6% of its diagonal) of the triangle.
+  EXPECT_LT(tiny.envelope.hausdorff, 0.03);
+}
+
 TEST(PrepareAuto, OnePartThatCannotMapIsWrappedWhole) {
   PolygonMesh input = testing::dome(2);  // its hole is too large to fill
   const PreparedMesh prepared = prepare_input(input, nullptr, automatic());

@@ -20,9 +20,12 @@ EnvelopePlan plan_envelope(const PolygonMesh& input, const EnvelopeOptions& opti
   }
   if (plan.triangles.empty()) throw InputError("envelope_empty", "there is no triangle to wrap");
   plan.diagonal = norm(box.hi - box.lo);
-  if (!(plan.diagonal > 0) || !std::isfinite(plan.diagonal) || !(options.resolution >= 1))
+  // A resolution under 1 is a voxel wider than the input: a tiny part of an asset, grown by
+  // the asset's offset (part_envelope_options).
+  if (!(plan.diagonal > 0) || !std::isfinite(plan.diagonal) || !(options.resolution > 0) ||
+      !std::isfinite(options.resolution))
     throw InputError("envelope_size",
-                     "the envelope needs an input of some extent and a resolution of 1 or more");
+                     "the envelope needs an input of some extent and a positive resolution");
   plan.h = plan.diagonal / options.resolution;
   plan.d = options.offset > 0            ? options.offset
            : options.offset_fraction > 0 ? options.offset_fraction * plan.diagonal

@@ -329,8 +329,11 @@ double diagonal_of(const PolygonMesh& mesh) {
 
 // The envelope options of one part of an asset under kAuto: the asset's voxel size and
 // offset (so a small part gets a small grid, and every part the same offset), at least 16
-// voxels across the part, and about twice the part's faces (256 to 20,000). Nothing for a
-// part of no extent.
+// voxels across the part grown by the offset, and about twice the part's faces (256 to
+// 20,000). Nothing for a part of no extent. The 16 count across the grown part, not the
+// part alone: a stray triangle a hundredth of a voxel wide got voxels that small while its
+// offset stayed the asset's, so its grid held 400^3 voxels of a ball of the offset's radius
+// (a robot hand of 8,339 triangles took 40 s, 15 such triangles; reach set 5).
 std::optional<EnvelopeOptions> part_envelope_options(const PolygonMesh& part, double asset_diagonal,
                                                      const PrepareOptions& options) {
   EnvelopeOptions wrap = options.envelope;
@@ -340,7 +343,8 @@ std::optional<EnvelopeOptions> part_envelope_options(const PolygonMesh& part, do
   if (wrap.offset <= 0)
     wrap.offset = wrap.offset_fraction > 0 ? wrap.offset_fraction * asset_diagonal
                                            : wrap.offset_voxels * voxel;
-  wrap.resolution = std::max(16.0, diagonal / voxel);
+  const double grown = diagonal + 2 * wrap.offset;
+  wrap.resolution = std::max(16.0 * diagonal / grown, diagonal / voxel);
   if (wrap.target_faces == 0)
     wrap.target_faces = std::clamp<size_t>(2 * part.face_count(), 256, 20000);
   return wrap;
