@@ -192,9 +192,10 @@ TEST(GltfRealWorld, ReadsKhrMeshQuantizationInEveryIntegerType) {
   EXPECT_NE(message.find("KHR_mesh_quantization"), std::string::npos) << message;
 }
 
-// The test sphere with both views EXT_meshopt_compression-encoded (by meshoptimizer's
-// own encoder), the uncompressed buffer a fallback placeholder with no data.
-std::string meshopt_sphere() {
+// The test sphere with both views meshopt-encoded (by meshoptimizer's own encoder) under
+// `extension` (EXT_ or KHR_meshopt_compression), the uncompressed buffer a fallback
+// placeholder with no data.
+std::string meshopt_sphere(const char* extension = "EXT_meshopt_compression") {
   const PolygonMesh m = read_gltf(as_bytes(sphere_glb()));
   std::vector<float> vertices;
   for (const Vec3& p : m.positions)
@@ -213,17 +214,16 @@ std::string meshopt_sphere() {
   glb.bin.append(encoded_indices.begin(), encoded_indices.end());
   while (glb.bin.size() % 4) glb.bin.push_back('\0');
   using nlohmann::json;
-  glb.json["buffers"] =
-      json::array({{{"byteLength", glb.bin.size()}},
-                   {{"byteLength", count * 12 + index_count * 4},
-                    {"extensions", {{"EXT_meshopt_compression", {{"fallback", true}}}}}}});
-  auto view = [](size_t offset, size_t length, size_t stride, size_t n, const char* mode,
-                 size_t decoded_offset) {
+  glb.json["buffers"] = json::array({{{"byteLength", glb.bin.size()}},
+                                     {{"byteLength", count * 12 + index_count * 4},
+                                      {"extensions", {{extension, {{"fallback", true}}}}}}});
+  auto view = [extension](size_t offset, size_t length, size_t stride, size_t n, const char* mode,
+                          size_t decoded_offset) {
     return json{{"buffer", 1},
                 {"byteOffset", decoded_offset},
                 {"byteLength", n * stride},
                 {"extensions",
-                 {{"EXT_meshopt_compression",
+                 {{extension,
                    {{"buffer", 0},
                     {"byteOffset", offset},
                     {"byteLength", length},
@@ -239,22 +239,43 @@ std::string meshopt_sphere() {
        {{"bufferView", 1}, {"componentType", 5125}, {"count", index_count}, {"type", "SCALAR"}}});
   glb.json["meshes"][0]["primitives"] =
       json::array({{{"attributes", {{"POSITION", 0}}}, {"indices", 1}}});
-  glb.json["extensionsUsed"] = glb.json["extensionsRequired"] = {"EXT_meshopt_compression"};
+  glb.json["extensionsUsed"] = glb.json["extensionsRequired"] = {extension};
   return glb.bytes();
 }
 
-TEST(GltfRealWorld, ReadsExtMeshoptCompressionExactly) {
+// Each triangle's corners rotated to its smallest (the index codec may rotate them, keeping
+// the winding).
+std::vector<uint32_t> rotated_to_smallest(std::vector<uint32_t> indices) {
+  for (size_t t = 0; t + 2 < indices.size(); t += 3)
+    while (indices[t] > indices[t + 1] || indices[t] > indices[t + 2])
+      std::rotate(indices.begin() + t, indices.begin() + t + 1, indices.begin() + t + 3);
+  return indices;
+}
+
+TEST(GltfRealWorld, ReadsExtAndKhrMeshoptCompressionExactly) {
   const PolygonMesh expected = read_gltf(as_bytes(sphere_glb()));
-  const PolygonMesh m = read_gltf(as_bytes(meshopt_sphere()));
-  EXPECT_EQ(m.positions, expected.positions);  // float32 in both: bit-exact
-  // The index codec may rotate a triangle's corners (keeping its winding).
-  auto rotated_to_smallest = [](std::vector<uint32_t> indices) {
-    for (size_t t = 0; t + 2 < indices.size(); t += 3)
-      while (indices[t] > indices[t + 1] || indices[t] > indices[t + 2])
-        std::rotate(indices.begin() + t, indices.begin() + t + 1, indices.begin() + t + 3);
-    return indices;
-  };
-  EXPECT_EQ(rotated_to_smallest(m.indices), rotated_to_smallest(expected.indices));
+  for (const char* extension : {"EXT_meshopt_compression", "KHR_meshopt_compression"}) {
+    const PolygonMesh m = read_gltf(as_bytes(meshopt_sphere(extension)));
+    EXPECT_EQ(m.positions, expected.positions) << extension;  // float32 in both: bit-exact
+    EXPECT_EQ(rotated_to_smallest(m.indices), rotated_to_smallest(expected.indices)) << extension;
+  }
+}
+
+// What KHR_meshopt_compression adds over EXT and Debian's meshoptimizer 0.18 cannot decode
+// (version 1 of the vertex codec, the COLOR filter) is refused by name, not as a corrupt stream.
+TEST(GltfRealWorld, KhrMeshoptFeaturesThisMeshoptimizerLacksAreNamed) {
+  Glb version1(meshopt_sphere("KHR_meshopt_compression"));
+  ASSERT_EQ(static_cast<uint8_t>(version1.bin[0]), 0xa0);  // the vertex codec's header
+  version1.bin[0] = '\xa1';
+  const std::string v1 = read_error(version1.bytes());
+  EXPECT_NE(v1.find("bufferView 0 (KHR_meshopt_compression) is encoded with version 1 of "
+                    "meshoptimizer's vertex codec"),
+            std::string::npos)
+      << v1;
+  Glb color(meshopt_sphere("KHR_meshopt_compression"));
+  color.json["bufferViews"][0]["extensions"]["KHR_meshopt_compression"]["filter"] = "COLOR";
+  const std::string filter = read_error(color.bytes());
+  EXPECT_NE(filter.find("uses the COLOR filter"), std::string::npos) << filter;
 }
 
 TEST(GltfRealWorld, RefusesMeshoptStreamsThatDoNotDecodeOrClaimTooMuch) {
@@ -272,7 +293,7 @@ TEST(GltfRealWorld, RefusesMeshoptStreamsThatDoNotDecodeOrClaimTooMuch) {
   }
   Glb placeholder(meshopt_sphere());  // a plain view reading the placeholder buffer
   placeholder.json["bufferViews"][0].erase("extensions");
-  EXPECT_NE(read_error(placeholder.bytes()).find("stands in for EXT_meshopt_compression"),
+  EXPECT_NE(read_error(placeholder.bytes()).find("stands in for meshopt-compressed data"),
             std::string::npos);
 }
 

@@ -30,7 +30,21 @@ bool appearance_only(const std::string& name) {
   return material_extension(name) || name == "KHR_lights_punctual" || name == "KHR_xmp_json_ld";
 }
 const char* const kGeometryExtensions[] = {"KHR_draco_mesh_compression", "KHR_mesh_quantization",
-                                           "EXT_meshopt_compression", "EXT_mesh_gpu_instancing"};
+                                           "EXT_meshopt_compression", "KHR_meshopt_compression",
+                                           "EXT_mesh_gpu_instancing"};
+// The meshopt compression extensions: the vendor one and its Khronos successor, which has the
+// same JSON and adds a vertex codec version and a filter (meshopt_view.h).
+const char* const kMeshoptExtensions[] = {"EXT_meshopt_compression", "KHR_meshopt_compression"};
+
+// The meshopt extension object of a buffer or bufferView's `extensions`, and its name; null
+// when it has none.
+std::pair<const nlohmann::json*, const char*> meshopt_extension(const nlohmann::json& object) {
+  const auto extensions = object.find("extensions");
+  if (extensions == object.end() || !extensions->is_object()) return {nullptr, nullptr};
+  for (const char* name : kMeshoptExtensions)
+    if (const auto it = extensions->find(name); it != extensions->end()) return {&*it, name};
+  return {nullptr, nullptr};
+}
 
 uint32_t read_u32(std::span<const uint8_t> bytes, size_t at) {
   uint32_t v;
@@ -219,7 +233,8 @@ void Document::check_required_extensions() const {
       continue;
     fail("the file requires the extension " + describe_json(e) +
          ", which spheremap does not read (geometry extensions read: KHR_draco_mesh_compression, "
-         "KHR_mesh_quantization, EXT_meshopt_compression, EXT_mesh_gpu_instancing)");
+         "KHR_mesh_quantization, EXT_meshopt_compression, KHR_meshopt_compression, "
+         "EXT_mesh_gpu_instancing)");
   }
 }
 
@@ -238,11 +253,9 @@ void Document::load_buffers(std::span<const uint8_t> bin, bool has_bin) {
     if (!length) fail(name + " has no byteLength");
     const uint64_t declared = *length;
     std::span<const uint8_t> data;
-    const auto meshopt = b.find("extensions");
-    const bool fallback = meshopt != b.end() && meshopt->is_object() &&
-                          meshopt->contains("EXT_meshopt_compression") &&
-                          (*meshopt)["EXT_meshopt_compression"].is_object() &&
-                          (*meshopt)["EXT_meshopt_compression"].value("fallback", false) == true;
+    const nlohmann::json* meshopt = meshopt_extension(b).first;
+    const bool fallback =
+        meshopt && meshopt->is_object() && meshopt->value("fallback", false) == true;
     if (const auto uri = b.find("uri"); uri != b.end()) {
       if (!uri->is_string()) fail("buffer " + std::to_string(i) + " uri is not a string");
       const std::string& text = uri->get_ref<const std::string&>();
@@ -352,7 +365,7 @@ size_t Document::reference(const nlohmann::json& object, const char* key, const 
   return static_cast<size_t>(it->get<uint64_t>());
 }
 
-// The bytes `object` (a bufferView, or its EXT_meshopt_compression extension) names by
+// The bytes `object` (a bufferView, or its meshopt compression extension) names by
 // buffer, byteOffset and byteLength, checked against the buffer.
 std::span<const uint8_t> Document::buffer_range(const nlohmann::json& object,
                                                 const std::string& name) const {
@@ -368,7 +381,7 @@ std::span<const uint8_t> Document::buffer_range(const nlohmann::json& object,
   if (!length) fail(name + " has no byteLength");
   if (placeholder_[buffer] == Empty::kMeshoptFallback)
     fail(name + " reads buffer " + std::to_string(buffer) +
-         ", which only stands in for EXT_meshopt_compression data and holds none");
+         ", which only stands in for meshopt-compressed data and holds none");
   if (placeholder_[buffer] == Empty::kNoData)
     fail(name + " reads buffer " + std::to_string(buffer) +
          ", which has no data (no uri and no GLB binary chunk)");
@@ -381,19 +394,18 @@ std::span<const uint8_t> Document::buffer_range(const nlohmann::json& object,
 std::span<const uint8_t> Document::buffer_view(size_t index) const {
   const nlohmann::json& view = element("bufferViews", index);
   const std::string name = "bufferView " + std::to_string(index);
-  const auto extensions = view.find("extensions");
-  if (extensions == view.end() || !extensions->is_object() ||
-      !extensions->contains("EXT_meshopt_compression"))
-    return buffer_range(view, name);
+  const auto [extension, extension_name] = meshopt_extension(view);
+  if (!extension) return buffer_range(view, name);
   if (const auto done = decoded_views_.find(index); done != decoded_views_.end())
     return done->second;
-  const nlohmann::json& meshopt = (*extensions)["EXT_meshopt_compression"];
-  if (!meshopt.is_object()) fail(name + ": EXT_meshopt_compression is not an object");
+  const nlohmann::json& meshopt = *extension;
+  if (!meshopt.is_object()) fail(name + ": " + extension_name + " is not an object");
   const std::optional<uint64_t> length =
       whole_field(view, "byteLength", name, "a byte count (a non-negative integer)");
   if (!length) fail(name + " has no byteLength");
-  std::vector<uint8_t> decoded = decode_meshopt_view(
-      meshopt, buffer_range(meshopt, name + " (compressed)"), *length, decode_budget_, index);
+  std::vector<uint8_t> decoded =
+      decode_meshopt_view(meshopt, extension_name, buffer_range(meshopt, name + " (compressed)"),
+                          *length, decode_budget_, index);
   decode_budget_ -= decoded.size();
   return decoded_views_.emplace(index, std::move(decoded)).first->second;
 }

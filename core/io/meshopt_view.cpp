@@ -16,28 +16,38 @@ namespace {
 constexpr size_t kMaxExpansion = 80;
 constexpr size_t kExpansionSlack = 64 * 1024;
 
-std::string text_field(const nlohmann::json& object, const char* key, const char* fallback) {
+// The vertex codec's first byte: 0xa0 | version. meshoptimizer 0.18 decodes version 0.
+constexpr uint8_t kVertexHeader = 0xa0;
+
+// "0.18" for the meshoptimizer this build uses (MESHOPTIMIZER_VERSION 180).
+std::string library_version() {
+  return std::to_string(MESHOPTIMIZER_VERSION / 1000) + "." +
+         std::to_string(MESHOPTIMIZER_VERSION % 1000 / 10);
+}
+
+std::string text_field(const nlohmann::json& object, const std::string& name, const char* key,
+                       const char* fallback) {
   const auto it = object.find(key);
   if (it == object.end()) return fallback;
-  if (!it->is_string()) fail(std::string("EXT_meshopt_compression ") + key + " is not a string");
+  if (!it->is_string()) fail(name + " " + key + " is not a string");
   return it->get<std::string>();
 }
 
 }  // namespace
 
 std::vector<uint8_t> decode_meshopt_view(const nlohmann::json& extension,
+                                         const char* extension_name,
                                          std::span<const uint8_t> compressed, size_t view_length,
                                          size_t max_bytes, size_t view_index) {
-  const std::string name =
-      "bufferView " + std::to_string(view_index) + " (EXT_meshopt_compression)";
+  const std::string name = "bufferView " + std::to_string(view_index) + " (" + extension_name + ")";
   const std::optional<uint64_t> declared =
       whole_field(extension, "count", name, "an element count (a non-negative integer)");
   const size_t stride =
       index_field(extension, "byteStride", 257, "EXT_meshopt_compression byteStride");
   if (!declared || stride == SIZE_MAX || stride == 0) fail(name + " needs count and byteStride");
   const size_t count = *declared;
-  const std::string mode = text_field(extension, "mode", "");
-  const std::string filter = text_field(extension, "filter", "NONE");
+  const std::string mode = text_field(extension, name, "mode", "");
+  const std::string filter = text_field(extension, name, "filter", "NONE");
   if (count > max_bytes / stride)
     throw InputError("too_large", name + " decodes to " + std::to_string(count) + " x " +
                                       std::to_string(stride) + " bytes, over the limit of " +
@@ -53,6 +63,11 @@ std::vector<uint8_t> decode_meshopt_view(const nlohmann::json& extension,
   int status = -1;
   if (mode == "ATTRIBUTES") {
     if (stride % 4 != 0) fail(name + ": ATTRIBUTES need a byteStride that is a multiple of 4");
+    if (!compressed.empty() && (compressed[0] & 0xf0) == kVertexHeader &&
+        compressed[0] != kVertexHeader)
+      fail(name + " is encoded with version " + std::to_string(compressed[0] & 0x0f) +
+           " of meshoptimizer's vertex codec; the meshoptimizer this build uses (Debian's " +
+           library_version() + ") decodes version 0 only");
     status =
         meshopt_decodeVertexBuffer(out.data(), count, stride, compressed.data(), compressed.size());
   } else if (mode == "TRIANGLES" || mode == "INDICES") {
@@ -79,6 +94,9 @@ std::vector<uint8_t> decode_meshopt_view(const nlohmann::json& extension,
   } else if (filter == "EXPONENTIAL") {
     if (mode != "ATTRIBUTES") fail(name + ": the EXPONENTIAL filter needs ATTRIBUTES");
     meshopt_decodeFilterExp(out.data(), count, stride);
+  } else if (filter == "COLOR" && std::string(extension_name) == "KHR_meshopt_compression") {
+    fail(name + " uses the COLOR filter, which the meshoptimizer this build uses (Debian's " +
+         library_version() + ") does not decode");
   } else if (filter != "NONE") {
     fail(name + " has filter '" + filter.substr(0, 20) +
          "'; NONE, OCTAHEDRAL, QUATERNION or EXPONENTIAL expected");
