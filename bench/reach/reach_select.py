@@ -34,8 +34,11 @@ def gltf_dependencies(data):
     try: doc = json.loads(data)
     except ValueError: return []
     if not isinstance(doc, dict): return []
-    items = (doc.get("buffers") or []) + (doc.get("images") or [])
-    uris = [item.get("uri", "") for item in items if isinstance(item, dict)] if isinstance(items, list) else []
+    items = []
+    for key in ("buffers", "images"):  # lists in glTF 2.0, objects keyed by id in 1.0
+        group = doc.get(key) or []
+        items += list(group.values()) if isinstance(group, dict) else group if isinstance(group, list) else []
+    uris = [item.get("uri", "") for item in items if isinstance(item, dict)]
     return [u for u in uris if isinstance(u, str) and u and not u.startswith("data:")]
 
 
