@@ -123,6 +123,22 @@ TEST(GltfRealWorld, ChecksRequiredExtensionsByName) {
   EXPECT_EQ(read_gltf(as_bytes(glb.bytes())).positions.size(), 42u);
 }
 
+// KHR_techniques_webgl (custom shaders) is read as stored, with a warning that its shaders
+// are not run; without it there is no warning.
+TEST(GltfRealWorld, ReadsShaderTechniquesAsStoredWithAWarning) {
+  Glb glb(sphere_glb());
+  glb.json["extensionsUsed"] = glb.json["extensionsRequired"] = {"KHR_techniques_webgl"};
+  GltfReadStats stats;
+  EXPECT_EQ(read_gltf(as_bytes(glb.bytes()), {}, &stats).positions,
+            read_gltf(as_bytes(sphere_glb())).positions);
+  ASSERT_EQ(stats.warnings.size(), 1u);
+  EXPECT_EQ(stats.warnings[0],
+            "the file's KHR_techniques_webgl shaders are not run: its geometry is read as stored");
+  GltfReadStats plain;
+  read_gltf(as_bytes(sphere_glb()), {}, &plain);
+  EXPECT_TRUE(plain.warnings.empty());
+}
+
 TEST(GltfRealWorld, SaysGltf1IsGltf1AndHowToConvert) {
   std::string glb = sphere_glb();
   const uint32_t version1 = 1;

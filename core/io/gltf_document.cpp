@@ -29,6 +29,11 @@ const char* const kGltf1 =
 bool appearance_only(const std::string& name) {
   return material_extension(name) || name == "KHR_lights_punctual" || name == "KHR_xmp_json_ld";
 }
+// Custom GLSL shading (glTF 1.0's techniques carried into 2.0 by converters). Its vertex
+// shaders could in principle move vertices; they are not run, the geometry is read as stored
+// and a warning says so, as three.js's loader does with extensions it lacks (set 5: 4 of
+// gltf-pipeline's test files were refused for it).
+constexpr const char* kShaderExtension = "KHR_techniques_webgl";
 const char* const kGeometryExtensions[] = {"KHR_draco_mesh_compression", "KHR_mesh_quantization",
                                            "EXT_meshopt_compression", "KHR_meshopt_compression",
                                            "EXT_mesh_gpu_instancing"};
@@ -227,7 +232,7 @@ void Document::check_required_extensions() const {
   for (const auto& e : *it) {
     if (!e.is_string()) fail("extensionsRequired holds a non-string");
     const std::string& name = e.get_ref<const std::string&>();
-    if (appearance_only(name)) continue;
+    if (appearance_only(name) || name == kShaderExtension) continue;
     if (std::find(std::begin(kGeometryExtensions), std::end(kGeometryExtensions), name) !=
         std::end(kGeometryExtensions))
       continue;
@@ -565,7 +570,11 @@ Document::AccessorView Document::with_sparse(size_t index, AccessorView v,
 }
 
 std::vector<std::string> Document::warnings() const {
-  if (zero_stride_views_.empty()) return {};
+  std::vector<std::string> out;
+  if (uses_extension(kShaderExtension))
+    out.push_back(std::string("the file's ") + kShaderExtension +
+                  " shaders are not run: its geometry is read as stored");
+  if (zero_stride_views_.empty()) return out;
   // One sentence however many views: a file may have thousands.
   std::vector<size_t> views = zero_stride_views_;
   std::sort(views.begin(), views.end());
@@ -573,9 +582,10 @@ std::vector<std::string> Document::warnings() const {
   for (size_t i = 0; i < views.size() && i < 8; ++i)
     list += (i ? ", " : "") + std::to_string(views[i]);
   if (views.size() > 8) list += ", ...";
-  return {"byteStride 0 (not valid glTF) read as tightly packed in " +
-          std::to_string(views.size()) + " bufferView" + (views.size() > 1 ? "s" : "") + " (" +
-          list + ")"};
+  out.push_back("byteStride 0 (not valid glTF) read as tightly packed in " +
+                std::to_string(views.size()) + " bufferView" + (views.size() > 1 ? "s" : "") +
+                " (" + list + ")");
+  return out;
 }
 
 // One component of an accessor element as a double: FLOAT as it is, normalized integers
