@@ -13,8 +13,8 @@
 namespace spheremap::gltf {
 
 // `extension` is the bufferView's meshopt compression object (`extension_name`: which of
-// the two, for messages) and `compressed` the
-// bytes it points at (already checked against their buffer). The decoded size,
+// the two, for messages) and `compressed` the bytes it points at (already checked against
+// their buffer). The decoded size,
 // count x byteStride, is checked before any allocation against `max_bytes` and against
 // what `compressed` can expand to (meshoptimizer's codecs shrink at most 64:1); a stream
 // that does not decode, or decodes to a different size than `view_length`, is refused
