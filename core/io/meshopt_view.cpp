@@ -42,8 +42,7 @@ std::vector<uint8_t> decode_meshopt_view(const nlohmann::json& extension,
   const std::string name = "bufferView " + std::to_string(view_index) + " (" + extension_name + ")";
   const std::optional<uint64_t> declared =
       whole_field(extension, "count", name, "an element count (a non-negative integer)");
-  const size_t stride =
-      index_field(extension, "byteStride", 257, "EXT_meshopt_compression byteStride");
+  const size_t stride = range_field(extension, "byteStride", 1, 256, name + "'s byteStride");
   if (!declared || stride == SIZE_MAX || stride == 0) fail(name + " needs count and byteStride");
   const size_t count = *declared;
   const std::string mode = text_field(extension, name, "mode", "");
