@@ -292,7 +292,7 @@ TEST(GltfRealWorld, KhrMeshoptFeaturesThisMeshoptimizerLacksAreNamed) {
   wide.json["bufferViews"][0]["extensions"]["KHR_meshopt_compression"]["byteStride"] = 300;
   EXPECT_NE(
       read_error(wide.bytes())
-          .find("bufferView 0 (KHR_meshopt_compression)'s byteStride 300 is not from 1 to 256"),
+          .find("bufferView 0 (KHR_meshopt_compression)'s byteStride 300 is not an integer from 1 to 256"),
       std::string::npos);
   Glb color(meshopt_sphere("KHR_meshopt_compression"));
   color.json["bufferViews"][0]["extensions"]["KHR_meshopt_compression"]["filter"] = "COLOR";

@@ -254,6 +254,66 @@ TEST(Gltf, ReadsSparseAccessorsOverAViewAndOverZeros) {
   EXPECT_EQ(read_gltf(as_bytes(zeros.bytes())).positions, plain.positions);
 }
 
+// A field bounded by the spec is told with its range, never as "(253 available)" as if the
+// file had 253 of something; an index past a count names who refers to it.
+TEST(Gltf, TellsBoundsAsRangesAndReferencesByReferrer) {
+  auto error_after = [](const std::function<void(Glb&)>& edit) {
+    Glb glb(sphere_glb());
+    edit(glb);
+    return read_error(glb.bytes());
+  };
+  auto position_of = [](Glb& glb) -> nlohmann::json& {
+    const size_t position = glb.json["meshes"][0]["primitives"][0]["attributes"]["POSITION"];
+    return glb.json["accessors"][position];
+  };
+  EXPECT_NE(error_after([&](Glb& glb) {
+              glb.json["bufferViews"][position_of(glb)["bufferView"].get<size_t>()]["byteStride"] =
+                  253;
+            }).find("'s byteStride 253 is not an integer from 0 to 252"),
+            std::string::npos);
+  EXPECT_EQ(error_after([](Glb& glb) { glb.json["meshes"][0]["primitives"][0]["mode"] = 7; }),
+            "mesh 0 primitive 0's mode 7 is not an integer from 0 to 6");
+  // The bound of sparse.count is compared, not computed: no "(0 available)" from an overflow.
+  const std::string sparse_count = error_after([&](Glb& glb) {
+    nlohmann::json& accessor = position_of(glb);
+    accessor["sparse"] = {{"count", UINT64_MAX},
+                          {"indices", {{"bufferView", 0}, {"componentType", 5125}}},
+                          {"values", {{"bufferView", 0}}}};
+    accessor["count"] = UINT64_MAX;
+  });
+  EXPECT_EQ(sparse_count.find("available"), std::string::npos) << sparse_count;
+  const std::string sparse_over = error_after([&](Glb& glb) {
+    position_of(glb)["sparse"] = {{"count", UINT64_MAX},
+                                  {"indices", {{"bufferView", 0}, {"componentType", 5125}}},
+                                  {"values", {{"bufferView", 0}}}};
+  });
+  EXPECT_NE(sparse_over.find("'s sparse.count 18446744073709551615 is not an integer from 1 to " +
+                             std::to_string(read_gltf(as_bytes(sphere_glb())).vertex_count()) +
+                             " (its count)"),
+            std::string::npos)
+      << sparse_over;
+  const std::string sparse_type = error_after([&](Glb& glb) {
+    position_of(glb)["sparse"] = {{"count", 1},
+                                  {"indices", {{"bufferView", 0}, {"componentType", 6000}}},
+                                  {"values", {{"bufferView", 0}}}};
+  });
+  EXPECT_NE(sparse_type.find("UNSIGNED_INT (5121, 5123 or 5125), not 6000"), std::string::npos)
+      << sparse_type;
+  const size_t nodes = Glb(sphere_glb()).json["nodes"].size();
+  const std::string have =
+      "but the file has " + std::to_string(nodes) + (nodes == 1 ? " node" : " nodes");
+  EXPECT_EQ(error_after([](Glb& glb) { glb.json["scenes"][0]["nodes"] = {5}; }),
+            "scene 0 refers to node 5, " + have);
+  EXPECT_EQ(error_after([](Glb& glb) { glb.json["nodes"][0]["children"] = {5}; }),
+            "node 0's children refer to node 5, " + have);
+  EXPECT_EQ(error_after([](Glb& glb) { glb.json["nodes"][0]["children"] = {"x"}; }),
+            "node 0's children refer to node \"x\", which is not an index");
+  EXPECT_EQ(error_after([](Glb& glb) { glb.json["scene"] = 3; }),
+            "the top-level scene field refers to scene 3, but the file has 1 scene");
+  EXPECT_EQ(error_after([](Glb& glb) { glb.json["nodes"][0]["mesh"] = 4; }),
+            "node 0 refers to mesh 4, but the file has 1 mesh");
+}
+
 // An accessor without a bufferView (and without sparse) is zeros (glTF 3.6.2.3); it was
 // refused "accessor 0 has no bufferView" (glTF-Validator's KHR_mesh_quantization
 // valid.gltf). Its count is bounded by the decode limit, since no bytes bound it.

@@ -78,6 +78,26 @@ TEST(PointCloud, PlyWithoutAFaceElement) {
   }
 }
 
+// Counts of one are said in the singular: "1 point", "1 line segment", not "1 points".
+TEST(PointCloud, CountsOfOneAreSingular) {
+  try {
+    parse_ply(
+        "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
+        "property float z\nend_header\n0 0 0\n");
+    ADD_FAILURE() << "a PLY of one point was read";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("(1 point, no 'face'"), std::string::npos) << e.what();
+  }
+  try {
+    parse_obj("v 0 0 0\nv 1 0 0\nl 1 2\n");
+    ADD_FAILURE() << "an OBJ of one line segment was read";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()),
+              "the file has 2 vertices and 1 line segment, no faces: spheremap maps triangle "
+              "surfaces");
+  }
+}
+
 TEST(PointCloud, GltfOfPointsPrimitives) {
   testing::Glb glb(testing::sphere_glb());  // icosphere(1): 42 vertices
   for (auto& primitive : glb.json["meshes"][0]["primitives"]) {

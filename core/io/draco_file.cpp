@@ -7,6 +7,7 @@
 #include <draco/compression/decode.h>
 #include "core/io/draco_header.h"
 #include "core/io/gltf_reader.h"
+#include "core/mesh/counted.h"
 #include "core/mesh/input_error.h"
 
 namespace spheremap {
@@ -34,8 +35,8 @@ PolygonMesh read_draco_file(std::span<const uint8_t> bytes, const MeshLimits& li
     } catch (const InputError& e) {
       refuse(e.what());
     }
-    throw InputError("empty", "drc: the file is a point cloud (" + std::to_string(points) +
-                                  " points, no faces): spheremap maps triangle surfaces");
+    throw InputError("empty", "drc: the file is a point cloud (" + counted(points, "point") +
+                                  ", no faces): spheremap maps triangle surfaces");
   }
   if (bytes[5] != 2 || bytes[6] != 2)
     refuse("the file is Draco bitstream version " + std::to_string(bytes[5]) + "." +

@@ -2,6 +2,7 @@
 
 #include <string>
 
+#include "core/mesh/counted.h"
 #include "core/mesh/input_error.h"
 
 namespace spheremap {
@@ -87,8 +88,8 @@ DracoCounts read_draco_counts(std::span<const uint8_t> stream) {
   // Point clouds are bitstream 2.3: said as what they are, not as a wrong version.
   const uint8_t type = in.byte();
   if (type == 0)
-    refuse("is a point cloud (" + std::to_string(read_draco_point_count(stream)) +
-           " points, no faces): spheremap maps triangle surfaces");
+    refuse("is a point cloud (" + counted(read_draco_point_count(stream), "point") +
+           ", no faces): spheremap maps triangle surfaces");
   if (major != 2 || minor != 2)
     refuse("is bitstream version " + std::to_string(major) + "." + std::to_string(minor) +
            "; glTF's KHR_draco_mesh_compression streams are version 2.2");

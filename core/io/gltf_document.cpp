@@ -8,6 +8,7 @@
 #include "core/io/bounded_json.h"
 #include "core/io/meshopt_view.h"
 #include "core/io/shown_bytes.h"
+#include "core/mesh/counted.h"
 #include "core/mesh/input_error.h"
 
 namespace spheremap::gltf {
@@ -132,13 +133,13 @@ bool looks_like_gltf(std::span<const uint8_t> bytes) {
   return at == bytes.size() || bytes[at] == '{';
 }
 
-size_t index_field(const nlohmann::json& object, const char* key, size_t limit, const char* what,
-                   size_t fallback) {
+size_t range_field(const nlohmann::json& object, const char* key, uint64_t min, uint64_t max,
+                   const std::string& what, size_t fallback) {
   auto it = object.find(key);
   if (it == object.end()) return fallback;
-  if (!it->is_number_unsigned() || it->get<uint64_t>() >= limit)
-    fail(std::string(what) + " " + describe_json(*it) + " is out of range (" +
-         std::to_string(limit) + " available)");
+  if (!it->is_number_unsigned() || it->get<uint64_t>() < min || it->get<uint64_t>() > max)
+    fail(what + " " + describe_json(*it) + " is not an integer from " + std::to_string(min) +
+         " to " + std::to_string(max));
   return static_cast<size_t>(it->get<uint64_t>());
 }
 
@@ -355,19 +356,34 @@ size_t Document::reference(const nlohmann::json& object, const char* key, const 
                            const std::string& owner) const {
   const auto it = object.find(key);
   if (it == object.end()) return SIZE_MAX;
+  return checked_index(*it, array, owner + " refers to",
+                       singular(array) == key ? "" : std::string(" as its ") + key);
+}
+
+size_t Document::reference(const nlohmann::json& value, const char* array,
+                           const std::string& refers) const {
+  return checked_index(value, array, refers, "");
+}
+
+// "bufferViews" -> "bufferView", "meshes" -> "mesh".
+std::string Document::singular(const char* array) {
+  std::string noun(array);
+  noun.pop_back();
+  if (noun == "meshe") noun.pop_back();
+  return noun;
+}
+
+size_t Document::checked_index(const nlohmann::json& value, const char* array,
+                               const std::string& refers, const std::string& as) const {
   const auto list = json_.find(array);
   const size_t count = list != json_.end() && list->is_array() ? list->size() : 0;
-  std::string noun(array);
-  noun.pop_back();  // "bufferViews" -> "bufferView"
-  const std::string refers = owner + " refers to " + noun + " " + describe_json(*it) +
-                             (noun == key ? "" : std::string(" as its ") + key);
-  if (!it->is_number_unsigned()) fail(refers + ", which is not an index");
-  if (it->get<uint64_t>() >= count)
-    fail(refers + ", but the file has " +
-         (count == 0   ? "no " + std::string(array)
-          : count == 1 ? "1 " + noun
-                       : std::to_string(count) + " " + array));
-  return static_cast<size_t>(it->get<uint64_t>());
+  const std::string noun = singular(array);
+  const std::string named = refers + " " + noun + " " + describe_json(value) + as;
+  if (!value.is_number_unsigned()) fail(named + ", which is not an index");
+  if (value.get<uint64_t>() >= count)
+    fail(named + ", but the file has " +
+         (count == 0 ? "no " + std::string(array) : counted(count, noun, array)));
+  return static_cast<size_t>(value.get<uint64_t>());
 }
 
 // The bytes `object` (a bufferView, or its meshopt compression extension) names by
@@ -440,7 +456,10 @@ Document::AccessorView Document::accessor(size_t index) const {
   v.stride = v.element_size;
   if (view_index != SIZE_MAX) {
     const nlohmann::json& view = element("bufferViews", view_index);
-    v.stride = index_field(view, "byteStride", 253, "byteStride", v.element_size);
+    // 0 too (see below); glTF's 4 to 252 is otherwise checked against the element size.
+    v.stride =
+        range_field(view, "byteStride", 0, 252,
+                    "bufferView " + std::to_string(view_index) + "'s byteStride", v.element_size);
     // byteStride 0 is outside the spec (4..252, and none on index views), but exporters
     // write it for "packed" and viewers read it so: here too, said once per view.
     if (v.stride == 0) {
@@ -522,17 +541,26 @@ Document::AccessorView Document::with_sparse(size_t index, AccessorView v,
   if (const auto done = sparse_accessors_.find(index); done != sparse_accessors_.end())
     return dense_view(done->second);
   if (!sparse.is_object()) fail(name + ": sparse is not an object");
-  const size_t count = index_field(sparse, "count", v.count + 1, "sparse.count", SIZE_MAX);
-  if (count == SIZE_MAX || count == 0) fail(name + ": sparse.count must be 1 to its count");
+  // Compared, not bounded by v.count + 1: that overflows for a count of 2^64 - 1.
+  const std::optional<uint64_t> declared =
+      whole_field(sparse, "count", name + "'s sparse", "an element count (a non-negative integer)");
+  if (!declared) fail(name + ": sparse has no count");
+  if (*declared == 0 || *declared > v.count)
+    fail(name + "'s sparse.count " + std::to_string(*declared) + " is not an integer from 1 to " +
+         std::to_string(v.count) + " (its count)");
+  const size_t count = static_cast<size_t>(*declared);
   if (!sparse.contains("indices") || !sparse.contains("values"))
     fail(name + ": sparse needs indices and values");
   const nlohmann::json& indices = sparse["indices"];
-  const int index_type =
-      indices.is_object()
-          ? static_cast<int>(index_field(indices, "componentType", 6000, "componentType", 0))
-          : 0;
+  const nlohmann::json* type = indices.is_object() && indices.contains("componentType")
+                                   ? &indices["componentType"]
+                                   : nullptr;
+  const int index_type = type && type->is_number_unsigned() && type->get<uint64_t>() <= 5125
+                             ? static_cast<int>(type->get<uint64_t>())
+                             : 0;
   if (index_type != 5121 && index_type != 5123 && index_type != 5125)
-    fail(name + ": sparse indices must be UNSIGNED_BYTE, UNSIGNED_SHORT or UNSIGNED_INT");
+    fail(name + ": sparse indices must be UNSIGNED_BYTE, UNSIGNED_SHORT or UNSIGNED_INT (5121, " +
+         "5123 or 5125), not " + (type ? describe_json(*type) : std::string("none")));
   const size_t index_size = component_size(index_type);
   const std::span<const uint8_t> where =
       sparse_part(indices, count, index_size, name + ": sparse.indices");

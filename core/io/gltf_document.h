@@ -69,12 +69,20 @@ class Document {
   // "accessor 0 refers to bufferView 5, but the file has 1 bufferView" (never "missing").
   size_t reference(const nlohmann::json& object, const char* key, const char* array,
                    const std::string& owner) const;
+  // The same check of `value`, an index into json()[array] listed by its referrer:
+  // `refers` is the start of the sentence, e.g. "node 2's children refer to", giving
+  // "node 2's children refer to node 5, but the file has 3 nodes".
+  size_t reference(const nlohmann::json& value, const char* array, const std::string& refers) const;
 
   // What was read leniently (bufferViews with byteStride 0 read as tightly packed, as
   // viewers do), one sentence per kind, for the report.
   std::vector<std::string> warnings() const;
 
  private:
+  static std::string singular(const char* array);
+  // reference()'s check: `refers` + " node 5" + `as` + ", but the file has ...".
+  size_t checked_index(const nlohmann::json& value, const char* array, const std::string& refers,
+                       const std::string& as) const;
   struct AccessorView {
     std::span<const uint8_t> bytes;
     size_t count, stride, element_size;
@@ -122,10 +130,11 @@ class Document {
   mutable std::vector<size_t> zero_stride_views_;  // read as packed, each once
 };
 
-// Integer field of a JSON object: absent -> fallback; present but not a non-negative
-// integer below `limit` -> fail naming `what`.
-size_t index_field(const nlohmann::json& object, const char* key, size_t limit, const char* what,
-                   size_t fallback = SIZE_MAX);
+// Integer field of a JSON object bounded by the spec (not by a count of things in the file:
+// those are reference()s): absent -> fallback; present but not an integer from `min` to
+// `max` -> fail naming `what` and that range.
+size_t range_field(const nlohmann::json& object, const char* key, uint64_t min, uint64_t max,
+                   const std::string& what, size_t fallback = SIZE_MAX);
 
 // A count, byte offset or byte length: absent -> nullopt; present but not a non-negative
 // integer -> fail "<owner>'s <key> <value> is not <expected>", where `expected` says the

@@ -12,13 +12,14 @@
 #include "core/io/gltf_checked.h"
 #include "core/io/gltf_document.h"
 #include "core/io/gltf_look.h"
+#include "core/mesh/counted.h"
 #include "core/mesh/input_error.h"
 
 namespace spheremap {
 namespace {
 
 using gltf::fail;
-using gltf::index_field;
+using gltf::range_field;
 using Matrix = Matrix4;
 
 constexpr Matrix kIdentity = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
@@ -125,8 +126,8 @@ class Reader {
     // checks give a mesh without faces, not a malformed file.
     if (mesh_.face_count() == 0 && point_primitives_ > 0 &&
         point_primitives_ == stats_.skipped_primitives && stats_.primitives == 0)
-      throw InputError("empty", "the file is a point cloud (" + std::to_string(points_) +
-                                    " points, no faces): spheremap maps triangle surfaces");
+      throw InputError("empty", "the file is a point cloud (" + counted(points_, "point") +
+                                    ", no faces): spheremap maps triangle surfaces");
     if (mesh_.face_count() == 0)
       throw InputError(
           "empty", "no triangles to map: " + std::to_string(stats_.skipped_primitives) +
@@ -143,13 +144,15 @@ class Reader {
 
   void walk_scene() {
     const nlohmann::json& json = doc_.json();
-    const size_t scene = index_field(json, "scene", json["scenes"].size(), "scene", 0);
+    const size_t chosen = doc_.reference(json, "scene", "scenes", "the top-level scene field");
+    const size_t scene = chosen == SIZE_MAX ? 0 : chosen;
     const nlohmann::json& s = doc_.element("scenes", scene);
     if (const auto nodes = s.find("nodes"); nodes != s.end() && nodes->is_array())
       for (const auto& n : *nodes) {
-        if (!n.is_number_unsigned()) fail("a scene node reference is not an index");
-        visit(n.get<size_t>(), kIdentity, 0);
-        scene_roots_.push_back(n.get<size_t>());
+        const size_t root =
+            doc_.reference(n, "nodes", "scene " + std::to_string(scene) + " refers to");
+        visit(root, kIdentity, 0);
+        scene_roots_.push_back(root);
       }
     if (const auto name = s.find("name"); name != s.end() && name->is_string())
       scene_name_ = name->get<std::string>();
@@ -182,14 +185,12 @@ class Reader {
            " is reached twice; glTF nodes must form a tree (one parent each)");
     visited_[node_index] = 1;
     const Matrix world = multiply(parent, local_transform(node));
-    const size_t meshes = doc_.json().contains("meshes") ? doc_.json()["meshes"].size() : 0;
-    if (const size_t mesh = index_field(node, "mesh", meshes, "node.mesh"); mesh != SIZE_MAX)
+    const std::string name = "node " + std::to_string(node_index);
+    if (const size_t mesh = doc_.reference(node, "mesh", "meshes", name); mesh != SIZE_MAX)
       draw(node_index, node, mesh, world);
     if (const auto children = node.find("children"); children != node.end() && children->is_array())
-      for (const auto& c : *children) {
-        if (!c.is_number_unsigned()) fail("a node child reference is not an index");
-        visit(c.get<size_t>(), world, depth + 1);
-      }
+      for (const auto& c : *children)
+        visit(doc_.reference(c, "nodes", name + "'s children refer to"), world, depth + 1);
   }
 
   void draw(size_t node_index, const nlohmann::json& node, size_t mesh, const Matrix& world) {
@@ -220,11 +221,9 @@ class Reader {
     if (!instancing.is_object() || !instancing.contains("attributes") ||
         !instancing["attributes"].is_object() || instancing["attributes"].empty())
       fail("EXT_mesh_gpu_instancing has no attributes");
-    const size_t accessors =
-        doc_.json().contains("accessors") ? doc_.json()["accessors"].size() : 0;
     const size_t accessor =
-        index_field(instancing["attributes"], instancing["attributes"].begin().key().c_str(),
-                    accessors, "EXT_mesh_gpu_instancing accessor");
+        doc_.reference(instancing["attributes"], instancing["attributes"].begin().key().c_str(),
+                       "accessors", "EXT_mesh_gpu_instancing");
     return gltf::whole_field(doc_.element("accessors", accessor), "count",
                              "accessor " + std::to_string(accessor),
                              "an element count (a non-negative integer)")
@@ -263,7 +262,7 @@ class Reader {
   // `name` ("mesh 0 primitive 1") locates the primitive in refusals.
   void add_primitive(const nlohmann::json& p, const Matrix& world, int64_t node,
                      const nlohmann::json& mesh, const std::string& name) {
-    const size_t mode = index_field(p, "mode", 7, "primitive mode", 4);
+    const size_t mode = range_field(p, "mode", 0, 6, name + "'s mode", 4);
     if (mode < 4) {
       ++stats_.skipped_primitives;
       if (mode == 0) count_points(p);
@@ -307,11 +306,7 @@ class Reader {
     if (!look_) return;
     GltfAppearance::Primitive record;
     record.node = node;
-    const size_t materials =
-        doc_.json().contains("materials") && doc_.json()["materials"].is_array()
-            ? doc_.json()["materials"].size()
-            : 0;
-    const size_t material = index_field(p, "material", materials, "primitive material");
+    const size_t material = doc_.reference(p, "material", "materials", name);
     record.material = material == SIZE_MAX ? -1 : static_cast<int64_t>(material);
     if (const auto name = mesh.find("name"); name != mesh.end() && name->is_string())
       record.mesh_name = name->get<std::string>();
@@ -364,7 +359,7 @@ class Reader {
         !attributes->contains("POSITION"))
       fail("KHR_draco_mesh_compression has no POSITION attribute");
     const size_t position_id =
-        index_field(*attributes, "POSITION", UINT32_MAX, "Draco POSITION id");
+        range_field(*attributes, "POSITION", 0, UINT32_MAX - 1, "Draco POSITION id");
     // The counts the stream declares, against what is left of the caps, before Draco
     // allocates by them.
     const DracoCounts declared = read_draco_counts(bytes);

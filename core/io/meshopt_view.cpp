@@ -42,12 +42,8 @@ std::vector<uint8_t> decode_meshopt_view(const nlohmann::json& extension,
   const std::string name = "bufferView " + std::to_string(view_index) + " (" + extension_name + ")";
   const std::optional<uint64_t> declared =
       whole_field(extension, "count", name, "an element count (a non-negative integer)");
-  const std::optional<uint64_t> stride_field =
-      whole_field(extension, "byteStride", name, "a byte stride (an integer from 1 to 256)");
-  if (!declared || !stride_field) fail(name + " needs count and byteStride");
-  if (*stride_field == 0 || *stride_field > 256)
-    fail(name + "'s byteStride " + std::to_string(*stride_field) + " is not from 1 to 256");
-  const size_t stride = *stride_field;
+  const size_t stride = range_field(extension, "byteStride", 1, 256, name + "'s byteStride");
+  if (!declared || stride == SIZE_MAX || stride == 0) fail(name + " needs count and byteStride");
   const size_t count = *declared;
   const std::string mode = text_field(extension, name, "mode", "");
   const std::string filter = text_field(extension, name, "filter", "NONE");

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "core/io/text_reader.h"
+#include "core/mesh/counted.h"
 #include "core/mesh/input_error.h"
 
 namespace spheremap {
@@ -60,9 +61,9 @@ PolygonMesh parse_obj(std::string_view text) {
   // Lines and no faces: said as lines (only points is a point cloud, said by the mesh
   // checks), under the check a mesh without faces fails.
   if (mesh.face_count() == 0 && line_segments > 0)
-    throw InputError("empty", "the file has " + std::to_string(mesh.vertex_count()) +
-                                  " vertices and " + std::to_string(line_segments) +
-                                  " line segments, no faces: spheremap maps triangle surfaces");
+    throw InputError("empty", "the file has " + counted(mesh.vertex_count(), "vertex", "vertices") +
+                                  " and " + counted(line_segments, "line segment") +
+                                  ", no faces: spheremap maps triangle surfaces");
   return mesh;
 }
 

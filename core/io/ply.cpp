@@ -278,8 +278,8 @@ PolygonMesh parse_ply(std::string_view bytes, const MeshLimits& limits) {
     if (e.name == "tristrips" && !face) face = &e;
   if (!vertex) fail("no 'vertex' element");
   if (!face)  // nothing to map: the check of every reader's point cloud, not a parse error
-    throw InputError("empty", "PLY: the file is a point cloud (" + std::to_string(vertex->count) +
-                                  " points, no 'face' or 'tristrips' element): spheremap maps "
+    throw InputError("empty", "PLY: the file is a point cloud (" + counted(vertex->count, "point") +
+                                  ", no 'face' or 'tristrips' element): spheremap maps "
                                   "triangle surfaces");
 
   // A face is at least one triangle.
