@@ -290,10 +290,10 @@ TEST(GltfRealWorld, KhrMeshoptFeaturesThisMeshoptimizerLacksAreNamed) {
       << v1;
   Glb wide(meshopt_sphere("KHR_meshopt_compression"));
   wide.json["bufferViews"][0]["extensions"]["KHR_meshopt_compression"]["byteStride"] = 300;
-  EXPECT_NE(
-      read_error(wide.bytes())
-          .find("bufferView 0 (KHR_meshopt_compression)'s byteStride 300 is not an integer from 1 to 256"),
-      std::string::npos);
+  EXPECT_NE(read_error(wide.bytes())
+                .find("bufferView 0 (KHR_meshopt_compression)'s byteStride 300 is not an integer "
+                      "from 1 to 256"),
+            std::string::npos);
   Glb color(meshopt_sphere("KHR_meshopt_compression"));
   color.json["bufferViews"][0]["extensions"]["KHR_meshopt_compression"]["filter"] = "COLOR";
   const std::string filter = read_error(color.bytes());
