@@ -95,7 +95,10 @@ const char* const kMapOptionsHelp = R"(Mapping options:
   --largest-component       keep only the connected part with the most faces (default: several
                             parts are an error that lists their sizes)
   --prepare M               auto (default): every part served, exactly where it can be: as
-                            parts, then each part that still cannot map is replaced by its
+                            parts, then each part that is an open disc (one hole too large
+                            to fill) is closed by its own back, a copy facing the other way
+                            (exact; metrics.preparation.sheets_doubled), then each part
+                            that still cannot map is replaced by its
                             own envelope (as wrap; same voxel size and offset for all parts;
                             "wrapped" in its metrics.parts entry, with the reason and its
                             distances); a mesh of one part that cannot map is wrapped whole.

@@ -36,9 +36,13 @@ msg=$("$spheremap" info "$tmp/tet.3ds" 2>&1); [ $? -eq 2 ] || fail "unknown exte
 [[ "$msg" == *"'.stl', '.ply'"* ]] || fail "unknown extension lists the formats: $msg"
 printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n' > "$tmp/tri.obj"
 "$spheremap" info "$tmp/tri.obj" --prepare parts > /dev/null; [ $? -eq 2 ] || fail "info on open mesh exit 2"
-# The default (auto) serves it as its envelope, and says so.
+# The default (auto) serves it closed by its own back, and says so; --prepare wrap as its
+# envelope.
 msg=$("$spheremap" info "$tmp/tri.obj") || fail "info on open mesh under auto exit 0"
-[[ "$msg" == *'"decided": "wrap"'* ]] || fail "info under auto says it wraps: $msg"
+[[ "$msg" == *'"decided": "repair"'* && "$msg" == *'"sheets_doubled": 1'* ]] ||
+  fail "info under auto says it doubles the sheet: $msg"
+msg=$("$spheremap" info "$tmp/tri.obj" --prepare wrap) || fail "info on open mesh under wrap exit 0"
+[[ "$msg" == *'"method": "wrap"'* ]] || fail "info under wrap says it wraps: $msg"
 # Two tetrahedra: both mapped by default (--prepare auto, as parts); one part at a time (--prepare
 # repair) an error naming the components and parts as the fix; the larger with
 # --largest-component.

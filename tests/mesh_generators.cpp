@@ -258,6 +258,19 @@ PolygonMesh dome(int levels) {
   return weld(half, 0).mesh;
 }
 
+PolygonMesh band(int levels) {
+  const PolygonMesh sphere = icosphere(levels);
+  PolygonMesh belt;
+  belt.positions = sphere.positions;
+  for (size_t f = 0; f < sphere.face_count(); ++f) {
+    const auto face = sphere.face(f);
+    if (std::all_of(face.begin(), face.end(),
+                    [&](uint32_t v) { return std::abs(sphere.positions[v].z) < 0.6; }))
+      belt.add_face(face);
+  }
+  return weld(belt, 0).mesh;
+}
+
 PolygonMesh assembled(const std::vector<std::pair<PolygonMesh, Vec3>>& parts) {
   PolygonMesh out;
   std::vector<uint32_t> corners;

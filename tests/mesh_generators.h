@@ -75,6 +75,10 @@ PolygonMesh without_face(const PolygonMesh& mesh, size_t f);
 // The faces of icosphere(levels) above z = 0, welded: an open dome whose one hole is too
 // large to close (its fill would be about half its area).
 PolygonMesh dome(int levels);
+// The faces of icosphere(levels) with |z| < 0.6, welded: an open band (genus 0, two holes,
+// each too large to close), which prepare=auto wraps (it doubles a disc only:
+// sheet_doubling.h).
+PolygonMesh band(int levels);
 // One mesh of several parts: each (mesh, offset) moved by its offset, in the order given.
 PolygonMesh assembled(const std::vector<std::pair<PolygonMesh, Vec3>>& parts);
 

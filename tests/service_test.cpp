@@ -785,8 +785,8 @@ TEST(Service, EveryPartOfAKitMapsAndThePartLeftOutIsListed) {
       client.Post("/v1/jobs?prepare=wrap&wrap_resolution=0", glb_of(kit), "model/gltf-binary"), 400,
       "invalid_options");
 
-  // prepare=auto: the sphere and the horseshoe as they are, the open dome as its envelope;
-  // the wrapped part's report crosses the worker protocol.
+  // prepare=auto: the sphere and the horseshoe as they are, the open dome closed by its own
+  // back (no envelope); the report of that crosses the worker protocol.
   auto automatic = client.Post(
       "/v1/jobs?prepare=auto&wrap_resolution=64&outputs=remesh,uv,morph"
       "&resolution=16",
@@ -794,10 +794,11 @@ TEST(Service, EveryPartOfAKitMapsAndThePartLeftOutIsListed) {
   ASSERT_EQ(automatic->status, 202) << automatic->body;
   const json every = wait_for(client, body_json(automatic)["id"]);
   ASSERT_EQ(every["status"], "succeeded") << every.dump(2);
-  EXPECT_EQ(every["metrics"]["preparation"]["decided"], "parts+wrap");
+  EXPECT_EQ(every["metrics"]["preparation"]["decided"], "parts");
+  EXPECT_EQ(every["metrics"]["preparation"]["sheets_doubled"], 1);
   EXPECT_EQ(every["metrics"]["parts_mapped"], 3);
   EXPECT_EQ(every["metrics"]["parts_left_out"], 0);
-  EXPECT_EQ(every["metrics"]["parts"][2]["wrapped"]["check"], "boundary");
+  for (const json& part : every["metrics"]["parts"]) EXPECT_FALSE(part.contains("wrapped"));
   EXPECT_EQ(every["metrics"]["remesh"]["parts"].size(), 3u);
 }
 

@@ -41,6 +41,7 @@ PrepareOptions options(PrepareMethod method) {
   o.method = method;
   o.envelope.resolution = 96;  // voxel: 1/96 of the diagonal
   o.envelope.target_faces = 3000;
+  o.double_open_sheets = false;  // the open domes here stand for parts only an envelope maps
   return o;
 }
 

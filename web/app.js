@@ -684,8 +684,9 @@ async function finished(job, ticket) {
       [prepared.non_manifold_edges_split, 'non-manifold edges split'],
       [prepared.holes_filled, 'holes filled'],
       [prepared.handles_closed, 'handles closed'],
-      [prepared.faces_added, 'faces added by the fills'],
-      [prepared.vertices_added, 'vertices added inside the fills'],
+      [prepared.sheets_doubled, 'open sheets closed by their own back'],
+      [prepared.faces_added, 'faces added by the fills and backs'],
+      [prepared.vertices_added, 'vertices added inside the fills and backs'],
       [prepared.holes_left, 'holes left open'],
     ].filter(([count]) => count > 0).map(([count, what]) => `${count.toLocaleString()} ${what}`);
     // A wrapped whole: the envelope is the change (its repairs above are the envelope's own).

@@ -56,6 +56,7 @@ nlohmann::json preparation_json(const PreparationReport& p) {
                         {"vertices_added", p.vertices_added},
                         {"holes_left", p.holes_left},
                         {"largest_fill", p.largest_fill},
+                        {"sheets_doubled", p.sheets_doubled},
                         {"handles_closed", p.handles_closed},
                         {"handles_left", p.handles_left},
                         {"largest_handle_cycle", p.largest_handle_cycle}};

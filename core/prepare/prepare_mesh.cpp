@@ -15,6 +15,7 @@
 #include "core/prepare/face_cleanup.h"
 #include "core/prepare/handle_closing.h"
 #include "core/prepare/hole_filling.h"
+#include "core/prepare/sheet_doubling.h"
 #include "core/prepare/vertex_copies.h"
 #include "core/prepare/vertex_split.h"
 
@@ -161,6 +162,28 @@ void fill_small_holes(PreparedMesh& prepared, const PrepareOptions& options) {
   if (filled.faces_added > 0) prepared.topology = analyze_topology(prepared.welded.mesh, &stop);
 }
 
+// Past this many parts that do not map, kAuto wraps them as one envelope (a soup or a
+// scatter of fragments: trimesh's 100-triangle soup.stl took 35 s part by part, 8 s whole;
+// game-kit models wrap at most 60 parts), and doubles none of them.
+constexpr size_t kMaxWrappedParts = 64;
+
+// Under kAuto, each part that is a disc whose hole was too large to fill closed by its own
+// back (sheet_doubling.h), appended as fills are: exact where an envelope would not be.
+void double_open_sheets(PreparedMesh& prepared, const PrepareOptions& options) {
+  if (options.method != PrepareMethod::kAuto || !options.double_open_sheets ||
+      prepared.topology.boundary_edges == 0)
+    return;
+  StopCheck stop(&options.should_stop);
+  const SheetDoubling doubled =
+      spheremap::double_open_sheets(prepared.welded.mesh, kMaxWrappedParts, &stop);
+  if (doubled.sheets_doubled == 0) return;
+  PreparationReport& report = prepared.preparation;
+  report.sheets_doubled = doubled.sheets_doubled;
+  report.faces_added += doubled.faces_added;
+  report.vertices_added += doubled.vertices_added;
+  prepared.topology = analyze_topology(prepared.welded.mesh, &stop);
+}
+
 // Whether the input's faces that reach the welded mesh are its first faces, in order,
 // corner for corner (fills come after): true unless a step reordered them.
 bool input_faces_lead(const PolygonMesh& input, const WeldResult& welded) {
@@ -305,6 +328,7 @@ PreparedMesh prepare_once(PolygonMesh& input, GltfAppearance* look, const Prepar
   const size_t own_faces = prepared.welded.mesh.face_count();
   fill_small_holes(prepared, options);
   close_short_handles(prepared, input, look, options);
+  double_open_sheets(prepared, options);
   // Fills are triangles appended after the mesh's own faces (a cut may have renamed their
   // corners since, so they are read at the end).
   const PolygonMesh& mesh = prepared.welded.mesh;
@@ -313,8 +337,6 @@ PreparedMesh prepare_once(PolygonMesh& input, GltfAppearance* look, const Prepar
       prepared.filled.push_back({mesh.face(f)[0], mesh.face(f)[1], mesh.face(f)[2]});
   return prepared;
 }
-
-constexpr size_t kMaxWrappedParts = 64;
 
 // The bounding-box diagonal of `mesh` (0 when it has no vertex).
 double diagonal_of(const PolygonMesh& mesh) {
@@ -522,9 +544,7 @@ void keep_mappable_parts(PreparedMesh& prepared, const PolygonMesh& input,
     keep[k] = report.mappable();
     prepared.parts.push_back(std::move(report));
   }
-  // Past kMaxWrappedParts the parts are wrapped as one (prepare_input): a soup or a
-  // scatter of fragments is one envelope, not thousands (trimesh's 100-triangle soup.stl
-  // took 35 s part by part, 8 s whole; game-kit models wrap at most 60 parts).
+  // Past kMaxWrappedParts the parts are wrapped as one (prepare_input).
   if (options.method == PrepareMethod::kAuto && prepared.parts_left_out() <= kMaxWrappedParts) {
     if (options.defer_envelopes && prepared.parts_left_out() > 0) {
       prepared.pending.parts = true;

@@ -30,7 +30,9 @@ namespace spheremap {
 // (PreparedMesh::original) for the outputs to bake and measure against.
 // kAuto: the least change that maps every part: as kParts, and then each part that still
 // cannot map is replaced by its own envelope (one mesh of one part: the whole is wrapped),
-// so every part is served, exactly where it can be. preparation.decided says what was done.
+// so every part is served, exactly where it can be. Before any envelope, a part that is a
+// disc whose hole is too large to fill is closed by its own back (sheet_doubling.h): exact,
+// no vertex moved. preparation.decided says what was done.
 enum class PrepareMethod { kExact, kRepair, kParts, kWrap, kAuto };
 // "exact", "repair", "parts", "wrap", "auto"
 const char* prepare_method_name(PrepareMethod method);
@@ -56,6 +58,9 @@ struct PrepareOptions {
   // shortest first (handle_closing.h); 0: none. 1.5: the longest cycle the reach set's
   // genus > 0 assets need is 1.39 (a printer bed), and every one of them maps certified.
   double max_handle_cycle = 1.5;
+  // kAuto: a part that is a disc whose hole is too large to fill is closed by its own back
+  // (sheet_doubling.h) rather than wrapped. false: wrapped (tests of the envelope's path).
+  bool double_open_sheets = true;
   EnvelopeOptions envelope;  // kWrap only
   // Asked while cleaning, welding and checking: true stops with InputError("stopped")
   // (see StopCheck).
@@ -95,8 +100,9 @@ struct PreparationReport {
   size_t vertices_split = 0;      // non-manifold vertices made one vertex per fan
   size_t edges_split = 0;         // non-manifold edges shared out between closed surfaces
   size_t holes_filled = 0, holes_left = 0;
-  size_t faces_added = 0;     // by hole fills and handle closings together
-  size_t vertices_added = 0;  // inside hole fills (refinement), after the input's own
+  size_t faces_added = 0;     // by hole fills, handle closings and sheets' backs together
+  size_t vertices_added = 0;  // inside hole fills (refinement) and backs, after the input's own
+  size_t sheets_doubled = 0;  // kAuto: open discs closed by their own back (sheet_doubling.h)
   double largest_fill = 0;    // the largest fill's area over the surface area
   size_t handles_closed = 0, handles_left = 0;
   double largest_handle_cycle = 0;  // the longest cycle cut over its part's diagonal

@@ -1,0 +1,40 @@
+// Open sheets closed by their own back (Reach II, prepare=auto): a part that is a disc (one
+// boundary loop, genus 0: a terrain, a plane, a cloth, a head without a neck, a scan with
+// its bottom missing) whose hole is too large to fill is glued to a copy of itself facing
+// the other way along that boundary. The result is a closed genus-0 surface with no vertex
+// moved and no point farther from the original than zero: the zero-thickness limit of the
+// thin shell its envelope would be (within an offset of 0.6% of the diagonal, resampled,
+// without the part's own vertices), at the cost of a copy.
+//
+// The back is the front's triangles (polygons fanned as the map fans them) reversed. Its
+// corners are the front's boundary vertices, shared, and copies of its interior ones. An
+// interior edge or fan diagonal between two boundary vertices would then be shared by four
+// triangles, so the back splits it at its midpoint, and a back triangle so split is a fan
+// around its centroid: every back point lies on the front.
+// The back is appended after the mesh's own faces and vertices as fills are (hole_filling.h),
+// so outputs in the input's layout leave it out and the map weighs it as a fill.
+#pragma once
+
+#include <cstddef>
+
+#include "core/mesh/mesh.h"
+#include "core/mesh/stop_check.h"
+
+namespace spheremap {
+
+struct SheetDoubling {
+  size_t sheets_doubled = 0;
+  size_t faces_added = 0, vertices_added = 0;  // the backs' (appended after the mesh's own)
+};
+
+// Preconditions: `mesh` welded (one vertex per point). Every connected component whose only
+// mapping failure is one boundary loop and whose Euler characteristic is 1 (a disc) gets a
+// back; a component whose back would have a triangle of no area, or would not be closed
+// genus 0 (checked), is left as it was. Nothing is doubled when more than `max_failing_parts`
+// components cannot map (a soup or a scatter of fragments: each would become a sphere of its
+// own; the caller wraps them as one). The mesh's own vertices and faces are unchanged.
+// O(vertices + corners). `stop` may be null.
+SheetDoubling double_open_sheets(PolygonMesh& mesh, size_t max_failing_parts,
+                                 const StopCheck* stop = nullptr);
+
+}  // namespace spheremap

@@ -1,0 +1,186 @@
+// Open discs closed by their own back (core/prepare/sheet_doubling.h): closed genus 0 with
+// no vertex of the input moved and nothing off its surface, only discs, none in a scatter of
+// fragments; under prepare=auto the disc maps certified instead of being wrapped, and the
+// sphere in the input's layout leaves the back out.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <vector>
+
+#include "core/map/certification.h"
+#include "core/map/pipeline.h"
+#include "core/map/spherical_map.h"
+#include "core/mesh/surface_distance.h"
+#include "core/mesh/topology.h"
+#include "core/outputs/asset_builders.h"
+#include "core/outputs/sphere_asset.h"
+#include "core/prepare/prepare_mesh.h"
+#include "core/prepare/sheet_doubling.h"
+#include "tests/mesh_generators.h"
+
+namespace spheremap {
+namespace {
+
+// A wavy height field of n x n vertices: quads (a polygon mesh) or two triangles each.
+PolygonMesh terrain(int n, bool quads) {
+  PolygonMesh mesh;
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      const double x = i / double(n - 1), y = j / double(n - 1);
+      mesh.positions.push_back({x, y, 0.1 * std::sin(6 * x) * std::cos(5 * y)});
+    }
+  for (int j = 0; j + 1 < n; ++j)
+    for (int i = 0; i + 1 < n; ++i) {
+      const uint32_t a = static_cast<uint32_t>(j * n + i), b = a + 1, c = a + n + 1, d = a + n;
+      if (quads) {
+        mesh.add_face(std::vector<uint32_t>{a, b, c, d});
+      } else {
+        mesh.add_face(std::vector<uint32_t>{a, b, c});
+        mesh.add_face(std::vector<uint32_t>{a, c, d});
+      }
+    }
+  return mesh;
+}
+
+PolygonMesh polygons(std::vector<Vec3> positions, const std::vector<std::vector<uint32_t>>& faces) {
+  PolygonMesh mesh;
+  mesh.positions = std::move(positions);
+  for (const auto& f : faces) mesh.add_face(f);
+  return mesh;
+}
+
+std::vector<Triangle> triangles_of(const PolygonMesh& mesh) {
+  return fan_triangulate(mesh).triangles;
+}
+
+// Closed, manifold, consistently oriented, genus 0; the input's vertices and faces first and
+// unchanged; every point of the result on the input's surface and every input point on it.
+void expect_doubled_exactly(const PolygonMesh& input, const PolygonMesh& doubled) {
+  const TopologyReport topology = analyze_topology(doubled);
+  EXPECT_TRUE(topology.closed());
+  EXPECT_TRUE(topology.manifold());
+  EXPECT_EQ(topology.inconsistent_edges, 0u);
+  EXPECT_EQ(topology.genus(), 0);
+  ASSERT_GE(doubled.vertex_count(), input.vertex_count());
+  for (size_t v = 0; v < input.vertex_count(); ++v)
+    EXPECT_EQ(doubled.positions[v], input.positions[v]);
+  ASSERT_GT(doubled.face_count(), input.face_count());
+  for (size_t f = 0; f < input.face_count(); ++f) {
+    const auto a = input.face(f), b = doubled.face(f);
+    EXPECT_TRUE(std::equal(a.begin(), a.end(), b.begin(), b.end()));
+  }
+  const SurfaceDistance d = surface_distance(input.positions, triangles_of(input),
+                                             doubled.positions, triangles_of(doubled), 1);
+  EXPECT_LT(d.hausdorff, 1e-9);
+}
+
+TEST(SheetDoubling, ADiscIsClosedByItsBackAndNothingElseMoves) {
+  const PolygonMesh dome = testing::dome(3);
+  PolygonMesh doubled = dome;
+  const SheetDoubling result = double_open_sheets(doubled, 64);
+  EXPECT_EQ(result.sheets_doubled, 1u);
+  EXPECT_EQ(result.faces_added, doubled.face_count() - dome.face_count());
+  EXPECT_EQ(result.vertices_added, doubled.vertex_count() - dome.vertex_count());
+  expect_doubled_exactly(dome, doubled);
+}
+
+// All six corners of the strip are on its boundary, so its interior edges join boundary
+// vertices (split on the back); a lone triangle and a lone quad have no interior vertex
+// (fans around a centroid); a quad height field's faces are polygons.
+TEST(SheetDoubling, DiscsWithoutInteriorVerticesAndPolygonsCloseToo) {
+  const std::vector<PolygonMesh> discs = {
+      polygons({{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {2, 0, 0}, {2, 1, 0}},
+               {{0, 1, 2}, {0, 2, 3}, {1, 4, 5}, {1, 5, 2}}),
+      polygons({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, {{0, 1, 2}}),
+      polygons({{0, 0, 0}, {1, 0, 0}, {1, 1, 0.2}, {0, 1, 0}}, {{0, 1, 2, 3}}), terrain(9, true),
+      terrain(9, false)};
+  for (const PolygonMesh& disc : discs) {
+    PolygonMesh doubled = disc;
+    ASSERT_EQ(double_open_sheets(doubled, 64).sheets_doubled, 1u) << disc.face_count();
+    expect_doubled_exactly(disc, doubled);
+    // Mapped as prepare=auto does it (after the weld: a weld of the doubled mesh would
+    // merge the back into the front).
+    PrepareOptions automatic;
+    automatic.method = PrepareMethod::kAuto;
+    PolygonMesh input = disc;
+    const PreparedMesh prepared = prepare_input(input, nullptr, automatic);
+    EXPECT_EQ(prepared.preparation.sheets_doubled, 1u);
+    const MappedMesh mapped = map_prepared(prepared, {});
+    EXPECT_TRUE(certify(mapped, mapped.float32_check).certified) << disc.face_count();
+  }
+}
+
+TEST(SheetDoubling, OnlyDiscsAreDoubled) {
+  PolygonMesh holed_torus = testing::without_face(testing::torus(16, 8), 0);  // genus 1
+  const std::vector<PolygonMesh> others = {testing::band(2),                  // two holes
+                                           holed_torus, testing::icosphere(2)};
+  for (const PolygonMesh& other : others) {
+    PolygonMesh same = other;
+    EXPECT_EQ(double_open_sheets(same, 64).sheets_doubled, 0u);
+    EXPECT_EQ(same.positions, other.positions);
+    EXPECT_EQ(same.indices, other.indices);
+  }
+  // A kit of a disc, a band and a sphere: the disc alone.
+  PolygonMesh kit = testing::assembled({{testing::dome(2), {0, 0, 0}},
+                                        {testing::band(2), {3, 0, 0}},
+                                        {testing::icosphere(1), {6, 0, 0}}});
+  EXPECT_EQ(double_open_sheets(kit, 64).sheets_doubled, 1u);
+}
+
+// 100 separate triangles would become 100 spheres: none is doubled past the bound (auto
+// then wraps the scatter as one).
+TEST(SheetDoubling, AScatterOfFragmentsIsLeftToTheEnvelope) {
+  PolygonMesh scatter;
+  for (uint32_t k = 0; k < 100; ++k) {
+    const double x = 2.0 * k;
+    scatter.positions.insert(scatter.positions.end(), {{x, 0, 0}, {x + 1, 0, 0}, {x, 1, 0}});
+    scatter.add_face(std::vector<uint32_t>{3 * k, 3 * k + 1, 3 * k + 2});
+  }
+  PolygonMesh bounded = scatter;
+  EXPECT_EQ(double_open_sheets(bounded, 64).sheets_doubled, 0u);
+  EXPECT_EQ(bounded.face_count(), scatter.face_count());
+  EXPECT_EQ(double_open_sheets(scatter, 100).sheets_doubled, 100u);
+}
+
+// A doubled sheet encloses no volume: its orientation is not the sign of rounding noise,
+// which moved with the order of the faces and the mesh's placement (the map's reordered copy
+// and the float32 check then disagreed: every triangle of tinyrenderer's head.obj folded).
+TEST(SheetDoubling, TheClosedSheetRunsOneWayWhereverItIsAndInAnyOrder) {
+  PolygonMesh doubled = testing::dome(4);
+  ASSERT_EQ(double_open_sheets(doubled, 64).sheets_doubled, 1u);
+  PolygonMesh moved = doubled, shuffled;
+  for (Vec3& p : moved.positions) p = p * 3.7 + Vec3{1e3, -2e2, 5};
+  shuffled.positions = doubled.positions;
+  for (size_t f = doubled.face_count(); f-- > 0;) shuffled.add_face(doubled.face(f));
+  for (const PolygonMesh* mesh : {&doubled, &moved, &shuffled})
+    EXPECT_FALSE(oriented_triangles(*mesh).inward);
+  // A solid still runs the way its volume says.
+  EXPECT_TRUE(oriented_triangles(testing::reversed(testing::icosphere(2))).inward);
+  EXPECT_FALSE(oriented_triangles(testing::icosphere(2)).inward);
+}
+
+TEST(SheetDoubling, AutoMapsAnOpenSheetExactlyWithItsBackLeftOutOfTheInputsLayout) {
+  PolygonMesh input = terrain(17, false);
+  const size_t input_faces = input.face_count();
+  PrepareOptions automatic;
+  automatic.method = PrepareMethod::kAuto;
+  const PreparedMesh prepared = prepare_input(input, nullptr, automatic);
+  EXPECT_EQ(prepared.preparation.decided, "repair");
+  EXPECT_EQ(prepared.preparation.sheets_doubled, 1u);
+  EXPECT_EQ(input.face_count(), input_faces);  // the input, not an envelope
+  const MappedMesh mapped = map_prepared(prepared, {});
+  EXPECT_TRUE(certify(mapped, mapped.float32_check).certified);
+  const SphereAsset sphere = sphere_asset(input, mapped, {}, SphereLayout::kOriginal, 0);
+  EXPECT_TRUE(sphere.metrics["bijective"]);
+  EXPECT_EQ(sphere.written.triangles, input_faces);
+  EXPECT_EQ(sphere.metrics["preparation"]["sheets_doubled"], 1);
+
+  // Switched off, the sheet is wrapped as before.
+  PolygonMesh again = terrain(17, false);
+  automatic.double_open_sheets = false;
+  automatic.envelope.resolution = 96;
+  EXPECT_EQ(prepare_input(again, nullptr, automatic).preparation.decided, "wrap");
+}
+
+}  // namespace
+}  // namespace spheremap
