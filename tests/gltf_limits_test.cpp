@@ -99,6 +99,20 @@ TEST(GltfLimits, BuffersNamingOneFileFetchItOnce) {
   }
 }
 
+// An accessor that is not a JSON object is named as its referrers name it, not by the
+// JSON path ("accessors[0]").
+TEST(GltfLimits, AnEntryThatIsNotAnObjectIsNamed) {
+  const std::string file = R"({"asset":{"version":"2.0"},"accessors":[1],)"
+                           R"("meshes":[{"primitives":[{"attributes":{"POSITION":0}}]}],)"
+                           R"("nodes":[{"mesh":0}],"scenes":[{"nodes":[0]}],"scene":0})";
+  try {
+    read_gltf(as_bytes(file), {});
+    FAIL() << "read an accessor that is a number";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()), "accessor 0 is not an object");
+  }
+}
+
 TEST(GltfLimits, AttributeCountsAndTypesAreCheckedBeforeDecoding) {
   const std::string file = primitives_naming_one_big_accessor(2000, 4096);
   size_t asked = 0;

@@ -344,11 +344,13 @@ void Document::charge(size_t bytes, const std::string& what) const {
 
 const nlohmann::json& Document::element(const char* key, size_t index) const {
   const auto it = json_.find(key);
-  if (it == json_.end() || !it->is_array() || index >= it->size())
-    fail(std::string(key) + "[" + std::to_string(index) + "] does not exist (the file has " +
-         std::to_string(it == json_.end() || !it->is_array() ? 0 : it->size()) + ")");
+  const size_t count = it != json_.end() && it->is_array() ? it->size() : 0;
+  const std::string noun = singular(key);
+  if (index >= count)  // callers pass checked indices; said as checked_index says it
+    fail("there is no " + noun + " " + std::to_string(index) + ": the file has " +
+         (count == 0 ? "no " + std::string(key) : counted(count, noun, key)));
   const nlohmann::json& e = (*it)[index];
-  if (!e.is_object()) fail(std::string(key) + "[" + std::to_string(index) + "] is not an object");
+  if (!e.is_object()) fail(noun + " " + std::to_string(index) + " is not an object");
   return e;
 }
 

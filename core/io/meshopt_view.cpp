@@ -43,7 +43,7 @@ std::vector<uint8_t> decode_meshopt_view(const nlohmann::json& extension,
   const std::optional<uint64_t> declared =
       whole_field(extension, "count", name, "an element count (a non-negative integer)");
   const size_t stride = range_field(extension, "byteStride", 1, 256, name + "'s byteStride");
-  if (!declared || stride == SIZE_MAX || stride == 0) fail(name + " needs count and byteStride");
+  if (!declared || stride == SIZE_MAX) fail(name + " needs count and byteStride");
   const size_t count = *declared;
   const std::string mode = text_field(extension, name, "mode", "");
   const std::string filter = text_field(extension, name, "filter", "NONE");
