@@ -168,6 +168,7 @@ TEST(SheetDoubling, AutoMapsAnOpenSheetExactlyWithItsBackLeftOutOfTheInputsLayou
   EXPECT_EQ(prepared.preparation.decided, "repair");
   EXPECT_EQ(prepared.preparation.sheets_doubled, 1u);
   EXPECT_EQ(input.face_count(), input_faces);  // the input, not an envelope
+  EXPECT_TRUE(prepared.filled.empty());        // the back is weighed alike, not as a fill
   const MappedMesh mapped = map_prepared(prepared, {});
   EXPECT_TRUE(certify(mapped, mapped.float32_check).certified);
   const SphereAsset sphere = sphere_asset(input, mapped, {}, SphereLayout::kOriginal, 0);

@@ -328,11 +328,14 @@ PreparedMesh prepare_once(PolygonMesh& input, GltfAppearance* look, const Prepar
   const size_t own_faces = prepared.welded.mesh.face_count();
   fill_small_holes(prepared, options);
   close_short_handles(prepared, input, look, options);
+  const size_t closed_faces = prepared.welded.mesh.face_count();
   double_open_sheets(prepared, options);
   // Fills are triangles appended after the mesh's own faces (a cut may have renamed their
-  // corners since, so they are read at the end).
+  // corners since, so they are read at the end). A sheet's back is no fill: it is the
+  // input's surface again, weighed alike (squeezed, it left the sheet's corners few samples
+  // of the remesh), its distortion that of a map of the input.
   const PolygonMesh& mesh = prepared.welded.mesh;
-  for (size_t f = own_faces; f < mesh.face_count(); ++f)
+  for (size_t f = own_faces; f < closed_faces; ++f)
     if (mesh.face_size(f) == 3)
       prepared.filled.push_back({mesh.face(f)[0], mesh.face(f)[1], mesh.face(f)[2]});
   return prepared;

@@ -11,8 +11,9 @@
 // interior edge or fan diagonal between two boundary vertices would then be shared by four
 // triangles, so the back splits it at its midpoint, and a back triangle so split is a fan
 // around its centroid: every back point lies on the front.
-// The back is appended after the mesh's own faces and vertices as fills are (hole_filling.h),
-// so outputs in the input's layout leave it out and the map weighs it as a fill.
+// The back is appended after the mesh's own faces and vertices, as fills are (hole_filling.h),
+// so outputs in the input's layout leave it out; unlike a fill it is weighed alike in the
+// map (it is the input's surface again).
 #pragma once
 
 #include <cstddef>
