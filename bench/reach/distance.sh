@@ -4,7 +4,8 @@
 # its two-sided distance to the ORIGINAL file (bench/remesh_distance), relative to the
 # original's diagonal. Files: the ones the auto run wrapped (decided wrap or parts+wrap in
 # RESULTS), sorted by path, every STEP-th (default 3, from the first). One at a time.
-# DECIDED=exact,repair,parts (comma-separated) takes the files auto decided so instead.
+# DECIDED=exact,repair,parts (comma-separated) takes the files auto decided so instead;
+# a --prepare method (DECIDED=auto) takes every file the run prepared with it (a metrics file).
 # Prints one TSV line per file, then: certified share, share within 2% (certified and
 # Hausdorff <= 0.02), median/p90/max Hausdorff, median/max seconds. KEEP=DIR keeps each
 # file's metrics JSON and distances in DIR.
@@ -22,9 +23,14 @@ limit = os.environ.get("TIME_LIMIT", "30")  # seconds; a loaded machine needs mo
 keep = os.environ.get("KEEP", "")  # a folder: each file's metrics and distances kept there
 decided = os.environ.get("DECIDED", "wrap,parts+wrap").split(",")
 files = []
-for line in open(results):
-    f = line.rstrip("\n").split("\t")
-    if len(f) > 12 and f[12] in decided:
+# Columns by the header's names: run.sh added `method` before `decided`, and a fixed index
+# (12) then read `method`, so DECIDED=wrap selected nothing.
+lines = open(results).read().splitlines()
+column = {name: i for i, name in enumerate(lines[0].split("\t"))}
+for line in lines[1:]:
+    f = line.split("\t")
+    method = f[column["method"]] if "method" in column else ""
+    if f[column["decided"]] in decided or method in decided:
         files.append(os.path.join(setdir, f[0], f[1], f[2]))
 files = sorted(files)[::step]
 print("exit\tseconds\thausdorff\torig->out\tout->orig\trms\tfile")

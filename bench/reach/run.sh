@@ -6,8 +6,9 @@
 #   all-parts-mapped  exit 0, no part left out      some-parts-mapped  exit 0, parts left out
 #   refused           exit 2 (the failed check)     not-certified      exit 3 (map/time limit)
 #   unreadable        exit 2 with a read check      crash/timeout      anything else (a bug)
-# Writes SETDIR/results.tsv (one line per file) and prints the summary per kind, then the
-# crashes/timeouts and not-certified files, then the per-file lines.
+# Writes SETDIR/results.tsv (one line per file; its last column the --prepare run's peak
+# memory in MB, by /usr/bin/time) and prints the summary per kind, then the crashes/timeouts
+# and not-certified files, the slowest and largest runs, then the per-file lines.
 # PREPARE (default parts) and COMPARE (default repair) name the two --prepare methods;
 # COMPARE=none runs each file once (a sweep of a new set: half the machine time).
 # Usage: [PREPARE=auto COMPARE=parts|none] bench/reach/run.sh SPHEREMAP SETDIR
@@ -25,7 +26,9 @@ def run(path, prepare):
     if prepare == "none":
         return {"exit": "", "class": "", "check": ""}
     with tempfile.TemporaryDirectory() as tmp:
-        cmd = ["timeout", "120", spheremap, "map", path, "-o", f"{tmp}/out.glb",
+        # /usr/bin/time: the run's peak resident memory (through timeout: its waited child).
+        cmd = ["/usr/bin/time", "-f", "%M", "-o", f"{tmp}/rss",
+               "timeout", "120", spheremap, "map", path, "-o", f"{tmp}/out.glb",
                "--metrics", f"{tmp}/out.json", "--time-limit", "30", "--quiet",
                "--threads", "1", "--prepare", prepare]
         start = time.monotonic()
@@ -33,7 +36,11 @@ def run(path, prepare):
         r = {"exit": p.returncode, "seconds": round(time.monotonic() - start, 2),
              "check": "", "bijective": "", "mapped": "", "left_out": "", "left_checks": "",
              "decided": "", "wrapped": "", "method": "",
-             "message": " ".join(p.stderr.split())[:300]}
+             "message": " ".join(p.stderr.split())[:300], "peak_mb": ""}
+        try:  # the last line: "Command exited with non-zero status N" may come first
+            r["peak_mb"] = round(int(open(f"{tmp}/rss").read().split()[-1]) / 1024, 1)
+        except (OSError, ValueError, IndexError):
+            pass
         try:
             m = json.load(open(f"{tmp}/out.json"))
             r["bijective"] = m.get("bijective", "")
@@ -76,11 +83,12 @@ with concurrent.futures.ThreadPoolExecutor(int(os.environ.get("JOBS", "2"))) as 
 fields = ["exit", "seconds", "class", "check", "bijective", "mapped", "left_out", "left_checks",
           "method", "decided", "wrapped"]
 lines = ["\t".join(["kind", "source", "path", "bytes", *fields, "repair_exit", "repair_class",
-                    "repair_check", "message"])]
+                    "repair_check", "message", "peak_mb"])]
 for row, p, r in results:
     lines.append("\t".join(str(x) for x in [row["kind"], row["source"], row["path"], row["bytes"],
                  *(p[f] for f in fields), r["exit"], r["class"], r["check"],
-                 p["message"] if p["class"] not in ("all-parts-mapped", "some-parts-mapped") else ""]))
+                 p["message"] if p["class"] not in ("all-parts-mapped", "some-parts-mapped") else "",
+                 p["peak_mb"]]))
 open(f"{setdir}/results.tsv", "w").write("\n".join(lines) + "\n")
 
 def pct(n, d): return f"{n} ({100 * n / d:.0f}%)" if d else "0"
@@ -123,6 +131,14 @@ print("\n== Not certified (exit 3), unreadable")
 for row, p, r in results:
     if p["class"] in ("not-certified", "unreadable"):
         print(f"{p['class']} {p['check']} {p['seconds']}s {row['source']}/{row['path']}: {p['message']}")
+print("\n== Slowest and largest (--prepare %s): over 10 s or 500 MB, else the top 5" % prepare)
+def top(key, bar):
+    ranked = sorted((res for res in results if res[1].get(key) not in ("", None)),
+                    key=lambda res: -float(res[1][key]))
+    return [res for res in ranked if float(res[1][key]) > bar] or ranked[:5]
+for key, bar, unit in (("seconds", 10, "s"), ("peak_mb", 500, "MB")):
+    print(f"{key}: " + "; ".join(f"{res[1][key]} {unit} {res[0]['source']}/{res[0]['path']}"
+                                for res in top(key, bar)))
 print("\n== Per file (also in SETDIR/results.tsv)")
 print("\n".join(lines))
 EOF

@@ -136,6 +136,22 @@ std::vector<ValidationFailure> input_failures(const PreparedMesh& prepared,
                  std::string("welds vertices closer than ") + value +
                      " of the bounding-box diagonal, which closes it (tried: it then maps)"};
       }
+  // A hole-fill bound that was tried and fills the holes left for their size.
+  if (prepared.closing_hole_fill > 0)
+    for (ValidationFailure& f : failures)
+      if (f.check == "boundary" && f.fix.empty()) {
+        const PreparationReport& r = prepared.preparation;
+        char value[32], share[32];
+        std::snprintf(value, sizeof value, "%g", prepared.closing_hole_fill);
+        std::snprintf(share, sizeof share, "%.3g", r.largest_left_fill);
+        f.message += "; " + std::to_string(r.holes_too_large) +
+                     (r.holes_too_large == 1 ? " hole was" : " holes were") +
+                     " left open for its size: the largest fill would be " + share +
+                     " of its part's surface";
+        f.fix = {"max_hole_fill", value,
+                 std::string("fills holes up to ") + value +
+                     " of their part's surface, which closes it (tried: it then maps)"};
+      }
   if (gltf) suggest_gltf_fixes(failures, *gltf);
   return failures;
 }

@@ -169,6 +169,10 @@ HoleFilling fill_holes(PolygonMesh& mesh, double max_fill, const StopCheck* stop
     });
     if (fill.empty() || crack || !(share <= max_fill)) {
       ++result.holes_left;
+      if (!fill.empty() && !crack && std::isfinite(share)) {
+        ++result.holes_too_large;
+        result.largest_left_fill = std::max(result.largest_left_fill, share);
+      }
       continue;
     }
     if (refine) {

@@ -29,6 +29,10 @@ struct HoleFilling {
   size_t holes_left = 0;      // too large, too many corners, pinched, or no valid triangulation
   double largest_fill = 0;    // the largest fill's area over the surface area of its part
   double filled_area = 0;     // the sum of those shares
+  // Holes left only for their size (a fill was found, over max_fill), and the largest such
+  // fill's share of its part's surface: the max_fill that would have closed them.
+  size_t holes_too_large = 0;
+  double largest_left_fill = 0;
 };
 
 // Preconditions: `mesh` welded (one vertex per point) and consistently oriented around each

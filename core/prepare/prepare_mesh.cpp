@@ -1,6 +1,7 @@
 #include "core/prepare/prepare_mesh.h"
 
 #include <algorithm>
+#include <cmath>
 #include <optional>
 #include <unordered_map>
 
@@ -159,6 +160,8 @@ void fill_small_holes(PreparedMesh& prepared, const PrepareOptions& options) {
   report.faces_added = filled.faces_added;
   report.holes_left = filled.holes_left;
   report.largest_fill = filled.largest_fill;
+  report.holes_too_large = filled.holes_too_large;
+  report.largest_left_fill = filled.largest_left_fill;
   if (filled.faces_added > 0) prepared.topology = analyze_topology(prepared.welded.mesh, &stop);
 }
 
@@ -582,6 +585,20 @@ double closing_weld_tolerance(const PolygonMesh& input, PrepareOptions options) 
   return 0;
 }
 
+// The max_hole_fill with which `input` maps when every hole left was left for its size:
+// the largest such fill's share rounded up to two digits (at most 1), tried; 0 otherwise.
+double closing_hole_fill(const PolygonMesh& input, const PreparationReport& report,
+                         PrepareOptions options) {
+  if (report.holes_too_large == 0 || report.holes_too_large != report.holes_left) return 0;
+  const double share = report.largest_left_fill;
+  const double step = std::pow(10.0, std::floor(std::log10(share)) - 1);
+  const double value = std::ceil(share / step - 1e-9) * step;
+  if (!(value > options.max_hole_fill) || value > 1) return 0;
+  options.max_hole_fill = value;
+  PolygonMesh copy = input;
+  return maps_entirely(prepare_parts(copy, nullptr, options)) ? value : 0;
+}
+
 // When the failures offer largest_component, it is tried on the input as prepared (the
 // same method: cleaned, split, filled and closed as it would be) so the hint says what
 // the largest part fails then, not before those steps.
@@ -741,6 +758,8 @@ PreparedMesh prepare_input(PolygonMesh& input, GltfAppearance* look,
   // weld collapses, as it would on the original.
   if (options.weld_tolerance == 0 && has_boundary && !maps_entirely(prepared))
     prepared.closing_weld_tolerance = closing_weld_tolerance(input, options);
+  if (has_boundary && prepared.closing_weld_tolerance == 0 && !maps_entirely(prepared))
+    prepared.closing_hole_fill = closing_hole_fill(input, prepared.preparation, options);
   return prepared;
 }
 

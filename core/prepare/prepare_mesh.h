@@ -104,6 +104,9 @@ struct PreparationReport {
   size_t vertices_added = 0;  // inside hole fills (refinement) and backs, after the input's own
   size_t sheets_doubled = 0;  // kAuto: open discs closed by their own back (sheet_doubling.h)
   double largest_fill = 0;    // the largest fill's area over the surface area
+  // Holes left only for their size (over max_hole_fill), and the largest one's fill share.
+  size_t holes_too_large = 0;
+  double largest_left_fill = 0;
   size_t handles_closed = 0, handles_left = 0;
   double largest_handle_cycle = 0;  // the longest cycle cut over its part's diagonal
   // Why handles were left (the first part stopped, with the numbers); "" when none was.
@@ -164,6 +167,10 @@ struct PreparedMesh {
   // 1e-5, 1e-4 of the diagonal) with which it maps, 0 when none does (T-junction cracks
   // and near-equal seam vertices of CAD exports), so the fix is named only where it works.
   double closing_weld_tolerance = 0;
+  // When holes were left only for their size (and no weld closes the surface): the
+  // max_hole_fill that fills them (the largest one's share, rounded up), tried with the
+  // same options and it then maps; 0 otherwise. So that fix too is named only where it works.
+  double closing_hole_fill = 0;
   // With several components (and largest_component off): every part of the asset, largest
   // first (by faces), each with what it fails alone. Under kParts, when some part maps,
   // `welded` holds only the parts that map (the others' input vertices then map to
