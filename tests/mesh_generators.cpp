@@ -245,30 +245,31 @@ PolygonMesh reversed(PolygonMesh mesh) {
   return mesh;
 }
 
-PolygonMesh dome(int levels) {
+namespace {
+
+// The faces of icosphere(levels) whose every corner passes `keep`, welded.
+template <typename Keep>
+PolygonMesh icosphere_faces(int levels, Keep keep) {
   const PolygonMesh sphere = icosphere(levels);
-  PolygonMesh half;
-  half.positions = sphere.positions;
+  PolygonMesh kept;
+  kept.positions = sphere.positions;
   for (size_t f = 0; f < sphere.face_count(); ++f) {
     const auto face = sphere.face(f);
     if (std::all_of(face.begin(), face.end(),
-                    [&](uint32_t v) { return sphere.positions[v].z > 0; }))
-      half.add_face(face);
+                    [&](uint32_t v) { return keep(sphere.positions[v]); }))
+      kept.add_face(face);
   }
-  return weld(half, 0).mesh;
+  return weld(kept, 0).mesh;
+}
+
+}  // namespace
+
+PolygonMesh dome(int levels) {
+  return icosphere_faces(levels, [](const Vec3& p) { return p.z > 0; });
 }
 
 PolygonMesh band(int levels) {
-  const PolygonMesh sphere = icosphere(levels);
-  PolygonMesh belt;
-  belt.positions = sphere.positions;
-  for (size_t f = 0; f < sphere.face_count(); ++f) {
-    const auto face = sphere.face(f);
-    if (std::all_of(face.begin(), face.end(),
-                    [&](uint32_t v) { return std::abs(sphere.positions[v].z) < 0.6; }))
-      belt.add_face(face);
-  }
-  return weld(belt, 0).mesh;
+  return icosphere_faces(levels, [](const Vec3& p) { return std::abs(p.z) < 0.6; });
 }
 
 PolygonMesh assembled(const std::vector<std::pair<PolygonMesh, Vec3>>& parts) {
