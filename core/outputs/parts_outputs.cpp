@@ -7,6 +7,7 @@
 #include "core/io/png_writer.h"
 #include "core/mesh/triangle_tree.h"
 #include "core/outputs/asset_builders.h"
+#include "core/outputs/part_grids.h"
 #include "core/outputs/report_json.h"
 #include "core/outputs/texcoords.h"
 
@@ -21,15 +22,6 @@ std::vector<GlbNode> part_nodes(size_t parts) {
   std::vector<GlbNode> nodes(parts);
   for (size_t k = 0; k < parts; ++k) nodes[k].name = "part " + std::to_string(k);
   return nodes;
-}
-
-// Each part's remesh grid: the asked resolution for the largest part, smaller parts in
-// proportion to the square root of their area (so samples per unit area stay alike), even
-// and at least 8. An asset of many small parts then costs about what one part would.
-int part_resolution(int resolution, double area, double largest_area) {
-  const double share = largest_area > 0 ? std::sqrt(area / largest_area) : 1.0;
-  const int scaled = static_cast<int>(std::lround(resolution * share / 2)) * 2;
-  return std::clamp(scaled, std::min(8, resolution), resolution);
 }
 
 // Per part, its input vertices as (input vertex, vertex of the part): what a part's own
@@ -77,9 +69,9 @@ RemeshAsset parts_remesh_asset(const MappedMesh& mapped, int resolution, int thr
                                const PolygonMesh* input, const GltfAppearance* appearance,
                                const std::function<bool()>* should_stop, bool normal_map) {
   const auto start = std::chrono::steady_clock::now();
-  double largest_area = 0;
-  for (const MappedPart& part : mapped.parts)
-    largest_area = std::max(largest_area, part.surface_area);
+  std::vector<double> areas;
+  for (const MappedPart& part : mapped.parts) areas.push_back(part.surface_area);
+  const std::vector<int> grids = part_grids(resolution, areas);
   // The base colour is baked per part through the part's own input_to_welded, made in one
   // scratch vector that each part fills and clears (O(input) in all).
   const bool bake = input && appearance;
@@ -103,7 +95,7 @@ RemeshAsset parts_remesh_asset(const MappedMesh& mapped, int resolution, int thr
   double absolute_hausdorff = 0, absolute_squared = 0;  // the same in model units
   for (size_t k = 0; k < mapped.parts.size(); ++k) {
     const MappedPart& part = mapped.parts[k];
-    const int grid = part_resolution(resolution, part.surface_area, largest_area);
+    const int grid = grids[k];
     BuiltRemesh built;
     if (input && reports[k] && reports[k]->wrapped) {
       // An envelope: measured against, and coloured from, the input's faces it stands for.

@@ -1,0 +1,25 @@
+// The remesh grid of each part of an asset of several parts.
+//
+// Samples per unit area stay alike across parts: the asked resolution N for the largest
+// part, smaller parts in proportion to the square root of their area. That alone is
+// unbounded in the number of parts: 500 equal quads at N = 256 asked for 500 full grids
+// (33M samples, 7.8 GB), from a 20 KB file, where a job's memory charge counts one grid.
+// So the grids together hold at most kPartSampleBudget grids of N's samples; past that
+// every part's grid shrinks by one factor, down to the octahedron's own (N = 2), and only
+// the count of parts (at 9 samples each) can go past the budget.
+#pragma once
+
+#include <span>
+#include <vector>
+
+namespace spheremap {
+
+// The most samples the parts' grids hold together, in grids of the asked resolution.
+inline constexpr double kPartSampleBudget = 4;
+
+// Per part (areas: each part's surface area, any order), its grid: quads per side, even,
+// at most `resolution` and at least min(8, resolution) while the budget allows, 2 past it.
+// Precondition: resolution >= 2 and even. O(parts), times 50 when the budget binds.
+std::vector<int> part_grids(int resolution, std::span<const double> areas);
+
+}  // namespace spheremap
