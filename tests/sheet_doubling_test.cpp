@@ -13,6 +13,7 @@
 #include "core/mesh/surface_distance.h"
 #include "core/mesh/topology.h"
 #include "core/outputs/asset_builders.h"
+#include "core/outputs/report_json.h"
 #include "core/outputs/sphere_asset.h"
 #include "core/prepare/prepare_mesh.h"
 #include "core/prepare/sheet_doubling.h"
@@ -77,7 +78,7 @@ void expect_doubled_exactly(const PolygonMesh& input, const PolygonMesh& doubled
 TEST(SheetDoubling, ADiscIsClosedByItsBackAndNothingElseMoves) {
   const PolygonMesh dome = testing::dome(3);
   PolygonMesh doubled = dome;
-  const SheetDoubling result = double_open_sheets(doubled, 64);
+  const SheetDoubling result = double_open_sheets(doubled);
   EXPECT_EQ(result.sheets_doubled, 1u);
   EXPECT_EQ(result.faces_added, doubled.face_count() - dome.face_count());
   EXPECT_EQ(result.vertices_added, doubled.vertex_count() - dome.vertex_count());
@@ -96,7 +97,7 @@ TEST(SheetDoubling, DiscsWithoutInteriorVerticesAndPolygonsCloseToo) {
       terrain(9, false)};
   for (const PolygonMesh& disc : discs) {
     PolygonMesh doubled = disc;
-    ASSERT_EQ(double_open_sheets(doubled, 64).sheets_doubled, 1u) << disc.face_count();
+    ASSERT_EQ(double_open_sheets(doubled).sheets_doubled, 1u) << disc.face_count();
     expect_doubled_exactly(disc, doubled);
     // Mapped as prepare=auto does it (after the weld: a weld of the doubled mesh would
     // merge the back into the front).
@@ -116,7 +117,7 @@ TEST(SheetDoubling, OnlyDiscsAreDoubled) {
                                            holed_torus, testing::icosphere(2)};
   for (const PolygonMesh& other : others) {
     PolygonMesh same = other;
-    EXPECT_EQ(double_open_sheets(same, 64).sheets_doubled, 0u);
+    EXPECT_EQ(double_open_sheets(same).sheets_doubled, 0u);
     EXPECT_EQ(same.positions, other.positions);
     EXPECT_EQ(same.indices, other.indices);
   }
@@ -124,22 +125,35 @@ TEST(SheetDoubling, OnlyDiscsAreDoubled) {
   PolygonMesh kit = testing::assembled({{testing::dome(2), {0, 0, 0}},
                                         {testing::band(2), {3, 0, 0}},
                                         {testing::icosphere(1), {6, 0, 0}}});
-  EXPECT_EQ(double_open_sheets(kit, 64).sheets_doubled, 1u);
+  EXPECT_EQ(double_open_sheets(kit).sheets_doubled, 1u);
 }
 
-// 100 separate triangles would become 100 spheres: none is doubled past the bound (auto
-// then wraps the scatter as one).
-TEST(SheetDoubling, AScatterOfFragmentsIsLeftToTheEnvelope) {
+// A scatter of 200 separate triangles (leaf cards, stray fragments): every one is doubled,
+// however many, and auto maps each as a part of its own. Wrapped as one, past the 64 parts
+// auto wraps one by one, they made an envelope of far-apart blobs (20,000 quads: one that
+// did not map).
+TEST(SheetDoubling, EveryFragmentOfAScatterIsDoubledAndMapsAsAPart) {
   PolygonMesh scatter;
-  for (uint32_t k = 0; k < 100; ++k) {
-    const double x = 2.0 * k;
-    scatter.positions.insert(scatter.positions.end(), {{x, 0, 0}, {x + 1, 0, 0}, {x, 1, 0}});
+  for (uint32_t k = 0; k < 200; ++k) {
+    const double x = 2.0 * (k % 20), y = 2.0 * (k / 20);
+    scatter.positions.insert(scatter.positions.end(), {{x, y, 0}, {x + 1, y, 0}, {x, y + 1, 0}});
     scatter.add_face(std::vector<uint32_t>{3 * k, 3 * k + 1, 3 * k + 2});
   }
-  PolygonMesh bounded = scatter;
-  EXPECT_EQ(double_open_sheets(bounded, 64).sheets_doubled, 0u);
-  EXPECT_EQ(bounded.face_count(), scatter.face_count());
-  EXPECT_EQ(double_open_sheets(scatter, 100).sheets_doubled, 100u);
+  PolygonMesh doubled = scatter;
+  EXPECT_EQ(double_open_sheets(doubled).sheets_doubled, 200u);
+  PrepareOptions automatic;
+  automatic.method = PrepareMethod::kAuto;
+  PolygonMesh input = scatter;
+  const PreparedMesh prepared = prepare_input(input, nullptr, automatic);
+  ASSERT_TRUE(input_failures(prepared).empty());
+  EXPECT_EQ(prepared.preparation.sheets_doubled, 200u);
+  EXPECT_EQ(prepared.parts.size(), 200u);
+  EXPECT_EQ(prepared.parts_left_out(), 0u);
+  EXPECT_EQ(prepared.preparation.decided, "parts");
+  EXPECT_EQ(prepared.original, nullptr);
+  const MappedMesh mapped = map_prepared(prepared, {});
+  ASSERT_EQ(mapped.parts.size(), 200u);
+  EXPECT_TRUE(mapped.map.check.bijective);
 }
 
 // A doubled sheet encloses no volume: its orientation is not the sign of rounding noise,
@@ -147,7 +161,7 @@ TEST(SheetDoubling, AScatterOfFragmentsIsLeftToTheEnvelope) {
 // and the float32 check then disagreed: every triangle of tinyrenderer's head.obj folded).
 TEST(SheetDoubling, TheClosedSheetRunsOneWayWhereverItIsAndInAnyOrder) {
   PolygonMesh doubled = testing::dome(4);
-  ASSERT_EQ(double_open_sheets(doubled, 64).sheets_doubled, 1u);
+  ASSERT_EQ(double_open_sheets(doubled).sheets_doubled, 1u);
   PolygonMesh moved = doubled, shuffled;
   for (Vec3& p : moved.positions) p = p * 3.7 + Vec3{1e3, -2e2, 5};
   shuffled.positions = doubled.positions;

@@ -165,9 +165,9 @@ void fill_small_holes(PreparedMesh& prepared, const PrepareOptions& options) {
   if (filled.faces_added > 0) prepared.topology = analyze_topology(prepared.welded.mesh, &stop);
 }
 
-// Past this many parts that do not map, kAuto wraps them as one envelope (a soup or a
-// scatter of fragments: trimesh's 100-triangle soup.stl took 35 s part by part, 8 s whole;
-// game-kit models wrap at most 60 parts), and doubles none of them.
+// Past this many parts that do not map (once open discs are doubled), kAuto wraps them as
+// one envelope (a soup or a scatter of fragments: trimesh's 100-triangle soup.stl took
+// 35 s part by part, 8 s whole; game-kit models wrap at most 60 parts).
 constexpr size_t kMaxWrappedParts = 64;
 
 // Under kAuto, each part that is a disc whose hole was too large to fill closed by its own
@@ -177,8 +177,7 @@ void double_open_sheets(PreparedMesh& prepared, const PrepareOptions& options) {
       prepared.topology.boundary_edges == 0)
     return;
   StopCheck stop(&options.should_stop);
-  const SheetDoubling doubled =
-      spheremap::double_open_sheets(prepared.welded.mesh, kMaxWrappedParts, &stop);
+  const SheetDoubling doubled = spheremap::double_open_sheets(prepared.welded.mesh, &stop);
   if (doubled.sheets_doubled == 0) return;
   PreparationReport& report = prepared.preparation;
   report.sheets_doubled = doubled.sheets_doubled;

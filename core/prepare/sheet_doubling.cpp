@@ -104,22 +104,12 @@ bool is_open_disc(const TopologyReport& topology, const std::vector<ValidationFa
 
 }  // namespace
 
-SheetDoubling double_open_sheets(PolygonMesh& mesh, size_t max_failing_parts,
-                                 const StopCheck* stop) {
+SheetDoubling double_open_sheets(PolygonMesh& mesh, const StopCheck* stop) {
   SheetDoubling result;
   const std::vector<MeshPart> parts = connected_parts(mesh, stop);
-  std::vector<char> disc(parts.size(), 0);
-  size_t failing = 0;
-  for (size_t k = 0; k < parts.size(); ++k) {
-    const TopologyReport topology = analyze_topology(parts[k].mesh, stop);
-    const std::vector<ValidationFailure> failures = mapping_failures(topology);
-    failing += !failures.empty();
-    disc[k] = is_open_disc(topology, failures);
-  }
-  if (failing > max_failing_parts) return result;
-  for (size_t k = 0; k < parts.size(); ++k) {
-    if (!disc[k]) continue;
-    const MeshPart& part = parts[k];
+  for (const MeshPart& part : parts) {
+    const TopologyReport topology = analyze_topology(part.mesh, stop);
+    if (!is_open_disc(topology, mapping_failures(topology))) continue;
     std::optional<Back> back = back_of(part.mesh, stop);
     if (!back) continue;
     // The part closed by its back must map: checked, not assumed.

@@ -31,11 +31,11 @@ struct SheetDoubling {
 // Preconditions: `mesh` welded (one vertex per point). Every connected component whose only
 // mapping failure is one boundary loop and whose Euler characteristic is 1 (a disc) gets a
 // back; a component whose back would have a triangle of no area, or would not be closed
-// genus 0 (checked), is left as it was. Nothing is doubled when more than `max_failing_parts`
-// components cannot map (a soup or a scatter of fragments: each would become a sphere of its
-// own; the caller wraps them as one). The mesh's own vertices and faces are unchanged.
+// genus 0 (checked), is left as it was. However many they are: each then maps as a part
+// of its own, as a closed fragment would (a scatter of 20,000 quads: 6 s, 350 MB; wrapped
+// as one they made an envelope of 20,000 blobs that did not map), and the parts' remesh
+// grids share one budget (part_grids.h). The mesh's own vertices and faces are unchanged.
 // O(vertices + corners). `stop` may be null.
-SheetDoubling double_open_sheets(PolygonMesh& mesh, size_t max_failing_parts,
-                                 const StopCheck* stop = nullptr);
+SheetDoubling double_open_sheets(PolygonMesh& mesh, const StopCheck* stop = nullptr);
 
 }  // namespace spheremap
