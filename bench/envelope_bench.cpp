@@ -3,7 +3,8 @@
 // d = 1.5 h), on one mesh read as the CLI reads it. One variant per process, so that the
 // process's peak RSS is the variant's: run it once per variant.
 //
-//   envelope_bench [--variant V] [--resolution R] [--repeat N] [--threads T] MESH
+//   envelope_bench [--variant V] [--resolution R] [--repeat N] [--threads T] [--write OUT.obj]
+//                  MESH
 //     V: grid      our band_voxels then fill_enclosed (envelope_grid.h)
 //        envelope  the whole build_envelope, and its stages timed once apart
 //        vdb-udf   openvdb::tools::meshToUnsignedDistanceField, half-width d / h voxels
@@ -11,6 +12,7 @@
 //                  sdfInteriorMask at d (the band plus OpenVDB's own interior fill)
 //     T: OpenVDB's TBB threads, and the envelope's (its distance for the metrics) (default
 //        1: our grid runs on one thread).
+//     OUT.obj: the envelope (variant envelope) as an OBJ, to map or look at on its own.
 //     One JSON line: the grid, voxels touched, seconds (min and median of N, default 3),
 //     the containers' bytes where known, the peak RSS after reading and at the end.
 #include <sys/resource.h>
@@ -29,6 +31,7 @@
 #include <vector>
 
 #include "core/io/mesh_file.h"
+#include "core/io/obj.h"
 #include "core/mesh/stop_check.h"
 #include "core/mesh/surface_distance.h"
 #include "core/mesh/triangle_tree.h"
@@ -237,7 +240,7 @@ Json vdb_run(const Input& in, const VoxelGrid& grid, double d, bool sdf) {
 #endif
 
 int run(const std::string& path, const std::string& variant, double resolution, int repeat,
-        int threads) {
+        const std::string& write, int threads) {
   const Input in = read_input(path);
   const long long rss_read = peak_rss();
   const double diagonal = norm(in.box.hi - in.box.lo);
@@ -289,6 +292,7 @@ int run(const std::string& path, const std::string& variant, double resolution, 
     out["hausdorff"] = envelope.report.hausdorff;
     out["rms"] = envelope.report.rms;
     out["envelope_hash"] = envelope_hash(envelope.mesh);
+    if (!write.empty()) std::ofstream(write, std::ios::binary) << format_obj(envelope.mesh);
     envelope = {};
     // The stages, min of the repeats (wall and CPU each): on a shared machine one run's
     // stage times vary by a third.
@@ -329,7 +333,7 @@ int run(const std::string& path, const std::string& variant, double resolution, 
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::string variant = "grid", mesh;
+  std::string variant = "grid", mesh, write;
   double resolution = 256;
   int repeat = 3, threads = 1;
   for (int k = 1; k < argc; ++k) {
@@ -342,6 +346,8 @@ int main(int argc, char** argv) {
       repeat = std::max(1, std::atoi(argv[++k]));
     else if (!std::strcmp(argv[k], "--threads") && value)
       threads = std::max(1, std::atoi(argv[++k]));
+    else if (!std::strcmp(argv[k], "--write") && value)
+      write = argv[++k];
     else if (argv[k][0] != '-' && mesh.empty())
       mesh = argv[k];
     else
@@ -350,11 +356,11 @@ int main(int argc, char** argv) {
   if (mesh.empty() || !(resolution >= 1)) {
     std::fprintf(stderr,
                  "usage: envelope_bench [--variant grid|envelope|vdb-udf|vdb-sdf] "
-                 "[--resolution R] [--repeat N] [--threads T] MESH\n");
+                 "[--resolution R] [--repeat N] [--threads T] [--write OUT.obj] MESH\n");
     return 2;
   }
   try {
-    return run(mesh, variant, resolution, repeat, threads);
+    return run(mesh, variant, resolution, repeat, write, threads);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "envelope_bench: %s\n", e.what());
     return 1;
