@@ -5,7 +5,9 @@
 // 40 MB at 96,966 (horse), 100 MB at 268,686 (igea), 427 MB at 1,310,720 (generated
 // fingers): about 8 MB + 320 bytes per triangle. The remesh adds 92 MB (horse) at
 // resolution 256 and 415 MB (horse) / 372 MB (igea) at 1024: about 80 MB + 330 bytes
-// per resolution squared. uv and morph keep a few more copies of the vertices.
+// per resolution squared. uv and morph keep a few more copies of the vertices. A part
+// adds about 17 KB whatever its size (its own map and file; 2026-11-29), and several
+// parts' remesh grids share up to 4 grids' samples (500 parts at 1024: 1.5x one grid).
 // An envelope the intake left to the worker adds its grid (16 bytes a voxel at the
 // peak, envelope_plan.h) and the original kept beside the envelope.
 // The figures here round those up (the estimate should rather wait than overcommit).

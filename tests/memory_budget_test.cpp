@@ -100,6 +100,23 @@ TEST(JobMemory, EstimatesGrowWithTrianglesAndTheRemesh) {
   EXPECT_EQ(server::estimated_job_bytes(spec), small + (96u << 20) + 400 * 1024 * 1024);
 }
 
+// A part costs its own map and file whatever its size, and several parts' remesh grids
+// hold up to 4 grids' samples together (part_grids.h).
+TEST(JobMemory, EstimatesCountThePartsAndTheirRemeshGrids) {
+  api::JobSpec spec;
+  spec.input.positions.resize(4);
+  spec.input.indices = {0, 1, 2, 0, 2, 3, 0, 3, 1, 1, 3, 2};
+  spec.input.offsets = {0, 3, 6, 9, 12};
+  spec.outputs = {"sphere", "remesh"};
+  spec.remesh_resolution = 256;
+  const size_t whole = server::estimated_job_bytes(spec);
+  spec.prepared.parts.resize(1);
+  const size_t one_part = server::estimated_job_bytes(spec);
+  EXPECT_EQ(one_part, whole + 20000);
+  spec.prepared.parts.resize(500);
+  EXPECT_EQ(server::estimated_job_bytes(spec), whole + 500 * 20000 + 400 * 256 * 256);
+}
+
 TEST(JobMemory, TheRemeshCountsItsDecodedBaseColourPixels) {
   api::JobSpec spec;
   spec.input = read_gltf(testing::as_bytes(testing::textured_glb(testing::horseshoe())), {},
