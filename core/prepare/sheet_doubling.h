@@ -33,7 +33,7 @@ struct SheetDoubling {
 // back; a component whose back would have a triangle of no area, or would not be closed
 // genus 0 (checked), is left as it was. However many they are: each then maps as a part
 // of its own, as a closed fragment would (a scatter of 20,000 quads: 6 s, 350 MB; wrapped
-// as one they made an envelope of 20,000 blobs that did not map), and the parts' remesh
+// as one, their envelope was a body of merged blobs that did not map), and the parts' remesh
 // grids share one budget (part_grids.h). The mesh's own vertices and faces are unchanged.
 // O(vertices + corners). `stop` may be null.
 SheetDoubling double_open_sheets(PolygonMesh& mesh, const StopCheck* stop = nullptr);
