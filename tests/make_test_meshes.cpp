@@ -2,8 +2,9 @@
 // (no corpus needed): make_test_meshes OUTDIR -> OUTDIR/{icosphere2,icosphere4,horseshoe,
 // torus,textured_horseshoe,ellipsoid}.glb; with --stress [--million], the stress set as OBJ
 // (bench/quality); with --stress-glb, the stress set as GLB (the service's slow jobs in tests and
-// benches); with --random COUNT SEED, random_stress_meshes as OBJ (the stress probe). OUTDIR
-// is made when missing.
+// benches); with --random COUNT SEED, random_stress_meshes as OBJ (the stress probe); with
+// --scatter COUNT SEED, quad_scatter as OUTDIR/scatter_COUNT_SEED.obj. OUTDIR is made when
+// missing.
 #include <cstdio>
 #include <exception>
 #include <filesystem>
@@ -29,6 +30,12 @@ int write_meshes(int argc, char** argv) {
       write_mesh_file(dir + "/" + m.name + ".obj", m.mesh);
     return 0;
   }
+  if (flag == "--scatter" && argc == 5) {
+    write_mesh_file(
+        std::string(argv[1]) + "/scatter_" + argv[3] + "_" + argv[4] + ".obj",
+        testing::quad_scatter(std::stoi(argv[3]), static_cast<unsigned>(std::stoul(argv[4]))));
+    return 0;
+  }
   if (flag == "--plates" && argc == 3) {
     for (const testing::NamedMesh& m : testing::thin_plates())
       write_mesh_file(std::string(argv[1]) + "/" + m.name + ".obj", m.mesh);
@@ -38,7 +45,7 @@ int write_meshes(int argc, char** argv) {
       (argc >= 3 && flag != "--stress" && flag != "--stress-glb")) {
     std::fprintf(asks_usage ? stdout : stderr,
                  "usage: make_test_meshes OUTDIR [--stress [--million] | --stress-glb | --plates | "
-                 "--random COUNT SEED]\n");
+                 "--random COUNT SEED | --scatter COUNT SEED]\n");
     return asks_usage ? 0 : 1;
   }
   const std::string dir = argv[1];

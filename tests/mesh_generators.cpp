@@ -272,6 +272,21 @@ PolygonMesh band(int levels) {
   return icosphere_faces(levels, [](const Vec3& p) { return std::abs(p.z) < 0.6; });
 }
 
+PolygonMesh quad_scatter(int count, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> uniform(0, 100);
+  PolygonMesh out;
+  for (int k = 0; k < count; ++k) {
+    const double x = uniform(rng), y = uniform(rng), z = uniform(rng);
+    const auto base = static_cast<uint32_t>(out.positions.size());
+    for (const auto& [dx, dy] : {std::pair{0, 0}, {1, 0}, {1, 1}, {0, 1}})
+      out.positions.push_back({x + dx, y + 0.5 * dy, z + 0.3 * dx});
+    out.add_face(std::array<uint32_t, 3>{base, base + 1, base + 2});
+    out.add_face(std::array<uint32_t, 3>{base, base + 2, base + 3});
+  }
+  return out;
+}
+
 PolygonMesh assembled(const std::vector<std::pair<PolygonMesh, Vec3>>& parts) {
   PolygonMesh out;
   std::vector<uint32_t> corners;

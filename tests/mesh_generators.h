@@ -79,6 +79,10 @@ PolygonMesh dome(int levels);
 // each too large to close), which prepare=auto wraps (it doubles a disc only:
 // sheet_doubling.h).
 PolygonMesh band(int levels);
+// `count` separate quads (1 x 0.5, bent 0.3 along x, two triangles each) at positions drawn
+// from std::mt19937(seed) in a 100^3 box: a scatter whose envelope merges them into one body
+// of many blobs (bench/reach/scatter.py draws the same shape from Python's generator).
+PolygonMesh quad_scatter(int count, unsigned seed);
 // One mesh of several parts: each (mesh, offset) moved by its offset, in the order given.
 PolygonMesh assembled(const std::vector<std::pair<PolygonMesh, Vec3>>& parts);
 

@@ -134,8 +134,6 @@ MapResult map_in_order(const MappingInput& input, const MapOptions& options,
     map_coarse_to_fine(mesh, oriented.triangles, session, result);
   result.stopped_in = session.stopped_in();
   if (result.stop_reason == StopReason::kCancelled) return result;
-  if (options.method == Method::kCoarseToFine)
-    polish_map(mesh, oriented.triangles, session, result);
 
   session.report({.stage = "verify"});
   const double verify_start = session.elapsed();
