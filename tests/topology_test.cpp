@@ -97,6 +97,26 @@ TEST(Topology, InwardOrientationIsValid) {
   EXPECT_TRUE(mapping_failures(r).empty());
 }
 
+// A square closed by its own back (as sheet_doubling makes): the back's centre 1e-12 above
+// the front's, so the surface encloses a sliver inside out. Its volume is noise against
+// its area: the report says outward, as the map runs it (runs_inward), while a reversed
+// sphere is inward.
+TEST(Topology, ASurfaceEnclosingNoVolumeIsReportedOutward) {
+  PolygonMesh pillow;
+  pillow.positions = {{-1, -1, 0}, {1, -1, 0}, {1, 1, 0}, {-1, 1, 0}, {0, 0, 0}, {0, 0, 1e-12}};
+  for (uint32_t k = 0; k < 4; ++k) {
+    pillow.add_face(std::array<uint32_t, 3>{4, k, (k + 1) % 4});
+    pillow.add_face(std::array<uint32_t, 3>{5, (k + 1) % 4, k});
+  }
+  const TopologyReport r = analyze_topology(pillow);
+  ASSERT_TRUE(mapping_failures(r).empty());
+  ASSERT_LT(r.signed_volume, 0);  // inside out, by a sliver
+  EXPECT_FALSE(r.inward);
+  EXPECT_FALSE(runs_inward(pillow.positions, fan_triangulate(pillow).triangles));
+  EXPECT_TRUE(analyze_topology(testing::reversed(testing::icosphere(2))).inward);
+  EXPECT_FALSE(analyze_topology(testing::icosphere(2)).inward);
+}
+
 TEST(Topology, FindsNonFiniteCoordinatesAndRepeatedVertices) {
   PolygonMesh m = testing::icosphere(1);
   m.positions[3].y = INFINITY;

@@ -44,32 +44,10 @@ std::optional<Quality> parse_quality(std::string_view name) {
   return std::nullopt;
 }
 
-namespace {
-
-// A closed surface that encloses no volume (an open sheet closed by its own back:
-// sheet_doubling.h) has a signed volume of rounding noise, whose sign moves with the order
-// of the sum: the map's reordered copy and the outputs' own triangles disagreed, and the
-// float32 check then found every triangle folded. Below this share of its area (on the mesh
-// centred and scaled to about 1, where a solid's volume is some tenth of its area) it is
-// taken for none, and the surface as it runs.
-constexpr double kNoVolume = 1e-9;
-
-bool runs_inward(const PolygonMesh& mesh, std::span<const Triangle> triangles) {
-  const std::vector<Vec3> p = centered_and_scaled(mesh.positions);
-  double six_volume = 0, twice_area = 0;
-  for (const Triangle& t : triangles) {
-    six_volume += dot(p[t[0]], cross(p[t[1]], p[t[2]]));
-    twice_area += norm(cross(p[t[1]] - p[t[0]], p[t[2]] - p[t[0]]));
-  }
-  return six_volume < -kNoVolume * twice_area;
-}
-
-}  // namespace
-
 OrientedTriangles oriented_triangles(const PolygonMesh& mesh) {
   FanTriangulation fan = fan_triangulate(mesh);
   OrientedTriangles out{std::move(fan.triangles), false, fan.conflicting_faces};
-  out.inward = runs_inward(mesh, out.triangles);
+  out.inward = runs_inward(mesh.positions, out.triangles);
   if (out.inward)
     for (Triangle& t : out.triangles) std::swap(t[1], t[2]);
   return out;

@@ -103,6 +103,21 @@ double signed_volume(std::span<const Vec3> positions, std::span<const Triangle> 
   return six_volume / 6.0;
 }
 
+bool volume_runs_inward(double six_volume, double twice_area) {
+  constexpr double kNoVolume = 1e-9;
+  return six_volume < -kNoVolume * twice_area;
+}
+
+bool runs_inward(std::span<const Vec3> positions, std::span<const Triangle> triangles) {
+  const std::vector<Vec3> p = centered_and_scaled(positions);
+  double six_volume = 0, twice_area = 0;
+  for (const Triangle& t : triangles) {
+    six_volume += dot(p[t[0]], cross(p[t[1]], p[t[2]]));
+    twice_area += norm(cross(p[t[1]] - p[t[0]], p[t[2]] - p[t[0]]));
+  }
+  return volume_runs_inward(six_volume, twice_area);
+}
+
 Vec3 bounding_box_center(std::span<const Vec3> positions) {
   if (positions.empty()) return {};
   Vec3 lo = positions[0], hi = positions[0];

@@ -69,6 +69,17 @@ VertexTriangles vertex_triangles(std::span<const Triangle> triangles, size_t ver
 // and scaled (center_and_scale): its sign is the orientation, < 0 means inward-facing.
 double signed_volume(std::span<const Vec3> positions, std::span<const Triangle> triangles);
 
+// Whether a closed surface faces inward: its signed volume (times 6) below minus a tiny
+// share of its area (twice_area: the sum of |cross| of its triangles), both on the
+// positions centred and scaled. A surface enclosing no volume (an open sheet closed by its
+// own back: sheet_doubling.h) has a signed volume of rounding noise, whose sign moves with
+// the order of the sum: the map's reordered copy and the outputs' own triangles disagreed,
+// and the float32 check then found every triangle folded. Below 1e-9 of its area (where a
+// solid's volume is some tenth of it) it is taken for none, and the surface as it runs.
+bool volume_runs_inward(double six_volume, double twice_area);
+// The same for the triangles over positions (centred and scaled here).
+bool runs_inward(std::span<const Vec3> positions, std::span<const Triangle> triangles);
+
 // The centre of the positions' axis-aligned bounding box (origin when empty).
 Vec3 bounding_box_center(std::span<const Vec3> positions);
 

@@ -86,7 +86,7 @@ void measure_geometry(const PolygonMesh& mesh, TopologyReport& r) {
   const UnitFrame frame = unit_frame(mesh.positions);
   const double tiny_area = 1e-14 * squared_norm(frame.apply(hi) - frame.apply(lo));
   const std::vector<Vec3> unit = centered_and_scaled(mesh.positions);
-  double six_volume = 0;
+  double six_volume = 0, twice_area = 0;
   for (size_t f = 0; f < mesh.face_count(); ++f) {
     auto face = mesh.face(f);
     Vec3 area_vector;
@@ -94,12 +94,15 @@ void measure_geometry(const PolygonMesh& mesh, TopologyReport& r) {
     for (size_t k = 1; k + 1 < face.size(); ++k) {
       const Vec3& b = unit[face[k]];
       const Vec3& c = unit[face[k + 1]];
-      area_vector += cross(b - a, c - a);
+      const Vec3 fan_area = cross(b - a, c - a);
+      area_vector += fan_area;
+      twice_area += norm(fan_area);
       six_volume += dot(a, cross(b, c));
     }
     if (0.5 * norm(area_vector) <= tiny_area) ++r.zero_area_faces;
   }
   r.signed_volume = six_volume / 6.0;
+  r.inward = volume_runs_inward(six_volume, twice_area);
 }
 
 // Edges, boundary loops, non-manifold edges, orientation, and vertex fans: corners

@@ -30,6 +30,9 @@ struct TopologyReport {
   // In the units of the mesh scaled by a power of two to coordinates of about 1: its sign
   // is what counts (< 0: consistently oriented inward).
   double signed_volume = 0;
+  // Faces inward by the map's own rule (runs_inward, mesh.h): a surface enclosing no
+  // volume counts as facing out, whatever the sign of its rounding noise.
+  bool inward = false;
 
   bool closed() const { return boundary_edges == 0; }
   bool manifold() const {

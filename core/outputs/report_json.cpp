@@ -178,7 +178,7 @@ nlohmann::json shape_json(const TopologyReport& r) {
       {"non_manifold_vertices", r.non_manifold_vertices},
       {"faces_with_repeated_vertices", r.faces_with_repeated_vertices},
       {"inconsistently_oriented_edges", r.inconsistent_edges},
-      {"orientation", r.signed_volume < 0 ? "inward" : "outward"},
+      {"orientation", r.inward ? "inward" : "outward"},
       {"components", r.component_vertices.size()},
       {"component_vertices", r.component_vertices},
       {"component_faces", r.component_faces},
