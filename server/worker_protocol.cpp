@@ -233,6 +233,7 @@ std::string encode_request(const JobSpec& spec, double time_limit_seconds, int t
     w.put<uint64_t>(count);
   w.put<double>(preparation.largest_fill);
   w.put<double>(preparation.largest_handle_cycle);
+  w.put<double>(preparation.farthest_handle_fill);
   w.put_string(preparation.handles_stopped);
   put_envelope(w, preparation.envelope);
   w.put_string(preparation.decided);
@@ -313,6 +314,7 @@ WorkerRequest decode_request(const std::string& bytes) {
     *count = r.get<uint64_t>();
   preparation.largest_fill = r.get<double>();
   preparation.largest_handle_cycle = r.get<double>();
+  preparation.farthest_handle_fill = r.get<double>();
   preparation.handles_stopped = r.get_string();
   preparation.envelope = get_envelope(r);
   preparation.decided = r.get_string();

@@ -59,7 +59,8 @@ nlohmann::json preparation_json(const PreparationReport& p) {
                         {"sheets_doubled", p.sheets_doubled},
                         {"handles_closed", p.handles_closed},
                         {"handles_left", p.handles_left},
-                        {"largest_handle_cycle", p.largest_handle_cycle}};
+                        {"largest_handle_cycle", p.largest_handle_cycle},
+                        {"farthest_handle_fill", p.farthest_handle_fill}};
   if (p.method == PrepareMethod::kAuto) out["decided"] = p.decided;
   if (p.method == PrepareMethod::kWrap || p.decided == "wrap") add_envelope(out, p.envelope);
   return out;

@@ -4,9 +4,12 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <optional>
+#include <set>
 #include <unordered_map>
 #include <unordered_set>
 
+#include "core/mesh/triangle_tree.h"
 #include "core/mesh/union_find.h"
 #include "core/prepare/handle_cycles.h"
 #include "core/prepare/hole_filling.h"
@@ -17,9 +20,16 @@ namespace {
 // Bases rooted at this many vertices are tried each time (the first, then farthest ones):
 // the shortest cycle through one root may be long where another root lies on a short one.
 constexpr size_t kRoots = 3;
-// The shortest cycles tried for one cut (each costs a connectivity pass and two fills of up
-// to kMaxHoleCorners^3 / 6 steps): when none of them can be cut, the part is left.
-constexpr size_t kMaxTries = 8;
+// The shortest distinct cycles weighed for one cut (each costs a fill of up to
+// kMaxHoleCorners^3 / 6 steps, and a connectivity pass and two fills when tried): when none
+// of them can be cut, the part is left.
+constexpr size_t kMaxAlternatives = 16;
+// The most cuts made and measured for one handle when no fill is near (each costs a
+// connectivity pass, two fills and the sampling of them).
+constexpr size_t kMeasuredCuts = 4;
+// A fill within this share of the part's diagonal of its own surface is near enough: a
+// remesh through it stays within half of Reach II's 2%.
+constexpr double kNearFill = 0.01;
 
 std::string number(double x) {
   char text[32];
@@ -114,40 +124,58 @@ double area(const PolygonMesh& mesh, const Triangle& t) {
                           mesh.positions[t[2]] - mesh.positions[t[0]]));
 }
 
+// What a cut changed, to take it back: the left faces' corners renamed to the copies
+// (slot, position on the cycle), and the sizes before it.
+struct Cut {
+  size_t added = 0;  // fill triangles appended (0: not cut)
+  std::vector<std::pair<uint32_t, uint32_t>> left;
+  uint32_t first_copy = 0;
+  size_t mesh_faces = 0, part_faces = 0;
+};
+
+void undo_cut(PolygonMesh& mesh, std::vector<uint32_t>& faces, const std::vector<uint32_t>& cycle,
+              const Cut& cut, HandleClosing& result, uint32_t original_vertices) {
+  for (const auto& [slot, i] : cut.left) mesh.indices[slot] = cycle[i];
+  mesh.positions.resize(cut.first_copy);
+  result.copy_of.resize(cut.first_copy - original_vertices);
+  mesh.offsets.resize(cut.mesh_faces + 1);
+  mesh.indices.resize(mesh.offsets.back());
+  faces.resize(cut.part_faces);
+}
+
 // Cuts the part along `cycle` (its vertices copied for the faces on its left, those
-// running c[i] -> c[i+1]) and fills both sides; on failure the mesh is as it was. Returns
-// the faces added (0: not cut).
-size_t cut_and_fill(PolygonMesh& mesh, std::vector<uint32_t>& faces, const PartSurface& s,
-                    const std::vector<uint32_t>& cycle, double surface, HandleClosing& result,
-                    uint32_t original_vertices, const StopCheck* stop) {
+// running c[i] -> c[i+1]) and fills both sides; on failure the mesh is as it was. The fill
+// is the mesh's faces from cut.mesh_faces on.
+Cut cut_and_fill(PolygonMesh& mesh, std::vector<uint32_t>& faces, const PartSurface& s,
+                 const std::vector<uint32_t>& cycle, double surface, HandleClosing& result,
+                 uint32_t original_vertices, const StopCheck* stop) {
+  Cut cut;
   const size_t n = cycle.size();
   // Per left face corner on the cycle: (index slot in mesh.indices, position on the cycle).
-  std::vector<std::pair<uint32_t, uint32_t>> left;
+  std::vector<std::pair<uint32_t, uint32_t>>& left = cut.left;
   for (uint32_t i = 0; i < n; ++i) {
     const uint32_t v = cycle[i], next = cycle[(i + 1) % n], prev = cycle[(i + n - 1) % n];
     const auto it = s.corner_at.find(directed_edge_key(v, next));
-    if (it == s.corner_at.end()) return 0;
+    if (it == s.corner_at.end()) return {};
     uint32_t slot = it->second;
     for (size_t steps = 0;; ++steps) {
-      if (steps > faces.size()) return 0;
+      if (steps > faces.size()) return {};
       left.push_back({slot, i});
       const uint32_t a = before(mesh, slot);
       if (a == prev) break;
       slot = s.corner_at.at(directed_edge_key(v, a));
     }
   }
-  const uint32_t first_copy = static_cast<uint32_t>(mesh.vertex_count());
+  cut.first_copy = static_cast<uint32_t>(mesh.vertex_count());
+  cut.mesh_faces = mesh.face_count();
+  cut.part_faces = faces.size();
+  const uint32_t first_copy = cut.first_copy;
   for (uint32_t v : cycle) {
     const Vec3 position = mesh.positions[v];
     mesh.positions.push_back(position);
     result.copy_of.push_back(v < original_vertices ? v : result.copy_of[v - original_vertices]);
   }
   for (const auto& [slot, i] : left) mesh.indices[slot] = first_copy + i;
-  auto undo = [&] {
-    for (const auto& [slot, i] : left) mesh.indices[slot] = cycle[i];
-    mesh.positions.resize(first_copy);
-    result.copy_of.resize(first_copy - original_vertices);
-  };
   std::unordered_set<uint64_t> edges;
   for (uint32_t f : faces) {
     const auto face = mesh.face(f);
@@ -169,8 +197,8 @@ size_t cut_and_fill(PolygonMesh& mesh, std::vector<uint32_t>& faces, const PartS
       return !(area(mesh, t) > kCrackArea * surface);
     });
     if (side.empty() || crack) {
-      undo();
-      return 0;
+      undo_cut(mesh, faces, cycle, cut, result, original_vertices);
+      return {};
     }
     fill.insert(fill.end(), side.begin(), side.end());
   }
@@ -178,13 +206,103 @@ size_t cut_and_fill(PolygonMesh& mesh, std::vector<uint32_t>& faces, const PartS
     faces.push_back(static_cast<uint32_t>(mesh.face_count()));
     mesh.add_face(t);
   }
-  return fill.size();
+  cut.added = fill.size();
+  return cut;
+}
+
+// The part's own faces (those below `own_faces`: not fills of holes or earlier cuts), as a
+// tree for the distance of a cut's fill to them.
+TriangleTree own_surface(const PolygonMesh& mesh, const std::vector<uint32_t>& faces,
+                         size_t own_faces) {
+  std::vector<Triangle> triangles;
+  for (uint32_t f : faces) {
+    if (f >= own_faces) continue;
+    const auto face = mesh.face(f);
+    for (size_t k = 1; k + 1 < face.size(); ++k)
+      triangles.push_back({face[0], face[k], face[k + 1]});
+  }
+  return TriangleTree(mesh.positions, triangles);
+}
+
+// How far triangles stray from the part's own surface: the largest distance over points
+// spread on each (a 4 x 4 barycentric grid: a flat cap's farthest point is inside it, not
+// at its corners, which lie on the cycle).
+double farthest_point(const PolygonMesh& mesh, std::span<const Triangle> triangles,
+                      const TriangleTree& own) {
+  constexpr int kSteps = 4;
+  double farthest = 0;
+  for (const Triangle& t : triangles) {
+    const Vec3 &a = mesh.positions[t[0]], &b = mesh.positions[t[1]], &c = mesh.positions[t[2]];
+    for (int i = 0; i <= kSteps; ++i)
+      for (int j = 0; i + j <= kSteps; ++j) {
+        const double u = double(i) / kSteps, v = double(j) / kSteps;
+        farthest = std::max(farthest, own.squared_distance(a + (b - a) * u + (c - a) * v));
+      }
+  }
+  return std::sqrt(farthest);
+}
+
+// The same for the fill a cut appended (the mesh's faces from `first_fill` on).
+double fill_distance(const PolygonMesh& mesh, size_t first_fill, const TriangleTree& own) {
+  std::vector<Triangle> fill;
+  for (size_t f = first_fill; f < mesh.face_count(); ++f)
+    fill.push_back({mesh.face(f)[0], mesh.face(f)[1], mesh.face(f)[2]});
+  return farthest_point(mesh, fill, own);
+}
+
+struct Candidate {
+  const HandleCycle* cycle = nullptr;
+  double distance = INFINITY;  // of its fill from the part's own surface (estimated)
+};
+
+// The cycles to try for the next cut, in order: up to kMaxAlternatives distinct ones of at
+// most `max_length`; first those whose fill lies within `near` of the part's own surface,
+// shortest first, then the others, nearest first. The shortest cycle is often the rim of a
+// through-hole, whose cap is as far from the part as the hole is wide, where a cycle through
+// the hole and around the wall beside it (longer) is capped inside the material, as far as
+// the wall is thin. A fill is estimated on the uncut surface (one side: both have the same
+// corners); cycles too long to fill come last.
+std::vector<Candidate> nearest_fills_first(const PolygonMesh& mesh,
+                                           const std::vector<uint32_t>& faces,
+                                           const std::vector<HandleCycle>& cycles,
+                                           double max_length, double near, double surface,
+                                           const TriangleTree& own, const StopCheck* stop) {
+  std::unordered_set<uint64_t> edges;
+  for (uint32_t f : faces) {
+    const auto face = mesh.face(f);
+    for (size_t k = 0; k < face.size(); ++k)
+      edges.insert(undirected_edge_key(face[k], face[(k + 1) % face.size()]));
+  }
+  std::vector<Candidate> candidates;
+  std::set<std::vector<uint32_t>> seen;  // bases from several roots repeat cycles
+  for (const HandleCycle& cycle : cycles) {
+    if (!(cycle.length <= max_length) || candidates.size() == kMaxAlternatives) break;
+    std::vector<uint32_t> sorted = cycle.vertices;
+    std::sort(sorted.begin(), sorted.end());
+    if (!seen.insert(std::move(sorted)).second) continue;
+    Candidate candidate{&cycle};
+    if (cycle.vertices.size() >= 3 && cycle.vertices.size() <= kMaxHoleCorners) {
+      const std::vector<uint32_t> loop(cycle.vertices.rbegin(), cycle.vertices.rend());
+      double unused = 0;
+      const std::vector<Triangle> fill =
+          least_area_fill(mesh, loop, edges, unused, stop, kCrackArea * surface);
+      if (!fill.empty()) candidate.distance = farthest_point(mesh, fill, own);
+    }
+    candidates.push_back(candidate);
+  }
+  std::stable_sort(candidates.begin(), candidates.end(),
+                   [&](const Candidate& a, const Candidate& b) {
+                     const bool a_near = a.distance <= near, b_near = b.distance <= near;
+                     if (a_near || b_near) return a_near && !b_near;
+                     return a.distance < b.distance;
+                   });
+  return candidates;
 }
 
 // Closes the handles of one part while the bounds allow; returns why it stopped ("" when
 // it reached genus 0) and leaves the genus left in `genus`.
 std::string close_part(PolygonMesh& mesh, std::vector<uint32_t>& faces, long long& genus,
-                       double max_cycle, size_t max_genus, HandleClosing& result,
+                       double max_cycle, size_t max_genus, size_t own_faces, HandleClosing& result,
                        uint32_t original_vertices, const StopCheck* stop) {
   Vec3 low{INFINITY, INFINITY, INFINITY}, high{-INFINITY, -INFINITY, -INFINITY};
   double surface = 0;
@@ -200,6 +318,7 @@ std::string close_part(PolygonMesh& mesh, std::vector<uint32_t>& faces, long lon
   }
   const double diagonal = norm(high - low);
   if (!(diagonal > 0)) return "its bounding box has no extent";
+  std::optional<TriangleTree> own;  // the part's own faces: the same after every cut
   while (genus > 0) {
     if (stop) stop->check();
     const size_t cap = std::min(max_genus, kHandleWork / std::max<size_t>(faces.size(), 1));
@@ -211,17 +330,23 @@ std::string close_part(PolygonMesh& mesh, std::vector<uint32_t>& faces, long lon
     const PartSurface s = part_surface(mesh, faces, stop);
     if (!s.closable || s.genus != genus) return "its surface changed while closing";
     const std::vector<HandleCycle> cycles = handle_cycles(mesh, faces, kRoots, stop);
-    size_t tried = 0, long_ones = 0, separating = 0, unfilled = 0;
-    bool closed = false;
-    for (const HandleCycle& cycle : cycles) {
-      const double relative = cycle.length / diagonal;
-      if (!(relative <= max_cycle)) {
-        if (tried > 0) break;
-        return "the shortest non-separating cycle left is " + number(relative) +
-               " of the part's bounding-box diagonal long, above max_handle_cycle " +
-               number(max_cycle);
-      }
-      if (tried == kMaxTries) break;
+    if (!cycles.empty() && !(cycles.front().length / diagonal <= max_cycle))
+      return "the shortest non-separating cycle left is " +
+             number(cycles.front().length / diagonal) +
+             " of the part's bounding-box diagonal long, above max_handle_cycle " +
+             number(max_cycle);
+    if (!own) own.emplace(own_surface(mesh, faces, own_faces));
+    const std::vector<Candidate> candidates = nearest_fills_first(
+        mesh, faces, cycles, max_cycle * diagonal, kNearFill * diagonal, surface, *own, stop);
+    size_t tried = 0, long_ones = 0, separating = 0, unfilled = 0, measured = 0;
+    // Cuts are made and measured (then taken back) in that order: the first whose fill is
+    // near is kept, else the nearest of the first kMeasuredCuts (the estimate leaves out
+    // the other side's fill, and the real fills may use chords the uncut surface forbids).
+    const HandleCycle* best = nullptr;
+    double best_distance = INFINITY;
+    for (const Candidate& candidate : candidates) {
+      const HandleCycle& cycle = *candidate.cycle;
+      if (measured == kMeasuredCuts) break;
       ++tried;
       if (cycle.vertices.size() < 3 || cycle.vertices.size() > kMaxHoleCorners) {
         ++long_ones;
@@ -231,17 +356,29 @@ std::string close_part(PolygonMesh& mesh, std::vector<uint32_t>& faces, long lon
         ++separating;
         continue;
       }
-      const size_t added =
+      const Cut cut =
           cut_and_fill(mesh, faces, s, cycle.vertices, surface, result, original_vertices, stop);
-      if (added == 0) {
+      if (cut.added == 0) {
         ++unfilled;
         continue;
       }
-      ++result.handles_closed;
-      result.faces_added += added;
-      result.largest_cycle = std::max(result.largest_cycle, relative);
-      closed = true;
-      break;
+      ++measured;
+      const double distance = fill_distance(mesh, cut.mesh_faces, *own);
+      undo_cut(mesh, faces, cycle.vertices, cut, result, original_vertices);
+      if (distance < best_distance) best = &cycle, best_distance = distance;
+      if (distance <= kNearFill * diagonal) break;
+    }
+    bool closed = false;
+    if (best) {  // the same cut again: the same mesh gives the same fill
+      const Cut cut =
+          cut_and_fill(mesh, faces, s, best->vertices, surface, result, original_vertices, stop);
+      closed = cut.added > 0;
+      if (closed) {
+        ++result.handles_closed;
+        result.faces_added += cut.added;
+        result.largest_cycle = std::max(result.largest_cycle, best->length / diagonal);
+        result.farthest_fill = std::max(result.farthest_fill, best_distance / diagonal);
+      }
     }
     if (!closed)
       return "none of its " + std::to_string(tried) + " shortest non-separating cycles within " +
@@ -259,8 +396,9 @@ std::string close_part(PolygonMesh& mesh, std::vector<uint32_t>& faces, long lon
 }  // namespace
 
 HandleClosing close_handles(PolygonMesh& mesh, double max_cycle, const StopCheck* stop,
-                            size_t max_genus) {
+                            size_t max_genus, size_t own_faces) {
   HandleClosing result;
+  own_faces = std::min(own_faces, mesh.face_count());
   if (!(max_cycle > 0) || mesh.face_count() == 0) return result;
   const uint32_t original_vertices = static_cast<uint32_t>(mesh.vertex_count());
   UnionFind sets(original_vertices);
@@ -279,8 +417,8 @@ HandleClosing close_handles(PolygonMesh& mesh, double max_cycle, const StopCheck
     if (!s.closable || s.genus <= 0) continue;
     long long genus = s.genus;
     const uint32_t some_vertex = mesh.face(faces[0])[0];
-    std::string reason =
-        close_part(mesh, faces, genus, max_cycle, max_genus, result, original_vertices, stop);
+    std::string reason = close_part(mesh, faces, genus, max_cycle, max_genus, own_faces, result,
+                                    original_vertices, stop);
     if (genus == 0) continue;
     result.handles_left += static_cast<size_t>(genus);
     result.stopped.push_back({some_vertex, static_cast<size_t>(genus), std::move(reason)});

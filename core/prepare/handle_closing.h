@@ -32,6 +32,8 @@ struct HandleClosing {
   size_t handles_closed = 0, faces_added = 0;
   size_t handles_left = 0;   // genus left in the parts that were closed, manifold and oriented
   double largest_cycle = 0;  // the longest cycle cut, over its part's bounding-box diagonal
+  // The farthest any cut's fill strays from its part's own faces, over the part's diagonal.
+  double farthest_fill = 0;
   // Per vertex added (mesh.vertex_count() before closing + k): the vertex it copies (one
   // of the mesh's own).
   std::vector<uint32_t> copy_of;
@@ -51,9 +53,11 @@ struct HandleClosing {
 // `max_cycle` times the part's bounding-box diagonal long and the part's genus is at most
 // `max_genus` and kHandleWork / its faces; a cycle is cut only when it is simple, leaves the part
 // connected (non- separating) and both its sides can be filled without a non-manifold edge, a crack
-// triangle (kCrackArea) or more than kMaxHoleCorners corners (the 8 shortest cycles are
-// tried for each cut). `stop` may be null.
+// triangle (kCrackArea) or more than kMaxHoleCorners corners. Of the 16 shortest distinct
+// cycles, those whose fill lies within 1% of the part's diagonal of its own faces (those
+// below `own_faces`: not earlier fills) are tried first, shortest first, then the others,
+// nearest fill first. `stop` may be null.
 HandleClosing close_handles(PolygonMesh& mesh, double max_cycle, const StopCheck* stop = nullptr,
-                            size_t max_genus = kMaxHandles);
+                            size_t max_genus = kMaxHandles, size_t own_faces = SIZE_MAX);
 
 }  // namespace spheremap

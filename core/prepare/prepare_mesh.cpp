@@ -246,18 +246,21 @@ void copy_cut_input_vertices(PolygonMesh& input, GltfAppearance* look, WeldResul
 
 // Handles closed along short non-separating cycles (handle_closing.h): welded vertices on
 // each cut copied, fills appended; the input gets the same copies, so every output in its
-// layout has each side of the cut where the map put it.
+// layout has each side of the cut where the map put it. The welded mesh's faces below
+// `own_faces` are the input's (fills come after them).
 void close_short_handles(PreparedMesh& prepared, PolygonMesh& input, GltfAppearance* look,
-                         const PrepareOptions& options) {
+                         const PrepareOptions& options, size_t own_faces) {
   if (options.max_handle_cycle <= 0) return;
   StopCheck stop(&options.should_stop);
   WeldResult& welded = prepared.welded;
   if (!input_faces_lead(input, welded)) return;
-  const HandleClosing closed = close_handles(welded.mesh, options.max_handle_cycle, &stop);
+  const HandleClosing closed =
+      close_handles(welded.mesh, options.max_handle_cycle, &stop, kMaxHandles, own_faces);
   PreparationReport& report = prepared.preparation;
   report.handles_closed = closed.handles_closed;
   report.handles_left = closed.handles_left;
   report.largest_handle_cycle = closed.largest_cycle;
+  report.farthest_handle_fill = closed.farthest_fill;
   report.faces_added += closed.faces_added;
   if (!closed.stopped.empty()) report.handles_stopped = closed.stopped.front().reason;
   prepared.handle_stops = closed.stopped;
@@ -329,7 +332,7 @@ PreparedMesh prepare_once(PolygonMesh& input, GltfAppearance* look, const Prepar
   split_pinched_vertices(prepared, input, look, options);
   const size_t own_faces = prepared.welded.mesh.face_count();
   fill_small_holes(prepared, options);
-  close_short_handles(prepared, input, look, options);
+  close_short_handles(prepared, input, look, options, own_faces);
   const size_t closed_faces = prepared.welded.mesh.face_count();
   double_open_sheets(prepared, options);
   // Fills are triangles appended after the mesh's own faces (a cut may have renamed their

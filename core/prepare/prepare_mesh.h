@@ -109,6 +109,7 @@ struct PreparationReport {
   double largest_left_fill = 0;
   size_t handles_closed = 0, handles_left = 0;
   double largest_handle_cycle = 0;  // the longest cycle cut over its part's diagonal
+  double farthest_handle_fill = 0;  // how far a cut's fill strays from its part, likewise
   // Why handles were left (the first part stopped, with the numbers); "" when none was.
   std::string handles_stopped;
   EnvelopeReport envelope;  // kWrap, or kAuto when it wrapped the whole input
