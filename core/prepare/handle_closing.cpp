@@ -98,25 +98,43 @@ PartSurface part_surface(const PolygonMesh& mesh, const std::vector<uint32_t>& f
   return s;
 }
 
-// Whether the part's faces stay connected across every edge but the cycle's.
-bool leaves_connected(const PolygonMesh& mesh, const PartSurface& s,
-                      const std::vector<uint32_t>& faces, const std::vector<uint32_t>& cycle) {
+// The part's edges as the pairs of its faces beside them (local ids: positions in the
+// part's face list), made once for all the cycles weighed for one cut.
+struct EdgeFaces {
+  size_t faces = 0;
+  std::vector<uint64_t> keys;  // undirected_edge_key
+  std::vector<std::pair<uint32_t, uint32_t>> sides;
+};
+
+EdgeFaces edge_faces(const PolygonMesh& mesh, const PartSurface& s,
+                     const std::vector<uint32_t>& faces) {
+  EdgeFaces e;
+  e.faces = faces.size();
   std::unordered_map<uint32_t, uint32_t> local;
   for (uint32_t k = 0; k < faces.size(); ++k) local.emplace(faces[k], k);
+  for (const auto& [key, slot] : s.corner_at) {
+    const uint32_t a = static_cast<uint32_t>(key >> 32), b = static_cast<uint32_t>(key);
+    if (a > b) continue;
+    e.keys.push_back(undirected_edge_key(a, b));
+    e.sides.push_back({local.at(face_of_slot(mesh, slot)),
+                       local.at(face_of_slot(mesh, s.corner_at.at(directed_edge_key(b, a))))});
+  }
+  return e;
+}
+
+// Whether the part's faces stay connected across every edge but the cycle's.
+bool leaves_connected(const EdgeFaces& e, const std::vector<uint32_t>& cycle) {
   std::unordered_set<uint64_t> cut;
   for (size_t k = 0; k < cycle.size(); ++k)
     cut.insert(undirected_edge_key(cycle[k], cycle[(k + 1) % cycle.size()]));
-  UnionFind sets(faces.size());
+  UnionFind sets(e.faces);
   size_t joined = 0;
-  for (const auto& [key, slot] : s.corner_at) {
-    const uint32_t a = static_cast<uint32_t>(key >> 32), b = static_cast<uint32_t>(key);
-    if (a > b || cut.count(undirected_edge_key(a, b))) continue;
-    const uint32_t x = sets.find(local.at(face_of_slot(mesh, slot))),
-                   y = sets.find(
-                       local.at(face_of_slot(mesh, s.corner_at.at(directed_edge_key(b, a)))));
+  for (size_t k = 0; k < e.keys.size(); ++k) {
+    if (cut.count(e.keys[k])) continue;
+    const uint32_t x = sets.find(e.sides[k].first), y = sets.find(e.sides[k].second);
     if (x != y) sets.unite(x, y), ++joined;
   }
-  return joined + 1 == faces.size();
+  return joined + 1 == e.faces;
 }
 
 double area(const PolygonMesh& mesh, const Triangle& t) {
@@ -145,10 +163,12 @@ void undo_cut(PolygonMesh& mesh, std::vector<uint32_t>& faces, const std::vector
 
 // Cuts the part along `cycle` (its vertices copied for the faces on its left, those
 // running c[i] -> c[i+1]) and fills both sides; on failure the mesh is as it was. The fill
-// is the mesh's faces from cut.mesh_faces on.
+// is the mesh's faces from cut.mesh_faces on. `edges`: the part's edges (undirected_edge_key)
+// before the cut, as they are again on return.
 Cut cut_and_fill(PolygonMesh& mesh, std::vector<uint32_t>& faces, const PartSurface& s,
-                 const std::vector<uint32_t>& cycle, double surface, HandleClosing& result,
-                 uint32_t original_vertices, const StopCheck* stop) {
+                 const std::vector<uint32_t>& cycle, std::unordered_set<uint64_t>& edges,
+                 double surface, HandleClosing& result, uint32_t original_vertices,
+                 const StopCheck* stop) {
   Cut cut;
   const size_t n = cycle.size();
   // Per left face corner on the cycle: (index slot in mesh.indices, position on the cycle).
@@ -175,13 +195,35 @@ Cut cut_and_fill(PolygonMesh& mesh, std::vector<uint32_t>& faces, const PartSurf
     mesh.positions.push_back(position);
     result.copy_of.push_back(v < original_vertices ? v : result.copy_of[v - original_vertices]);
   }
+  // The part's edges after the cut, from `edges` (before it): the left faces' edges renamed
+  // (an edge off the cycle has both its faces on one side; the cycle's own edges stay, on
+  // the right side's faces).
+  std::unordered_set<uint64_t> cycle_edges;
+  for (size_t i = 0; i < n; ++i)
+    cycle_edges.insert(undirected_edge_key(cycle[i], cycle[(i + 1) % n]));
+  std::vector<uint32_t> left_faces;
+  for (const auto& [slot, i] : left) left_faces.push_back(face_of_slot(mesh, slot));
+  std::sort(left_faces.begin(), left_faces.end());
+  left_faces.erase(std::unique(left_faces.begin(), left_faces.end()), left_faces.end());
+  std::vector<uint64_t> removed, added;
+  auto each_edge = [&](auto&& visit) {
+    for (uint32_t f : left_faces) {
+      const auto face = mesh.face(f);
+      for (size_t k = 0; k < face.size(); ++k)
+        visit(undirected_edge_key(face[k], face[(k + 1) % face.size()]));
+    }
+  };
+  each_edge([&](uint64_t key) {
+    if (!cycle_edges.count(key) && edges.erase(key)) removed.push_back(key);
+  });
   for (const auto& [slot, i] : left) mesh.indices[slot] = first_copy + i;
-  std::unordered_set<uint64_t> edges;
-  for (uint32_t f : faces) {
-    const auto face = mesh.face(f);
-    for (size_t k = 0; k < face.size(); ++k)
-      edges.insert(undirected_edge_key(face[k], face[(k + 1) % face.size()]));
-  }
+  each_edge([&](uint64_t key) {
+    if (edges.insert(key).second) added.push_back(key);
+  });
+  auto restore_edges = [&] {
+    for (uint64_t key : added) edges.erase(key);
+    edges.insert(removed.begin(), removed.end());
+  };
   // The left side's boundary runs c[i]' -> c[i+1]' (the way its faces do), the right
   // side's c[i+1] -> c[i].
   std::vector<uint32_t> left_loop(n), right_loop(cycle.rbegin(), cycle.rend());
@@ -197,11 +239,13 @@ Cut cut_and_fill(PolygonMesh& mesh, std::vector<uint32_t>& faces, const PartSurf
       return !(area(mesh, t) > kCrackArea * surface);
     });
     if (side.empty() || crack) {
+      restore_edges();
       undo_cut(mesh, faces, cycle, cut, result, original_vertices);
       return {};
     }
     fill.insert(fill.end(), side.begin(), side.end());
   }
+  restore_edges();
   for (const Triangle& t : fill) {
     faces.push_back(static_cast<uint32_t>(mesh.face_count()));
     mesh.add_face(t);
@@ -263,16 +307,10 @@ struct Candidate {
 // the wall is thin. A fill is estimated on the uncut surface (one side: both have the same
 // corners); cycles too long to fill come last.
 std::vector<Candidate> nearest_fills_first(const PolygonMesh& mesh,
-                                           const std::vector<uint32_t>& faces,
                                            const std::vector<HandleCycle>& cycles,
                                            double max_length, double near, double surface,
+                                           const std::unordered_set<uint64_t>& edges,
                                            const TriangleTree& own, const StopCheck* stop) {
-  std::unordered_set<uint64_t> edges;
-  for (uint32_t f : faces) {
-    const auto face = mesh.face(f);
-    for (size_t k = 0; k < face.size(); ++k)
-      edges.insert(undirected_edge_key(face[k], face[(k + 1) % face.size()]));
-  }
   std::vector<Candidate> candidates;
   std::set<std::vector<uint32_t>> seen;  // bases from several roots repeat cycles
   for (const HandleCycle& cycle : cycles) {
@@ -336,8 +374,15 @@ std::string close_part(PolygonMesh& mesh, std::vector<uint32_t>& faces, long lon
              " of the part's bounding-box diagonal long, above max_handle_cycle " +
              number(max_cycle);
     if (!own) own.emplace(own_surface(mesh, faces, own_faces));
+    std::unordered_set<uint64_t> edges;  // the part's, before the next cut
+    for (uint32_t f : faces) {
+      const auto face = mesh.face(f);
+      for (size_t k = 0; k < face.size(); ++k)
+        edges.insert(undirected_edge_key(face[k], face[(k + 1) % face.size()]));
+    }
     const std::vector<Candidate> candidates = nearest_fills_first(
-        mesh, faces, cycles, max_cycle * diagonal, kNearFill * diagonal, surface, *own, stop);
+        mesh, cycles, max_cycle * diagonal, kNearFill * diagonal, surface, edges, *own, stop);
+    const EdgeFaces sides = edge_faces(mesh, s, faces);
     size_t tried = 0, long_ones = 0, separating = 0, unfilled = 0, measured = 0;
     // Cuts are made and measured (then taken back) in that order: the first whose fill is
     // near is kept, else the nearest of the first kMeasuredCuts (the estimate leaves out
@@ -352,12 +397,12 @@ std::string close_part(PolygonMesh& mesh, std::vector<uint32_t>& faces, long lon
         ++long_ones;
         continue;
       }
-      if (!leaves_connected(mesh, s, faces, cycle.vertices)) {
+      if (!leaves_connected(sides, cycle.vertices)) {
         ++separating;
         continue;
       }
-      const Cut cut =
-          cut_and_fill(mesh, faces, s, cycle.vertices, surface, result, original_vertices, stop);
+      const Cut cut = cut_and_fill(mesh, faces, s, cycle.vertices, edges, surface, result,
+                                   original_vertices, stop);
       if (cut.added == 0) {
         ++unfilled;
         continue;
@@ -370,8 +415,8 @@ std::string close_part(PolygonMesh& mesh, std::vector<uint32_t>& faces, long lon
     }
     bool closed = false;
     if (best) {  // the same cut again: the same mesh gives the same fill
-      const Cut cut =
-          cut_and_fill(mesh, faces, s, best->vertices, surface, result, original_vertices, stop);
+      const Cut cut = cut_and_fill(mesh, faces, s, best->vertices, edges, surface, result,
+                                   original_vertices, stop);
       closed = cut.added > 0;
       if (closed) {
         ++result.handles_closed;
