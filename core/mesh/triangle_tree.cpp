@@ -176,4 +176,19 @@ TriangleTree::Node TriangleTree::build(size_t begin, size_t end, std::vector<Vec
   return {index, 0};
 }
 
+double farthest_from(const TriangleTree& tree, std::span<const Vec3> positions,
+                     std::span<const Triangle> triangles) {
+  constexpr int kSteps = 4;
+  double farthest = 0;
+  for (const Triangle& t : triangles) {
+    const Vec3 &a = positions[t[0]], &b = positions[t[1]], &c = positions[t[2]];
+    for (int i = 0; i <= kSteps; ++i)
+      for (int j = 0; i + j <= kSteps; ++j) {
+        const double u = double(i) / kSteps, v = double(j) / kSteps;
+        farthest = std::max(farthest, tree.squared_distance(a + (b - a) * u + (c - a) * v));
+      }
+  }
+  return std::sqrt(farthest);
+}
+
 }  // namespace spheremap

@@ -74,4 +74,10 @@ class TriangleTree {
   std::vector<Children> children_;
 };
 
+// How far `triangles` (over `positions`) stray from the tree's: the largest distance over
+// points spread on each (a 4 x 4 barycentric grid, corners included: a flat cap's farthest
+// point is inside it, not at its corners, which lie on the surface it closes).
+double farthest_from(const TriangleTree& tree, std::span<const Vec3> positions,
+                     std::span<const Triangle> triangles);
+
 }  // namespace spheremap

@@ -62,6 +62,10 @@ PartSurface part_surface(const PolygonMesh& mesh, const std::vector<uint32_t>& f
                          const StopCheck* stop) {
   PartSurface s;
   std::unordered_map<uint32_t, std::pair<uint32_t, uint32_t>> corners;  // v -> (count, a slot)
+  size_t corner_count = 0;
+  for (uint32_t f : faces) corner_count += mesh.offsets[f + 1] - mesh.offsets[f];
+  s.corner_at.reserve(corner_count);
+  corners.reserve(corner_count / 2);
   for (uint32_t f : faces) {
     const uint32_t size = mesh.offsets[f + 1] - mesh.offsets[f];
     for (uint32_t k = 0; k < size; ++k) {
@@ -146,19 +150,36 @@ double area(const PolygonMesh& mesh, const Triangle& t) {
 // (slot, position on the cycle), and the sizes before it.
 struct Cut {
   size_t added = 0;  // fill triangles appended (0: not cut)
+  std::vector<uint32_t> cycle;
+  std::vector<Triangle> fill;
   std::vector<std::pair<uint32_t, uint32_t>> left;
   uint32_t first_copy = 0;
   size_t mesh_faces = 0, part_faces = 0;
 };
 
-void undo_cut(PolygonMesh& mesh, std::vector<uint32_t>& faces, const std::vector<uint32_t>& cycle,
-              const Cut& cut, HandleClosing& result, uint32_t original_vertices) {
-  for (const auto& [slot, i] : cut.left) mesh.indices[slot] = cycle[i];
+void undo_cut(PolygonMesh& mesh, std::vector<uint32_t>& faces, const Cut& cut,
+              HandleClosing& result, uint32_t original_vertices) {
+  for (const auto& [slot, i] : cut.left) mesh.indices[slot] = cut.cycle[i];
   mesh.positions.resize(cut.first_copy);
   result.copy_of.resize(cut.first_copy - original_vertices);
   mesh.offsets.resize(cut.mesh_faces + 1);
   mesh.indices.resize(mesh.offsets.back());
   faces.resize(cut.part_faces);
+}
+
+// Makes a cut again where undo_cut took it back (on the mesh as it was when it was made).
+void redo_cut(PolygonMesh& mesh, std::vector<uint32_t>& faces, const Cut& cut,
+              HandleClosing& result, uint32_t original_vertices) {
+  for (uint32_t v : cut.cycle) {
+    const Vec3 position = mesh.positions[v];
+    mesh.positions.push_back(position);
+    result.copy_of.push_back(v < original_vertices ? v : result.copy_of[v - original_vertices]);
+  }
+  for (const auto& [slot, i] : cut.left) mesh.indices[slot] = cut.first_copy + i;
+  for (const Triangle& t : cut.fill) {
+    faces.push_back(static_cast<uint32_t>(mesh.face_count()));
+    mesh.add_face(t);
+  }
 }
 
 // Cuts the part along `cycle` (its vertices copied for the faces on its left, those
@@ -170,6 +191,7 @@ Cut cut_and_fill(PolygonMesh& mesh, std::vector<uint32_t>& faces, const PartSurf
                  double surface, HandleClosing& result, uint32_t original_vertices,
                  const StopCheck* stop) {
   Cut cut;
+  cut.cycle = cycle;
   const size_t n = cycle.size();
   // Per left face corner on the cycle: (index slot in mesh.indices, position on the cycle).
   std::vector<std::pair<uint32_t, uint32_t>>& left = cut.left;
@@ -240,7 +262,7 @@ Cut cut_and_fill(PolygonMesh& mesh, std::vector<uint32_t>& faces, const PartSurf
     });
     if (side.empty() || crack) {
       restore_edges();
-      undo_cut(mesh, faces, cycle, cut, result, original_vertices);
+      undo_cut(mesh, faces, cut, result, original_vertices);
       return {};
     }
     fill.insert(fill.end(), side.begin(), side.end());
@@ -251,6 +273,7 @@ Cut cut_and_fill(PolygonMesh& mesh, std::vector<uint32_t>& faces, const PartSurf
     mesh.add_face(t);
   }
   cut.added = fill.size();
+  cut.fill = std::move(fill);
   return cut;
 }
 
@@ -268,30 +291,13 @@ TriangleTree own_surface(const PolygonMesh& mesh, const std::vector<uint32_t>& f
   return TriangleTree(mesh.positions, triangles);
 }
 
-// How far triangles stray from the part's own surface: the largest distance over points
-// spread on each (a 4 x 4 barycentric grid: a flat cap's farthest point is inside it, not
-// at its corners, which lie on the cycle).
-double farthest_point(const PolygonMesh& mesh, std::span<const Triangle> triangles,
-                      const TriangleTree& own) {
-  constexpr int kSteps = 4;
-  double farthest = 0;
-  for (const Triangle& t : triangles) {
-    const Vec3 &a = mesh.positions[t[0]], &b = mesh.positions[t[1]], &c = mesh.positions[t[2]];
-    for (int i = 0; i <= kSteps; ++i)
-      for (int j = 0; i + j <= kSteps; ++j) {
-        const double u = double(i) / kSteps, v = double(j) / kSteps;
-        farthest = std::max(farthest, own.squared_distance(a + (b - a) * u + (c - a) * v));
-      }
-  }
-  return std::sqrt(farthest);
-}
-
-// The same for the fill a cut appended (the mesh's faces from `first_fill` on).
+// How far the fill a cut appended (the mesh's faces from `first_fill` on) strays from the
+// part's own surface.
 double fill_distance(const PolygonMesh& mesh, size_t first_fill, const TriangleTree& own) {
   std::vector<Triangle> fill;
   for (size_t f = first_fill; f < mesh.face_count(); ++f)
     fill.push_back({mesh.face(f)[0], mesh.face(f)[1], mesh.face(f)[2]});
-  return farthest_point(mesh, fill, own);
+  return farthest_from(own, mesh.positions, fill);
 }
 
 struct Candidate {
@@ -324,7 +330,7 @@ std::vector<Candidate> nearest_fills_first(const PolygonMesh& mesh,
       double unused = 0;
       const std::vector<Triangle> fill =
           least_area_fill(mesh, loop, edges, unused, stop, kCrackArea * surface);
-      if (!fill.empty()) candidate.distance = farthest_point(mesh, fill, own);
+      if (!fill.empty()) candidate.distance = farthest_from(own, mesh.positions, fill);
     }
     candidates.push_back(candidate);
   }
@@ -337,11 +343,21 @@ std::vector<Candidate> nearest_fills_first(const PolygonMesh& mesh,
   return candidates;
 }
 
-// Closes the handles of one part while the bounds allow; returns why it stopped ("" when
-// it reached genus 0) and leaves the genus left in `genus`.
+// One part's closing: the cuts made, in order, and how far the farthest fill stands from
+// the part (over its diagonal).
+struct PartCuts {
+  std::vector<Cut> cuts;
+  double farthest = 0;
+};
+
+// Closes the handles of one part while the bounds allow, taking for each cut the first of
+// the cycles weighed whose fill lies within `near` of the part (a share of its diagonal;
+// infinity: the shortest that can be cut), else the nearest; returns why it stopped (""
+// when it reached genus 0) and leaves the genus left in `genus`.
 std::string close_part(PolygonMesh& mesh, std::vector<uint32_t>& faces, long long& genus,
-                       double max_cycle, size_t max_genus, size_t own_faces, HandleClosing& result,
-                       uint32_t original_vertices, const StopCheck* stop) {
+                       double max_cycle, size_t max_genus, size_t own_faces, double near,
+                       HandleClosing& result, uint32_t original_vertices, PartCuts& made,
+                       const StopCheck* stop) {
   Vec3 low{INFINITY, INFINITY, INFINITY}, high{-INFINITY, -INFINITY, -INFINITY};
   double surface = 0;
   for (uint32_t f : faces) {
@@ -381,7 +397,7 @@ std::string close_part(PolygonMesh& mesh, std::vector<uint32_t>& faces, long lon
         edges.insert(undirected_edge_key(face[k], face[(k + 1) % face.size()]));
     }
     const std::vector<Candidate> candidates = nearest_fills_first(
-        mesh, cycles, max_cycle * diagonal, kNearFill * diagonal, surface, edges, *own, stop);
+        mesh, cycles, max_cycle * diagonal, near * diagonal, surface, edges, *own, stop);
     const EdgeFaces sides = edge_faces(mesh, s, faces);
     size_t tried = 0, long_ones = 0, separating = 0, unfilled = 0, measured = 0;
     // Cuts are made and measured (then taken back) in that order: the first whose fill is
@@ -409,9 +425,9 @@ std::string close_part(PolygonMesh& mesh, std::vector<uint32_t>& faces, long lon
       }
       ++measured;
       const double distance = fill_distance(mesh, cut.mesh_faces, *own);
-      undo_cut(mesh, faces, cycle.vertices, cut, result, original_vertices);
+      undo_cut(mesh, faces, cut, result, original_vertices);
       if (distance < best_distance) best = &cycle, best_distance = distance;
-      if (distance <= kNearFill * diagonal) break;
+      if (distance <= near * diagonal) break;
     }
     bool closed = false;
     if (best) {  // the same cut again: the same mesh gives the same fill
@@ -422,7 +438,8 @@ std::string close_part(PolygonMesh& mesh, std::vector<uint32_t>& faces, long lon
         ++result.handles_closed;
         result.faces_added += cut.added;
         result.largest_cycle = std::max(result.largest_cycle, best->length / diagonal);
-        result.farthest_fill = std::max(result.farthest_fill, best_distance / diagonal);
+        made.farthest = std::max(made.farthest, best_distance / diagonal);
+        made.cuts.push_back(cut);
       }
     }
     if (!closed)
@@ -460,10 +477,41 @@ HandleClosing close_handles(PolygonMesh& mesh, double max_cycle, const StopCheck
   for (std::vector<uint32_t>& faces : parts) {
     const PartSurface s = part_surface(mesh, faces, stop);
     if (!s.closable || s.genus <= 0) continue;
-    long long genus = s.genus;
     const uint32_t some_vertex = mesh.face(faces[0])[0];
-    std::string reason = close_part(mesh, faces, genus, max_cycle, max_genus, own_faces, result,
-                                    original_vertices, stop);
+    // Each cut takes the nearest fill, which can leave the next handles only far ones: when
+    // a fill stands far, the part is closed again shortest first (as before fills were
+    // weighed), and the closing whose farthest fill is nearer is kept (at equal genus).
+    const std::vector<uint32_t> part_faces = faces;
+    const HandleClosing before = result;
+    auto close = [&](double near, long long& genus, PartCuts& made) {
+      genus = s.genus;
+      return close_part(mesh, faces, genus, max_cycle, max_genus, own_faces, near, result,
+                        original_vertices, made, stop);
+    };
+    auto undo = [&](const PartCuts& made) {
+      for (auto cut = made.cuts.rbegin(); cut != made.cuts.rend(); ++cut)
+        undo_cut(mesh, faces, *cut, result, original_vertices);
+      faces = part_faces;
+      result = before;
+    };
+    long long genus = 0;
+    PartCuts made;
+    std::string reason = close(kNearFill, genus, made);
+    if (made.farthest > kNearFill) {
+      long long shortest_genus = 0;
+      PartCuts shortest;
+      const HandleClosing nearest_result = result;
+      undo(made);
+      std::string shortest_reason = close(INFINITY, shortest_genus, shortest);
+      if (shortest_genus <= genus && shortest.farthest < made.farthest) {
+        genus = shortest_genus, made = std::move(shortest), reason = std::move(shortest_reason);
+      } else {  // the first closing again, as it was
+        undo(shortest);
+        for (const Cut& cut : made.cuts) redo_cut(mesh, faces, cut, result, original_vertices);
+        result = nearest_result;
+      }
+    }
+    result.farthest_fill = std::max(result.farthest_fill, made.farthest);
     if (genus == 0) continue;
     result.handles_left += static_cast<size_t>(genus);
     result.stopped.push_back({some_vertex, static_cast<size_t>(genus), std::move(reason)});
