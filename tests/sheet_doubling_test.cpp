@@ -13,6 +13,7 @@
 #include "core/mesh/surface_distance.h"
 #include "core/mesh/topology.h"
 #include "core/outputs/asset_builders.h"
+#include "core/outputs/map_outputs.h"
 #include "core/outputs/report_json.h"
 #include "core/outputs/sphere_asset.h"
 #include "core/prepare/prepare_mesh.h"
@@ -195,6 +196,42 @@ TEST(SheetDoubling, AutoMapsAnOpenSheetExactlyWithItsBackLeftOutOfTheInputsLayou
   automatic.double_open_sheets = false;
   automatic.envelope.resolution = 96;
   EXPECT_EQ(prepare_input(again, nullptr, automatic).preparation.decided, "wrap");
+}
+
+// A tube open at one end (a finger, a test tube): its hole is small enough to fill (4% of
+// its surface), but the fill would stand 8% of its diagonal from it. Under auto the tube is
+// closed by its back instead (far_disc_fills.h), and its remesh stays within 2% of it; with
+// the fill it is 8% off. A disc whose fill stays near (a sphere less one face) is filled.
+TEST(SheetDoubling, ADiscWhoseFillWouldStandFarIsClosedByItsBackInstead) {
+  const PolygonMesh tube = testing::capped_tube(16, 24, 12);
+  size_t cap = 0;
+  while (tube.face_size(cap) != 16) ++cap;
+  PrepareOptions automatic;
+  automatic.method = PrepareMethod::kAuto;
+  auto remesh_distance = [](const PreparedMesh& prepared) {
+    const MappedMesh mapped = map_prepared(prepared, {});
+    EXPECT_TRUE(certify(mapped, mapped.float32_check).certified);
+    return remesh_asset(mapped, 128, 1).metrics["distance"]["hausdorff"].get<double>();
+  };
+  PolygonMesh input = testing::without_face(tube, cap);
+  const PreparedMesh doubled = prepare_input(input, nullptr, automatic);
+  EXPECT_EQ(doubled.preparation.holes_filled, 0u);
+  EXPECT_EQ(doubled.preparation.holes_left, 0u);
+  EXPECT_EQ(doubled.preparation.sheets_doubled, 1u);
+  EXPECT_LT(remesh_distance(doubled), 0.02);
+
+  PolygonMesh again = testing::without_face(tube, cap);
+  automatic.double_open_sheets = false;
+  const PreparedMesh filled = prepare_input(again, nullptr, automatic);
+  EXPECT_EQ(filled.preparation.holes_filled, 1u);
+  EXPECT_EQ(filled.preparation.sheets_doubled, 0u);
+  EXPECT_GT(remesh_distance(filled), 0.06);
+
+  PolygonMesh sphere = testing::without_face(testing::icosphere(3), 0);
+  automatic.double_open_sheets = true;
+  const PreparedMesh near = prepare_input(sphere, nullptr, automatic);
+  EXPECT_EQ(near.preparation.holes_filled, 1u);
+  EXPECT_EQ(near.preparation.sheets_doubled, 0u);
 }
 
 }  // namespace

@@ -119,7 +119,8 @@ std::vector<Triangle> least_area_fill(const PolygonMesh& mesh, std::span<const u
   return out;
 }
 
-HoleFilling fill_holes(PolygonMesh& mesh, double max_fill, const StopCheck* stop, bool refine) {
+HoleFilling fill_holes(PolygonMesh& mesh, double max_fill, const StopCheck* stop, bool refine,
+                       const KeepHoleOpen& keep_open) {
   HoleFilling result;
   if (max_fill <= 0) return result;
   size_t pinched = 0;
@@ -173,6 +174,11 @@ HoleFilling fill_holes(PolygonMesh& mesh, double max_fill, const StopCheck* stop
         ++result.holes_too_large;
         result.largest_left_fill = std::max(result.largest_left_fill, share);
       }
+      continue;
+    }
+    if (keep_open && keep_open(loop, fill)) {
+      ++result.holes_left;
+      ++result.holes_kept_open;
       continue;
     }
     if (refine) {

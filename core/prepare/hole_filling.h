@@ -10,6 +10,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <span>
 #include <unordered_set>
 #include <vector>
@@ -33,7 +34,11 @@ struct HoleFilling {
   // fill's share of its part's surface: the max_fill that would have closed them.
   size_t holes_too_large = 0;
   double largest_left_fill = 0;
+  size_t holes_kept_open = 0;  // fillable, but `keep_open` said no (also in holes_left)
 };
+
+// Asked of each hole that would be filled (its loop and least-area fill): true leaves it.
+using KeepHoleOpen = std::function<bool(std::span<const uint32_t>, std::span<const Triangle>)>;
 
 // Preconditions: `mesh` welded (one vertex per point) and consistently oriented around each
 // hole. Fills every hole whose fill area is at most `max_fill` of the surface area of its
@@ -43,9 +48,10 @@ struct HoleFilling {
 // triangle of next to no area (cracks, which a weld closes) are left. Fills run the way
 // the hole's faces do. The size bound is weighed on the least-area fill; `refine` then
 // refines and fairs each fill (refine_and_fair_fill, at most fill_vertex_budget new
-// vertices per hole); false: the least-area fill alone, no vertex added. `stop` may be null.
+// vertices per hole); false: the least-area fill alone, no vertex added. A hole for which
+// `keep_open` (when set) says true is left (far_disc_fills.h). `stop` may be null.
 HoleFilling fill_holes(PolygonMesh& mesh, double max_fill, const StopCheck* stop = nullptr,
-                       bool refine = true);
+                       bool refine = true, const KeepHoleOpen& keep_open = {});
 
 // The key of the undirected edge {a, b} in the `edges` sets below.
 inline uint64_t undirected_edge_key(uint32_t a, uint32_t b) {

@@ -14,6 +14,7 @@
 #include "core/prepare/edge_split.h"
 #include "core/prepare/envelope_plan.h"
 #include "core/prepare/face_cleanup.h"
+#include "core/prepare/far_disc_fills.h"
 #include "core/prepare/handle_closing.h"
 #include "core/prepare/hole_filling.h"
 #include "core/prepare/sheet_doubling.h"
@@ -148,21 +149,54 @@ PreparedMesh prepare_mesh(const PolygonMesh& input, const PrepareOptions& option
 
 namespace {
 
+// A disc's one hole is left for its back (far_disc_fills.h) when its fill would stand
+// farther than this share of the part's diagonal from the part, as a handle's cut is taken
+// where its fill stays within it (handle_closing.cpp).
+constexpr double kFarDiscFill = 0.01;
+
 // Holes closed by fills appended to the welded mesh (its input vertices are unchanged).
-void fill_small_holes(PreparedMesh& prepared, const PrepareOptions& options) {
-  if (prepared.topology.boundary_edges == 0 || options.max_hole_fill <= 0) return;
+// Under kAuto with sheets doubled, a disc whose fill would stand far is left open for its
+// back; returns an edge of each hole so left.
+std::vector<std::pair<uint32_t, uint32_t>> fill_small_holes(PreparedMesh& prepared,
+                                                            const PrepareOptions& options) {
+  std::vector<std::pair<uint32_t, uint32_t>> kept_open;
+  if (prepared.topology.boundary_edges == 0 || options.max_hole_fill <= 0) return kept_open;
   StopCheck stop(&options.should_stop);
-  const HoleFilling filled =
-      fill_holes(prepared.welded.mesh, options.max_hole_fill, &stop, options.refine_hole_fills);
+  KeepHoleOpen keep_open;
+  if (options.method == PrepareMethod::kAuto && options.double_open_sheets)
+    keep_open = [far = FarDiscFills(prepared.welded.mesh, kFarDiscFill), &kept_open](
+                    std::span<const uint32_t> loop, std::span<const Triangle> fill) {
+      if (!far(loop, fill)) return false;
+      kept_open.push_back({loop[0], loop[1]});
+      return true;
+    };
+  const HoleFilling filled = fill_holes(prepared.welded.mesh, options.max_hole_fill, &stop,
+                                        options.refine_hole_fills, keep_open);
   PreparationReport& report = prepared.preparation;
   report.holes_filled = filled.holes_filled;
   report.vertices_added = filled.vertices_added;
   report.faces_added = filled.faces_added;
-  report.holes_left = filled.holes_left;
+  report.holes_left = filled.holes_left - filled.holes_kept_open;
   report.largest_fill = filled.largest_fill;
   report.holes_too_large = filled.holes_too_large;
   report.largest_left_fill = filled.largest_left_fill;
   if (filled.faces_added > 0) prepared.topology = analyze_topology(prepared.welded.mesh, &stop);
+  return kept_open;
+}
+
+// Whether any of `edges` has one face of `mesh` only (a boundary edge). O(corners).
+bool still_open(const PolygonMesh& mesh, const std::vector<std::pair<uint32_t, uint32_t>>& edges) {
+  if (edges.empty()) return false;
+  std::unordered_map<uint64_t, size_t> faces_at;
+  for (const auto& [a, b] : edges) faces_at[undirected_edge_key(a, b)] = 0;
+  for (size_t f = 0; f < mesh.face_count(); ++f) {
+    const auto face = mesh.face(f);
+    for (size_t k = 0; k < face.size(); ++k)
+      if (auto it = faces_at.find(undirected_edge_key(face[k], face[(k + 1) % face.size()]));
+          it != faces_at.end())
+        ++it->second;
+  }
+  return std::any_of(faces_at.begin(), faces_at.end(), [](const auto& e) { return e.second < 2; });
 }
 
 // Past this many parts that do not map (once open discs are doubled), kAuto wraps them as
@@ -331,17 +365,30 @@ PreparedMesh prepare_once(PolygonMesh& input, GltfAppearance* look, const Prepar
   split_shared_edges(prepared, input, look, options);
   split_pinched_vertices(prepared, input, look, options);
   const size_t own_faces = prepared.welded.mesh.face_count();
-  fill_small_holes(prepared, options);
+  const std::vector<std::pair<uint32_t, uint32_t>> kept_open = fill_small_holes(prepared, options);
   close_short_handles(prepared, input, look, options, own_faces);
   const size_t closed_faces = prepared.welded.mesh.face_count();
   double_open_sheets(prepared, options);
+  // A disc left open for its back that could not have one (a back triangle of no area) is
+  // filled after all.
+  const size_t doubled_faces = prepared.welded.mesh.face_count();
+  if (still_open(prepared.welded.mesh, kept_open)) {
+    PrepareOptions fill_only = options;
+    fill_only.double_open_sheets = false;
+    const PreparationReport before = report;
+    fill_small_holes(prepared, fill_only);
+    report.holes_filled += before.holes_filled;
+    report.vertices_added += before.vertices_added;
+    report.faces_added += before.faces_added;
+    report.largest_fill = std::max(report.largest_fill, before.largest_fill);
+  }
   // Fills are triangles appended after the mesh's own faces (a cut may have renamed their
   // corners since, so they are read at the end). A sheet's back is no fill: it is the
   // input's surface again, weighed alike (squeezed, it left the sheet's corners few samples
   // of the remesh), its distortion that of a map of the input.
   const PolygonMesh& mesh = prepared.welded.mesh;
-  for (size_t f = own_faces; f < closed_faces; ++f)
-    if (mesh.face_size(f) == 3)
+  for (size_t f = own_faces; f < mesh.face_count(); ++f)
+    if (mesh.face_size(f) == 3 && (f < closed_faces || f >= doubled_faces))
       prepared.filled.push_back({mesh.face(f)[0], mesh.face(f)[1], mesh.face(f)[2]});
   return prepared;
 }
