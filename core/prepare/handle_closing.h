@@ -56,7 +56,9 @@ struct HandleClosing {
 // triangle (kCrackArea) or more than kMaxHoleCorners corners. Of the 16 shortest distinct
 // cycles, those whose fill lies within 1% of the part's diagonal of its own faces (those
 // below `own_faces`: not earlier fills) are tried first, shortest first, then the others,
-// nearest fill first. `stop` may be null.
+// nearest fill first; when a part's farthest fill still stands beyond 1%, it is closed
+// again shortest first and the closing whose farthest fill is nearer is kept. `stop` may be
+// null.
 HandleClosing close_handles(PolygonMesh& mesh, double max_cycle, const StopCheck* stop = nullptr,
                             size_t max_genus = kMaxHandles, size_t own_faces = SIZE_MAX);
 
