@@ -14,7 +14,11 @@ constexpr uint32_t kNone = std::numeric_limits<uint32_t>::max();
 }  // namespace
 
 FarDiscFills::FarDiscFills(const PolygonMesh& mesh, double max_distance)
-    : mesh_(mesh), max_distance_(max_distance), own_faces_(mesh.face_count()) {
+    : mesh_(mesh), max_distance_(max_distance), own_faces_(mesh.face_count()) {}
+
+void FarDiscFills::count_parts() const {
+  const PolygonMesh& mesh = mesh_;
+  counted_ = true;
   UnionFind sets(mesh.vertex_count());
   for (size_t f = 0; f < own_faces_; ++f)
     for (uint32_t v : mesh.face(f)) sets.unite(mesh.face(f)[0], v);
@@ -53,6 +57,7 @@ FarDiscFills::FarDiscFills(const PolygonMesh& mesh, double max_distance)
 
 bool FarDiscFills::operator()(std::span<const uint32_t> loop,
                               std::span<const Triangle> fill) const {
+  if (!counted_) count_parts();
   if (loop.empty() || loop[0] >= part_of_.size() || part_of_[loop[0]] == kNone) return false;
   const uint32_t part = part_of_[loop[0]];
   if (euler_[part] != 1 || boundary_edges_[part] != loop.size()) return false;

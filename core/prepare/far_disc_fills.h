@@ -20,7 +20,8 @@ namespace spheremap {
 // the mesh must outlive it and may grow (fills appended) while it is asked.
 class FarDiscFills {
  public:
-  // `max_distance`: over the part's bounding-box diagonal. O(vertices + corners).
+  // `max_distance`: over the part's bounding-box diagonal. O(1): the parts are counted
+  // when first asked (O(vertices + corners)), on the faces the mesh had here.
   FarDiscFills(const PolygonMesh& mesh, double max_distance);
 
   // Whether the hole `loop` (a boundary loop of the mesh, as hole_filling.h finds them) is
@@ -30,14 +31,17 @@ class FarDiscFills {
   bool operator()(std::span<const uint32_t> loop, std::span<const Triangle> fill) const;
 
  private:
+  void count_parts() const;
+
   const PolygonMesh& mesh_;
   double max_distance_;
   size_t own_faces_;
-  std::vector<uint32_t> part_of_;       // per vertex: its part (kNone: in no face)
-  std::vector<long long> euler_;        // per part: V - E + F
-  std::vector<size_t> boundary_edges_;  // per part
-  std::vector<uint32_t> first_face_;    // per part: faces_[first_face_[p], first_face_[p + 1])
-  std::vector<uint32_t> faces_;
+  mutable bool counted_ = false;
+  mutable std::vector<uint32_t> part_of_;       // per vertex: its part (kNone: in no face)
+  mutable std::vector<long long> euler_;        // per part: V - E + F
+  mutable std::vector<size_t> boundary_edges_;  // per part
+  // Per part: its faces are faces_[first_face_[p], first_face_[p + 1]).
+  mutable std::vector<uint32_t> first_face_, faces_;
 };
 
 }  // namespace spheremap
