@@ -132,8 +132,9 @@ const char* const kMapOptionsHelp = R"(Mapping options:
                             original layout leaves the fills out, the remesh keeps them
   --max-handle-cycle L      repair and parts close each handle (genus > 0) of a closed part
                             along a non-separating cycle of at most L times the part's
-                            bounding-box diagonal, shortest first (default 1.5; 0: none): the
-                            cut's vertices are copied and both sides filled like holes
+                            bounding-box diagonal (default 1.5; 0: none), the shortest whose
+                            fill stays within 1% of the part, else the nearest: the cut's
+                            vertices are copied and both sides filled like holes
 )";
 
 void read_map_options(const Arguments& args, PrepareOptions& prepare, MapOptions& options) {
