@@ -55,8 +55,9 @@ struct PrepareOptions {
   bool refine_hole_fills = true;
   // repair and parts: handles of closed, manifold, oriented parts are closed along
   // non-separating cycles of at most this length over the part's bounding-box diagonal,
-  // the shortest whose fill stays near the part first (handle_closing.h); 0: none. 1.5: the longest cycle the reach set's
-  // genus > 0 assets need is 1.39 (a printer bed), and every one of them maps certified.
+  // the shortest whose fill stays near the part first (handle_closing.h); 0: none. 1.5: the longest
+  // cycle the reach set's genus > 0 assets need is 1.39 (a printer bed), and every one of them maps
+  // certified.
   double max_handle_cycle = 1.5;
   // kAuto: a part that is a disc whose hole is too large to fill is closed by its own back
   // (sheet_doubling.h) rather than wrapped. false: wrapped (tests of the envelope's path).
