@@ -13,8 +13,8 @@ namespace spheremap {
 std::vector<ValidationFailure> input_failures(const PreparedMesh& prepared,
                                               const GltfReadStats* gltf = nullptr);
 // What preparation did (and holes_filled, faces_added, holes_left, largest_fill,
-// handles_closed, handles_left, largest_handle_cycle, farthest_handle_fill; under prepare=wrap also the envelope's
-// report: voxel_size, offset, handles_cut, handles_filled, voxels_changed,
+// handles_closed, handles_left, largest_handle_cycle, farthest_handle_fill; under prepare=wrap also
+// the envelope's report: voxel_size, offset, handles_cut, handles_filled, voxels_changed,
 // envelope_hausdorff, envelope_rms, ... as docs/http-api.md lists):
 // {"method", "input_faces", "collapsed_faces_dropped",
 // "faces_shortened", "duplicate_faces_dropped", "faces_flipped", "parts_reoriented"}.
