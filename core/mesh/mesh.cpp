@@ -47,6 +47,17 @@ std::vector<uint32_t> choose_apexes(const PolygonMesh& mesh, size_t& conflicts) 
 
 }  // namespace
 
+uint32_t face_of_slot(const PolygonMesh& mesh, uint32_t slot) {
+  return static_cast<uint32_t>(std::upper_bound(mesh.offsets.begin(), mesh.offsets.end(), slot) -
+                               mesh.offsets.begin() - 1);
+}
+
+uint32_t vertex_before(const PolygonMesh& mesh, uint32_t slot) {
+  const uint32_t f = face_of_slot(mesh, slot);
+  const uint32_t size = mesh.offsets[f + 1] - mesh.offsets[f];
+  return mesh.indices[mesh.offsets[f] + (slot - mesh.offsets[f] + size - 1) % size];
+}
+
 FanTriangulation fan_triangulate(const PolygonMesh& mesh) {
   FanTriangulation fan;
   const std::vector<uint32_t> apex = choose_apexes(mesh, fan.conflicting_faces);

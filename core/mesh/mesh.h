@@ -30,6 +30,11 @@ struct PolygonMesh {
   bool is_triangle_mesh() const { return indices.size() == 3 * face_count(); }
 };
 
+// The face of a corner (a slot in mesh.indices). O(log faces).
+uint32_t face_of_slot(const PolygonMesh& mesh, uint32_t slot);
+// The vertex of the corner before `slot` in its face (O(log faces), whatever its size).
+uint32_t vertex_before(const PolygonMesh& mesh, uint32_t slot);
+
 // Fan triangulation (a, a+k, a+k+1) of every face, in face order; triangle_face[t] is
 // the face triangle t came from. Used by folds, areas, the hierarchy and insertion.
 // The apex a of a polygon is its first corner whose diagonals are neither a mesh edge

@@ -191,4 +191,14 @@ double farthest_from(const TriangleTree& tree, std::span<const Vec3> positions,
   return std::sqrt(farthest);
 }
 
+TriangleTree polygon_tree(const PolygonMesh& mesh, std::span<const uint32_t> faces) {
+  std::vector<Triangle> triangles;
+  for (uint32_t f : faces) {
+    const auto face = mesh.face(f);
+    for (size_t k = 1; k + 1 < face.size(); ++k)
+      triangles.push_back({face[0], face[k], face[k + 1]});
+  }
+  return TriangleTree(mesh.positions, triangles);
+}
+
 }  // namespace spheremap

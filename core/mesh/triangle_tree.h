@@ -80,4 +80,8 @@ class TriangleTree {
 double farthest_from(const TriangleTree& tree, std::span<const Vec3> positions,
                      std::span<const Triangle> triangles);
 
+// A tree of the polygons `faces` of `mesh`, each fanned from its first corner (a flat
+// polygon's points do not depend on its diagonals). O(corners log corners).
+TriangleTree polygon_tree(const PolygonMesh& mesh, std::span<const uint32_t> faces);
+
 }  // namespace spheremap

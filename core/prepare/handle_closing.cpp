@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <iterator>
 #include <limits>
 #include <optional>
 #include <set>
@@ -35,19 +36,6 @@ std::string number(double x) {
   char text[32];
   std::snprintf(text, sizeof text, "%.3g", x);
   return text;
-}
-
-// The face of a corner (a slot in mesh.indices).
-uint32_t face_of_slot(const PolygonMesh& mesh, uint32_t slot) {
-  return static_cast<uint32_t>(std::upper_bound(mesh.offsets.begin(), mesh.offsets.end(), slot) -
-                               mesh.offsets.begin() - 1);
-}
-
-// The vertex of the corner before `slot` in its face (O(log faces), whatever the face's size).
-uint32_t before(const PolygonMesh& mesh, uint32_t slot) {
-  const uint32_t f = face_of_slot(mesh, slot);
-  const uint32_t size = mesh.offsets[f + 1] - mesh.offsets[f];
-  return mesh.indices[mesh.offsets[f] + (slot - mesh.offsets[f] + size - 1) % size];
 }
 
 // One part's faces as half-edges (a -> b: the face running a -> b), when they form a
@@ -88,7 +76,7 @@ PartSurface part_surface(const PolygonMesh& mesh, const std::vector<uint32_t>& f
     const auto [count, start] = count_slot;
     uint32_t slot = start, steps = 0;
     do {
-      slot = s.corner_at.at(directed_edge_key(v, before(mesh, slot)));
+      slot = s.corner_at.at(directed_edge_key(v, vertex_before(mesh, slot)));
       if (++steps > count) return s;
     } while (slot != start);
     if (steps != count) return s;
@@ -203,7 +191,7 @@ Cut cut_and_fill(PolygonMesh& mesh, std::vector<uint32_t>& faces, const PartSurf
     for (size_t steps = 0;; ++steps) {
       if (steps > faces.size()) return {};
       left.push_back({slot, i});
-      const uint32_t a = before(mesh, slot);
+      const uint32_t a = vertex_before(mesh, slot);
       if (a == prev) break;
       slot = s.corner_at.at(directed_edge_key(v, a));
     }
@@ -281,14 +269,10 @@ Cut cut_and_fill(PolygonMesh& mesh, std::vector<uint32_t>& faces, const PartSurf
 // tree for the distance of a cut's fill to them.
 TriangleTree own_surface(const PolygonMesh& mesh, const std::vector<uint32_t>& faces,
                          size_t own_faces) {
-  std::vector<Triangle> triangles;
-  for (uint32_t f : faces) {
-    if (f >= own_faces) continue;
-    const auto face = mesh.face(f);
-    for (size_t k = 1; k + 1 < face.size(); ++k)
-      triangles.push_back({face[0], face[k], face[k + 1]});
-  }
-  return TriangleTree(mesh.positions, triangles);
+  std::vector<uint32_t> own;
+  std::copy_if(faces.begin(), faces.end(), std::back_inserter(own),
+               [&](uint32_t f) { return f < own_faces; });
+  return polygon_tree(mesh, own);
 }
 
 // How far the fill a cut appended (the mesh's faces from `first_fill` on) strays from the
@@ -325,7 +309,9 @@ std::vector<Candidate> nearest_fills_first(const PolygonMesh& mesh,
     std::sort(sorted.begin(), sorted.end());
     if (!seen.insert(std::move(sorted)).second) continue;
     Candidate candidate{&cycle};
-    if (cycle.vertices.size() >= 3 && cycle.vertices.size() <= kMaxHoleCorners) {
+    // With no bound on near (shortest first), every cycle is near: nothing to estimate.
+    if (std::isfinite(near) && cycle.vertices.size() >= 3 &&
+        cycle.vertices.size() <= kMaxHoleCorners) {
       const std::vector<uint32_t> loop(cycle.vertices.rbegin(), cycle.vertices.rend());
       double unused = 0;
       const std::vector<Triangle> fill =
@@ -390,20 +376,17 @@ std::string close_part(PolygonMesh& mesh, std::vector<uint32_t>& faces, long lon
              " of the part's bounding-box diagonal long, above max_handle_cycle " +
              number(max_cycle);
     if (!own) own.emplace(own_surface(mesh, faces, own_faces));
-    std::unordered_set<uint64_t> edges;  // the part's, before the next cut
-    for (uint32_t f : faces) {
-      const auto face = mesh.face(f);
-      for (size_t k = 0; k < face.size(); ++k)
-        edges.insert(undirected_edge_key(face[k], face[(k + 1) % face.size()]));
-    }
+    const EdgeFaces sides = edge_faces(mesh, s, faces);
+    // The part's edges, before the next cut.
+    std::unordered_set<uint64_t> edges(sides.keys.begin(), sides.keys.end());
     const std::vector<Candidate> candidates = nearest_fills_first(
         mesh, cycles, max_cycle * diagonal, near * diagonal, surface, edges, *own, stop);
-    const EdgeFaces sides = edge_faces(mesh, s, faces);
     size_t tried = 0, long_ones = 0, separating = 0, unfilled = 0, measured = 0;
     // Cuts are made and measured (then taken back) in that order: the first whose fill is
     // near is kept, else the nearest of the first kMeasuredCuts (the estimate leaves out
     // the other side's fill, and the real fills may use chords the uncut surface forbids).
     const HandleCycle* best = nullptr;
+    Cut best_cut;
     double best_distance = INFINITY;
     for (const Candidate& candidate : candidates) {
       const HandleCycle& cycle = *candidate.cycle;
@@ -426,23 +409,10 @@ std::string close_part(PolygonMesh& mesh, std::vector<uint32_t>& faces, long lon
       ++measured;
       const double distance = fill_distance(mesh, cut.mesh_faces, *own);
       undo_cut(mesh, faces, cut, result, original_vertices);
-      if (distance < best_distance) best = &cycle, best_distance = distance;
+      if (distance < best_distance) best = &cycle, best_cut = cut, best_distance = distance;
       if (distance <= near * diagonal) break;
     }
-    bool closed = false;
-    if (best) {  // the same cut again: the same mesh gives the same fill
-      const Cut cut = cut_and_fill(mesh, faces, s, best->vertices, edges, surface, result,
-                                   original_vertices, stop);
-      closed = cut.added > 0;
-      if (closed) {
-        ++result.handles_closed;
-        result.faces_added += cut.added;
-        result.largest_cycle = std::max(result.largest_cycle, best->length / diagonal);
-        made.farthest = std::max(made.farthest, best_distance / diagonal);
-        made.cuts.push_back(cut);
-      }
-    }
-    if (!closed)
+    if (!best)
       return "none of its " + std::to_string(tried) + " shortest non-separating cycles within " +
              "max_handle_cycle " + number(max_cycle) + " could be cut and filled (" +
              std::to_string(long_ones) + " of more than " + std::to_string(kMaxHoleCorners) +
@@ -450,6 +420,13 @@ std::string close_part(PolygonMesh& mesh, std::vector<uint32_t>& faces, long lon
              std::to_string(unfilled) +
              " without a fill of both sides free of non-manifold edges and triangles of no "
              "area)";
+    // Made again on the mesh it was measured on (each measured cut was undone).
+    redo_cut(mesh, faces, best_cut, result, original_vertices);
+    ++result.handles_closed;
+    result.faces_added += best_cut.added;
+    result.largest_cycle = std::max(result.largest_cycle, best->length / diagonal);
+    made.farthest = std::max(made.farthest, best_distance / diagonal);
+    made.cuts.push_back(std::move(best_cut));
     --genus;
   }
   return "";
