@@ -97,7 +97,9 @@ const char* const kMapOptionsHelp = R"(Mapping options:
   --prepare M               auto (default): every part served, exactly where it can be: as
                             parts, then each part that is an open disc (one hole too large
                             to fill) is closed by its own back, a copy facing the other way
-                            (exact; metrics.preparation.sheets_doubled), then each part
+                            (exact; metrics.preparation.sheets_doubled; a genus-0 part with
+                            several such holes is cut into a disc first, along short seams:
+                            open_parts_cut), then each part
                             that still cannot map is replaced by its
                             own envelope (as wrap; same voxel size and offset for all parts;
                             "wrapped" in its metrics.parts entry, with the reason and its

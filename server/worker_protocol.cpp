@@ -229,7 +229,7 @@ std::string encode_request(const JobSpec& spec, double time_limit_seconds, int t
         preparation.holes_filled, preparation.faces_added, preparation.holes_left,
         preparation.handles_closed, preparation.handles_left, preparation.vertices_split,
         preparation.t_junctions_zipped, preparation.vertices_added, preparation.edges_split,
-        preparation.sheets_doubled})
+        preparation.sheets_doubled, preparation.open_parts_cut})
     w.put<uint64_t>(count);
   w.put<double>(preparation.largest_fill);
   w.put<double>(preparation.largest_handle_cycle);
@@ -310,7 +310,7 @@ WorkerRequest decode_request(const std::string& bytes) {
         &preparation.holes_filled, &preparation.faces_added, &preparation.holes_left,
         &preparation.handles_closed, &preparation.handles_left, &preparation.vertices_split,
         &preparation.t_junctions_zipped, &preparation.vertices_added, &preparation.edges_split,
-        &preparation.sheets_doubled})
+        &preparation.sheets_doubled, &preparation.open_parts_cut})
     *count = r.get<uint64_t>();
   preparation.largest_fill = r.get<double>();
   preparation.largest_handle_cycle = r.get<double>();

@@ -61,7 +61,7 @@ TEST(EnvelopeIntake, SubmissionsNeedingEnvelopesDoNotHoldTheIntake) {
                                                "/v1/jobs?prepare=auto&wrap_resolution=160",
                                                "/v1/jobs?prepare=wrap&wrap_resolution=200"};
   const std::vector<PolygonMesh> meshes = {
-      testing::torus(48, 24), testing::band(3),
+      testing::torus(48, 24), testing::holed_torus(48, 24),
       testing::assembled({{testing::torus(24, 12), {}}, {testing::dome(2), {3, 0, 0}}})};
   std::vector<std::future<httplib::Result>> posts;
   for (size_t k = 0; k < meshes.size(); ++k)

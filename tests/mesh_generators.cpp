@@ -272,6 +272,18 @@ PolygonMesh band(int levels) {
   return icosphere_faces(levels, [](const Vec3& p) { return std::abs(p.z) < 0.6; });
 }
 
+PolygonMesh holed_torus(int around, int along) {
+  const PolygonMesh whole = torus(around, along);
+  PolygonMesh holed;
+  holed.positions = whole.positions;
+  // torus() makes the quad (i, j) the face j * around + i.
+  for (size_t f = 0; f < whole.face_count(); ++f)
+    if (f % around >= static_cast<size_t>(around / 4) ||
+        f / around >= static_cast<size_t>(along / 4))
+      holed.add_face(whole.face(f));
+  return holed;
+}
+
 PolygonMesh quad_scatter(int count, unsigned seed) {
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> uniform(0, 100);

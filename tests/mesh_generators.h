@@ -76,9 +76,12 @@ PolygonMesh without_face(const PolygonMesh& mesh, size_t f);
 // large to close (its fill would be about half its area).
 PolygonMesh dome(int levels);
 // The faces of icosphere(levels) with |z| < 0.6, welded: an open band (genus 0, two holes,
-// each too large to close), which prepare=auto wraps (it doubles a disc only:
-// sheet_doubling.h).
+// each too large to close), which prepare=auto cuts into a disc and closes by its back
+// (open_part_cuts.h, sheet_doubling.h).
 PolygonMesh band(int levels);
+// torus(around, along) without the quads of a patch on its outer side (a quarter of the
+// way round each circle): genus 1 with one hole too large to fill, which prepare=auto wraps.
+PolygonMesh holed_torus(int around, int along);
 // `count` separate quads (1 x 0.5, bent 0.3 along x, two triangles each) at positions drawn
 // from std::mt19937(seed) in a 100^3 box: a scatter whose envelope merges them into one body
 // of many blobs (bench/reach/scatter.py draws the same shape from Python's generator).

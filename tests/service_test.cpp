@@ -1497,11 +1497,21 @@ TEST_F(ServiceCorpus, BadMeshesGet422WithTheirReason) {
   EXPECT_NE(json::parse(holes->body)["detail"].get<std::string>().find(
                 "5 boundary loops (223 boundary edges)"),
             std::string::npos);
+  // By default its five holes, whose fills would stand 1% or more of its diagonal away, are
+  // left for its back (cut into a disc, then doubled); under parts they are filled.
   auto closed = post_glb(client, read_bytes(testing::corpus_path("bad/bunny_holes.glb")));
   ASSERT_EQ(closed->status, 202) << closed->body;
   const json done = wait_for(client, body_json(closed)["id"]);
   EXPECT_EQ(done["status"], "succeeded") << done.dump(2);
-  EXPECT_EQ(done["metrics"]["preparation"]["holes_filled"], 5);
+  EXPECT_EQ(done["metrics"]["preparation"]["holes_filled"], 0);
+  EXPECT_EQ(done["metrics"]["preparation"]["open_parts_cut"], 1);
+  EXPECT_EQ(done["metrics"]["preparation"]["sheets_doubled"], 1);
+  auto filled = post_glb(client, read_bytes(testing::corpus_path("bad/bunny_holes.glb")),
+                         "/v1/jobs?prepare=parts");
+  ASSERT_EQ(filled->status, 202) << filled->body;
+  const json filled_done = wait_for(client, body_json(filled)["id"]);
+  EXPECT_EQ(filled_done["status"], "succeeded") << filled_done.dump(2);
+  EXPECT_EQ(filled_done["metrics"]["preparation"]["holes_filled"], 5);
   // The torus maps by default, through a worker, its handle closed.
   auto ring = post_glb(client, read_bytes(testing::corpus_path("bad/torus.glb")));
   ASSERT_EQ(ring->status, 202) << ring->body;

@@ -684,6 +684,7 @@ async function finished(job, ticket) {
       [prepared.non_manifold_edges_split, 'non-manifold edges split'],
       [prepared.holes_filled, 'holes filled'],
       [prepared.handles_closed, 'handles closed'],
+      [prepared.open_parts_cut, 'open parts cut into discs (then closed by their back)'],
       [prepared.sheets_doubled, 'open sheets closed by their own back'],
       [prepared.faces_added, 'faces added by the fills and backs'],
       [prepared.vertices_added, 'vertices added inside the fills and backs'],

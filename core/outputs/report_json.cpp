@@ -57,6 +57,7 @@ nlohmann::json preparation_json(const PreparationReport& p) {
                         {"holes_left", p.holes_left},
                         {"largest_fill", p.largest_fill},
                         {"sheets_doubled", p.sheets_doubled},
+                        {"open_parts_cut", p.open_parts_cut},
                         {"handles_closed", p.handles_closed},
                         {"handles_left", p.handles_left},
                         {"largest_handle_cycle", p.largest_handle_cycle},

@@ -9,7 +9,8 @@
 
 namespace spheremap {
 
-std::vector<MeshPart> connected_parts(const PolygonMesh& mesh, const StopCheck* stop) {
+std::vector<std::vector<uint32_t>> connected_part_faces(const PolygonMesh& mesh,
+                                                        const StopCheck* stop) {
   UnionFind sets(mesh.vertex_count());
   for (size_t f = 0; f < mesh.face_count(); ++f)
     for (uint32_t v : mesh.face(f)) sets.unite(mesh.face(f)[0], v);
@@ -35,12 +36,17 @@ std::vector<MeshPart> connected_parts(const PolygonMesh& mesh, const StopCheck* 
   std::vector<uint32_t> rank(order.size());
   for (uint32_t r = 0; r < order.size(); ++r) rank[order[r]] = r;
 
-  // Each part's faces in the whole's order, then each part's mesh from them.
+  // Each part's faces in the whole's order.
   std::vector<std::vector<uint32_t>> part_faces(order.size());
   for (uint32_t p = 0; p < order.size(); ++p) part_faces[rank[p]].reserve(faces_of[p]);
   for (size_t f = 0; f < mesh.face_count(); ++f)
     part_faces[rank[face_part[f]]].push_back(static_cast<uint32_t>(f));
-  std::vector<MeshPart> parts(order.size());
+  return part_faces;
+}
+
+std::vector<MeshPart> connected_parts(const PolygonMesh& mesh, const StopCheck* stop) {
+  std::vector<std::vector<uint32_t>> part_faces = connected_part_faces(mesh, stop);
+  std::vector<MeshPart> parts(part_faces.size());
   std::vector<uint32_t> scratch(mesh.vertex_count(), kUnreferenced);
   for (size_t k = 0; k < parts.size(); ++k) {
     parts[k] = submesh(mesh, part_faces[k], &scratch);

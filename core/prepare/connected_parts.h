@@ -17,4 +17,8 @@ namespace spheremap {
 // belong to no part. `stop` (may be null) is asked as it goes. O(vertices + corners).
 std::vector<MeshPart> connected_parts(const PolygonMesh& mesh, const StopCheck* stop = nullptr);
 
+// The same parts, in the same order, as the faces of each (face ids of `mesh`, ascending).
+std::vector<std::vector<uint32_t>> connected_part_faces(const PolygonMesh& mesh,
+                                                        const StopCheck* stop = nullptr);
+
 }  // namespace spheremap

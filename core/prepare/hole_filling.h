@@ -49,7 +49,7 @@ using KeepHoleOpen = std::function<bool(std::span<const uint32_t>, std::span<con
 // the hole's faces do. The size bound is weighed on the least-area fill; `refine` then
 // refines and fairs each fill (refine_and_fair_fill, at most fill_vertex_budget new
 // vertices per hole); false: the least-area fill alone, no vertex added. A hole for which
-// `keep_open` (when set) says true is left (far_disc_fills.h). `stop` may be null.
+// `keep_open` (when set) says true is left (far_hole_fills.h). `stop` may be null.
 HoleFilling fill_holes(PolygonMesh& mesh, double max_fill, const StopCheck* stop = nullptr,
                        bool refine = true, const KeepHoleOpen& keep_open = {});
 

@@ -14,9 +14,10 @@
 #include "core/prepare/edge_split.h"
 #include "core/prepare/envelope_plan.h"
 #include "core/prepare/face_cleanup.h"
-#include "core/prepare/far_disc_fills.h"
+#include "core/prepare/far_hole_fills.h"
 #include "core/prepare/handle_closing.h"
 #include "core/prepare/hole_filling.h"
+#include "core/prepare/open_part_cuts.h"
 #include "core/prepare/sheet_doubling.h"
 #include "core/prepare/vertex_copies.h"
 #include "core/prepare/vertex_split.h"
@@ -149,25 +150,24 @@ PreparedMesh prepare_mesh(const PolygonMesh& input, const PrepareOptions& option
 
 namespace {
 
-// A disc's one hole is left for its back (far_disc_fills.h) when its fill would stand
-// farther than this share of the part's diagonal from the part, as a handle's cut is taken
-// where its fill stays within it (handle_closing.cpp).
-constexpr double kFarDiscFill = 0.01;
+// A hole of an open genus-0 part is left for the part's back (far_hole_fills.h) when its
+// fill would stand farther than this share of the part's diagonal from the part, as a
+// handle's cut is taken where its fill stays within it (handle_closing.cpp).
+constexpr double kFarHoleFill = 0.01;
 
 // Holes closed by fills appended to the welded mesh (its input vertices are unchanged).
-// Under kAuto with sheets doubled, a disc whose fill would stand far is left open for its
-// back; returns an edge of each hole so left.
-std::vector<std::pair<uint32_t, uint32_t>> fill_small_holes(PreparedMesh& prepared,
-                                                            const PrepareOptions& options) {
-  std::vector<std::pair<uint32_t, uint32_t>> kept_open;
+// Under kAuto with sheets doubled, a hole of an open genus-0 part whose fill would stand far
+// is left open for the part's back; returns how many were so left.
+size_t fill_small_holes(PreparedMesh& prepared, const PrepareOptions& options) {
+  size_t kept_open = 0;
   if (prepared.topology.boundary_edges == 0 || options.max_hole_fill <= 0) return kept_open;
   StopCheck stop(&options.should_stop);
   KeepHoleOpen keep_open;
   if (options.method == PrepareMethod::kAuto && options.double_open_sheets)
-    keep_open = [far = FarDiscFills(prepared.welded.mesh, kFarDiscFill), &kept_open](
+    keep_open = [far = FarHoleFills(prepared.welded.mesh, kFarHoleFill), &kept_open](
                     std::span<const uint32_t> loop, std::span<const Triangle> fill) {
       if (!far(loop, fill)) return false;
-      kept_open.push_back({loop[0], loop[1]});
+      ++kept_open;
       return true;
     };
   const HoleFilling filled = fill_holes(prepared.welded.mesh, options.max_hole_fill, &stop,
@@ -182,21 +182,6 @@ std::vector<std::pair<uint32_t, uint32_t>> fill_small_holes(PreparedMesh& prepar
   report.largest_left_fill = filled.largest_left_fill;
   if (filled.faces_added > 0) prepared.topology = analyze_topology(prepared.welded.mesh, &stop);
   return kept_open;
-}
-
-// Whether any of `edges` has one face of `mesh` only (a boundary edge). O(corners).
-bool still_open(const PolygonMesh& mesh, const std::vector<std::pair<uint32_t, uint32_t>>& edges) {
-  if (edges.empty()) return false;
-  std::unordered_map<uint64_t, size_t> faces_at;
-  for (const auto& [a, b] : edges) faces_at[undirected_edge_key(a, b)] = 0;
-  for (size_t f = 0; f < mesh.face_count(); ++f) {
-    const auto face = mesh.face(f);
-    for (size_t k = 0; k < face.size(); ++k)
-      if (auto it = faces_at.find(undirected_edge_key(face[k], face[(k + 1) % face.size()]));
-          it != faces_at.end())
-        ++it->second;
-  }
-  return std::any_of(faces_at.begin(), faces_at.end(), [](const auto& e) { return e.second < 2; });
 }
 
 // Past this many parts that do not map (once open discs are doubled), kAuto wraps them as
@@ -303,6 +288,24 @@ void close_short_handles(PreparedMesh& prepared, PolygonMesh& input, GltfAppeara
   prepared.topology = analyze_topology(welded.mesh, &stop);
 }
 
+// Under kAuto, each part that is genus 0 with several holes left open cut into a disc
+// (open_part_cuts.h), for double_open_sheets to close by its back: welded vertices on the
+// paths copied; the input gets the same copies, as for a handle's cut.
+void cut_open_parts(PreparedMesh& prepared, PolygonMesh& input, GltfAppearance* look,
+                    const PrepareOptions& options) {
+  if (options.method != PrepareMethod::kAuto || !options.double_open_sheets ||
+      prepared.topology.boundary_edges == 0)
+    return;
+  WeldResult& welded = prepared.welded;
+  if (!input_faces_lead(input, welded)) return;
+  StopCheck stop(&options.should_stop);
+  const OpenPartCuts cuts = cut_open_parts_into_discs(welded.mesh, &stop);
+  if (cuts.parts_cut == 0) return;
+  prepared.preparation.open_parts_cut = cuts.parts_cut;
+  copy_cut_input_vertices(input, look, welded);
+  prepared.topology = analyze_topology(welded.mesh, &stop);
+}
+
 // Non-manifold vertices split into one vertex per fan (vertex_split.h), on the welded mesh
 // (a weld would merge the copies again); the input's vertices there follow.
 void split_pinched_vertices(PreparedMesh& prepared, PolygonMesh& input, GltfAppearance* look,
@@ -365,14 +368,15 @@ PreparedMesh prepare_once(PolygonMesh& input, GltfAppearance* look, const Prepar
   split_shared_edges(prepared, input, look, options);
   split_pinched_vertices(prepared, input, look, options);
   const size_t own_faces = prepared.welded.mesh.face_count();
-  const std::vector<std::pair<uint32_t, uint32_t>> kept_open = fill_small_holes(prepared, options);
+  const size_t kept_open = fill_small_holes(prepared, options);
   close_short_handles(prepared, input, look, options, own_faces);
   const size_t closed_faces = prepared.welded.mesh.face_count();
+  cut_open_parts(prepared, input, look, options);
   double_open_sheets(prepared, options);
-  // A disc left open for its back that could not have one (a back triangle of no area) is
-  // filled after all.
+  // A hole left open for its part's back where the part could not have one (a back
+  // triangle of no area, a cut that failed) is filled after all.
   const size_t doubled_faces = prepared.welded.mesh.face_count();
-  if (still_open(prepared.welded.mesh, kept_open)) {
+  if (kept_open > 0 && prepared.topology.boundary_edges > 0) {
     PrepareOptions fill_only = options;
     fill_only.double_open_sheets = false;
     const PreparationReport before = report;

@@ -104,6 +104,7 @@ struct PreparationReport {
   size_t faces_added = 0;     // by hole fills, handle closings and sheets' backs together
   size_t vertices_added = 0;  // inside hole fills (refinement) and backs, after the input's own
   size_t sheets_doubled = 0;  // kAuto: open discs closed by their own back (sheet_doubling.h)
+  size_t open_parts_cut = 0;  // kAuto: parts of several holes cut into discs (open_part_cuts.h)
   double largest_fill = 0;    // the largest fill's area over the surface area
   // Holes left only for their size (over max_hole_fill), and the largest one's fill share.
   size_t holes_too_large = 0;

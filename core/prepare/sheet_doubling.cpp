@@ -96,20 +96,24 @@ std::optional<Back> back_of(const PolygonMesh& part, const StopCheck* stop) {
   return back;
 }
 
-// Whether a part with this topology is a disc whose hole is all that keeps it from mapping.
-bool is_open_disc(const TopologyReport& topology, const std::vector<ValidationFailure>& failures) {
+}  // namespace
+
+bool is_open_sphere(const TopologyReport& topology) {
+  const std::vector<ValidationFailure> failures = mapping_failures(topology);
   return failures.size() == 1 && failures.front().check == "boundary" &&
-         topology.boundary_loops == 1 && topology.euler_characteristic == 1;
+         topology.euler_characteristic + static_cast<long long>(topology.boundary_loops) == 2;
 }
 
-}  // namespace
+bool is_open_disc(const TopologyReport& topology) {
+  return is_open_sphere(topology) && topology.boundary_loops == 1;
+}
 
 SheetDoubling double_open_sheets(PolygonMesh& mesh, const StopCheck* stop) {
   SheetDoubling result;
   const std::vector<MeshPart> parts = connected_parts(mesh, stop);
   for (const MeshPart& part : parts) {
     const TopologyReport topology = analyze_topology(part.mesh, stop);
-    if (!is_open_disc(topology, mapping_failures(topology))) continue;
+    if (!is_open_disc(topology)) continue;
     std::optional<Back> back = back_of(part.mesh, stop);
     if (!back) continue;
     // The part closed by its back must map: checked, not assumed.

@@ -20,8 +20,15 @@
 
 #include "core/mesh/mesh.h"
 #include "core/mesh/stop_check.h"
+#include "core/mesh/topology.h"
 
 namespace spheremap {
+
+// Whether a part with this topology (analyze_topology of the part alone) is genus 0 and
+// open, its holes all that keep it from mapping; a disc when it has one hole: the parts
+// double_open_sheets gives a back (open_part_cuts.h makes the others discs).
+bool is_open_sphere(const TopologyReport& topology);
+bool is_open_disc(const TopologyReport& topology);
 
 struct SheetDoubling {
   size_t sheets_doubled = 0;
