@@ -42,6 +42,23 @@ SphereLocator::SphereLocator(std::span<const Vec3> sphere, std::span<const Trian
       hi[k] = std::clamp(static_cast<int>((mx + 1) * 0.5 * resolution_), 0, resolution_ - 1);
     }
   };
+  // Queries are unit vectors, so only cells that meet the unit sphere are listed: a
+  // triangle as large as a hemisphere (a doubled sheet's map has some along its seams)
+  // has a box of all r^3 cells, of which ~6 r^2 meet the sphere (a scan's 40 parts:
+  // 30 s and 600 MB of cell lists, where each cell's own list is all a query reads).
+  // Per axis index: the least and largest squared coordinate over the cell's extent.
+  std::vector<double> near2(static_cast<size_t>(resolution_)), far2(near2.size());
+  for (int i = 0; i < resolution_; ++i) {
+    const double lo = -1 + 2.0 * i / resolution_, hi = -1 + 2.0 * (i + 1) / resolution_;
+    near2[static_cast<size_t>(i)] = lo <= 0 && hi >= 0 ? 0 : std::min(lo * lo, hi * hi);
+    far2[static_cast<size_t>(i)] = std::max(lo * lo, hi * hi);
+  }
+  constexpr double kShell = 1e-6;  // rounding of a unit vector, with a wide margin
+  auto meets_sphere = [&](int i, int j, int k) {
+    const auto a = static_cast<size_t>(i), b = static_cast<size_t>(j), c = static_cast<size_t>(k);
+    return near2[a] + near2[b] + near2[c] <= (1 + kShell) * (1 + kShell) &&
+           far2[a] + far2[b] + far2[c] >= (1 - kShell) * (1 - kShell);
+  };
   std::vector<uint32_t> count(cells + 1, 0);
   auto for_cells = [&](const Triangle& t, auto&& visit) {
     std::array<int, 3> lo, hi;
@@ -49,7 +66,8 @@ SphereLocator::SphereLocator(std::span<const Vec3> sphere, std::span<const Trian
     for (int i = lo[0]; i <= hi[0]; ++i)
       for (int j = lo[1]; j <= hi[1]; ++j)
         for (int k = lo[2]; k <= hi[2]; ++k)
-          visit((static_cast<size_t>(i) * resolution_ + j) * resolution_ + k);
+          if (meets_sphere(i, j, k))
+            visit((static_cast<size_t>(i) * resolution_ + j) * resolution_ + k);
   };
   for (const Triangle& t : triangles_) for_cells(t, [&](size_t c) { ++count[c + 1]; });
   for (size_t c = 0; c < cells; ++c) count[c + 1] += count[c];
