@@ -4,10 +4,8 @@
 #include <numeric>
 
 #include "core/mesh/topology.h"
-#include "core/mesh/triangle_tree.h"
 #include "core/prepare/connected_parts.h"
-#include "core/prepare/open_part_cuts.h"  // kMaxJoinedLoops
-#include "core/prepare/sheet_doubling.h"  // is_open_sphere
+#include "core/prepare/open_part_cuts.h"  // can_become_disc
 
 namespace spheremap {
 namespace {
@@ -27,23 +25,29 @@ void FarHoleFills::find_parts() const {
   part_of_.assign(own.vertex_count(), kNone);
   for (MeshPart& part : connected_parts(own)) {
     const TopologyReport topology = analyze_topology(part.mesh);
-    if (!is_open_sphere(topology) || topology.boundary_loops > kMaxJoinedLoops) continue;
+    if (!can_become_disc(topology, part.mesh.indices.size())) continue;
     for (uint32_t v : part.vertex) part_of_[v] = static_cast<uint32_t>(parts_.size());
     parts_.push_back(std::move(part.mesh));
   }
+  trees_.resize(parts_.size());
+  diagonals_.assign(parts_.size(), 0);
 }
 
 bool FarHoleFills::operator()(std::span<const uint32_t> loop,
                               std::span<const Triangle> fill) const {
   if (!found_) find_parts();
   if (loop.empty() || loop[0] >= part_of_.size() || part_of_[loop[0]] == kNone) return false;
-  const PolygonMesh& part = parts_[part_of_[loop[0]]];
-  AxisBox box;
-  for (const Vec3& p : part.positions) box.add(p);
-  std::vector<uint32_t> faces(part.face_count());
-  std::iota(faces.begin(), faces.end(), 0u);
-  const TriangleTree own = polygon_tree(part, faces);
-  return farthest_from(own, mesh_.positions, fill) > max_distance_ * norm(box.hi - box.lo);
+  const uint32_t k = part_of_[loop[0]];
+  if (!trees_[k]) {
+    const PolygonMesh& part = parts_[k];
+    AxisBox box;
+    for (const Vec3& p : part.positions) box.add(p);
+    diagonals_[k] = norm(box.hi - box.lo);
+    std::vector<uint32_t> faces(part.face_count());
+    std::iota(faces.begin(), faces.end(), 0u);
+    trees_[k].emplace(polygon_tree(part, faces));
+  }
+  return farthest_from(*trees_[k], mesh_.positions, fill) > max_distance_ * diagonals_[k];
 }
 
 }  // namespace spheremap

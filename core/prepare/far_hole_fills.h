@@ -10,10 +10,12 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <vector>
 
 #include "core/mesh/mesh.h"
+#include "core/mesh/triangle_tree.h"
 
 namespace spheremap {
 
@@ -26,10 +28,10 @@ class FarHoleFills {
   FarHoleFills(const PolygonMesh& mesh, double max_distance);
 
   // Whether the hole `loop` (a boundary loop of the mesh, as hole_filling.h finds them) is
-  // a hole of a part that is an open sphere (is_open_sphere, sheet_doubling.h) of at most
-  // kMaxJoinedLoops holes, and its `fill` (triangles over the loop's corners) has a point
-  // farther than max_distance from the part's own faces (points spread on each fill
-  // triangle, measured to a triangle tree of the part, built when first asked).
+  // a hole of a part that is or can be cut into a disc (can_become_disc, open_part_cuts.h)
+  // whose `fill` (triangles over the loop's corners) has a point farther than max_distance
+  // from the part's own faces (points spread on each fill triangle, measured to a triangle
+  // tree of the part, built when first asked).
   bool operator()(std::span<const uint32_t> loop, std::span<const Triangle> fill) const;
 
  private:
@@ -39,8 +41,12 @@ class FarHoleFills {
   double max_distance_;
   size_t own_faces_;
   mutable bool found_ = false;
-  mutable std::vector<uint32_t> part_of_;   // per vertex: its open sphere (kNone: in none)
-  mutable std::vector<PolygonMesh> parts_;  // each open sphere's faces, as a mesh of its own
+  mutable std::vector<uint32_t> part_of_;  // per vertex: its open sphere (kNone: in none)
+  // Per open sphere: its faces as a tree (built when one of its holes is first asked: a
+  // scan has dozens), and its bounding-box diagonal.
+  mutable std::vector<PolygonMesh> parts_;
+  mutable std::vector<std::optional<TriangleTree>> trees_;
+  mutable std::vector<double> diagonals_;
 };
 
 }  // namespace spheremap

@@ -148,14 +148,18 @@ bool cut_into_disc(PolygonMesh& part, size_t loops, size_t& paths, const StopChe
 
 }  // namespace
 
+bool can_become_disc(const TopologyReport& topology, size_t corners) {
+  return is_open_sphere(topology) && topology.boundary_loops <= kMaxJoinedLoops &&
+         (topology.boundary_loops - 1) * corners <= kMaxCutWork;
+}
+
 OpenPartCuts cut_open_parts_into_discs(PolygonMesh& mesh, const StopCheck* stop) {
   OpenPartCuts result;
   std::vector<uint32_t> scratch(mesh.vertex_count(), kUnreferenced);
   for (const std::vector<uint32_t>& faces : connected_part_faces(mesh, stop)) {
     MeshPart part = submesh(mesh, faces, &scratch);
     const TopologyReport topology = analyze_topology(part.mesh, stop);
-    if (!is_open_sphere(topology) || topology.boundary_loops < 2 ||
-        topology.boundary_loops > kMaxJoinedLoops)
+    if (topology.boundary_loops < 2 || !can_become_disc(topology, part.mesh.indices.size()))
       continue;
     const size_t n = part.vertex.size();
     size_t paths = 0;

@@ -17,11 +17,20 @@
 
 #include "core/mesh/mesh.h"
 #include "core/mesh/stop_check.h"
+#include "core/mesh/topology.h"
 
 namespace spheremap {
 
 // Past this many boundary loops a part is left (each join costs a pass over the part).
 inline constexpr size_t kMaxJoinedLoops = 64;
+// Joins x corners at most, for one part (each join rebuilds the part's half-edges and
+// searches it: ~0.05 us a corner here, so about 3 s): a larger part is left (wrapped).
+inline constexpr size_t kMaxCutWork = size_t{1} << 26;
+
+// Whether a part with this topology (analyze_topology of the part alone) and this many
+// corners is one cut_open_parts_into_discs cuts, or a disc: an open sphere of at most
+// kMaxJoinedLoops holes, (loops - 1) x corners within kMaxCutWork.
+bool can_become_disc(const TopologyReport& topology, size_t corners);
 
 struct OpenPartCuts {
   size_t parts_cut = 0;       // parts made discs
@@ -30,7 +39,8 @@ struct OpenPartCuts {
 };
 
 // Preconditions: `mesh` welded (one vertex per point). Every connected component that is
-// an open sphere with 2 to kMaxJoinedLoops boundary loops is cut into a disc (checked: a
+// an open sphere with 2 to kMaxJoinedLoops boundary loops, and (loops - 1) x corners within
+// kMaxCutWork, is cut into a disc (checked: a
 // part whose cut would not be one is left as it was). Faces keep their order and sizes, only
 // corners on the paths' left renamed to the copies. O(loops x corners log corners) per
 // part. `stop` may be null.
