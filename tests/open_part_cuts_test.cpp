@@ -3,6 +3,7 @@
 // corner's position (nothing moves), and on the map and remesh of an open pipe.
 #include <gtest/gtest.h>
 
+#include <random>
 #include <vector>
 
 #include "core/map/certification.h"
@@ -58,7 +59,7 @@ void expect_cut_into_disc_in_place(const PolygonMesh& input, size_t loops) {
   EXPECT_TRUE(mapping_failures(closed).empty());
 }
 
-TEST(OpenPartCuts, ABandAPipeAndATerrainWithHolesAreCutIntoDiscsInPlace) {
+TEST(OpenPartCuts, ABandAPipeAndACubeWithFiveHolesAreCutIntoDiscsInPlace) {
   expect_cut_into_disc_in_place(testing::band(3), 2);
   expect_cut_into_disc_in_place(open_pipe(), 2);
   // A sphere with five holes apart from each other (quads of a cube, one per side but one).
@@ -92,6 +93,35 @@ TEST(OpenPartCuts, OnlyOpenSpheresOfSeveralHolesAreCut) {
       EXPECT_EQ(cut.positions[cut.face(f)[k]], kit.positions[kit.face(f)[k]]);
     }
   EXPECT_GT(changed, 0u);
+}
+
+// Spheres with random faces taken away (holes that merge, touch at a corner or split the
+// sphere): each part the cut takes becomes a disc with every corner where it was; a part it
+// leaves is as it was.
+TEST(OpenPartCuts, RandomHolesAreCutIntoDiscsOrLeftAsTheyWere) {
+  std::mt19937 random(44);
+  size_t cut_parts = 0;
+  for (int trial = 0; trial < 60; ++trial) {
+    const PolygonMesh sphere = testing::icosphere(2);
+    std::uniform_int_distribution<size_t> face(0, sphere.face_count() - 1);
+    std::vector<char> drop(sphere.face_count(), 0);
+    for (int k = 0; k < 2 + trial % 12; ++k) drop[face(random)] = 1;
+    const PolygonMesh input = without_faces(sphere, [&](size_t f) { return drop[f]; });
+    PolygonMesh cut = input;
+    const OpenPartCuts cuts = cut_open_parts_into_discs(cut);
+    cut_parts += cuts.parts_cut;
+    ASSERT_EQ(cut.face_count(), input.face_count());
+    for (size_t f = 0; f < input.face_count(); ++f)
+      for (size_t k = 0; k < input.face_size(f); ++k)
+        ASSERT_EQ(cut.positions[cut.face(f)[k]], input.positions[input.face(f)[k]]);
+    const TopologyReport before = analyze_topology(input), after = analyze_topology(cut);
+    if (cuts.parts_cut == 0) {
+      EXPECT_EQ(cut.indices, input.indices);
+    } else if (before.component_vertices.size() == 1) {
+      EXPECT_TRUE(is_open_disc(after)) << "trial " << trial;
+    }
+  }
+  EXPECT_GT(cut_parts, 30u);  // most trials leave one open sphere of several holes
 }
 
 // A pipe open at both ends (each hole 4% of its surface, small enough to fill, but a fill
