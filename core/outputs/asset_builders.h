@@ -41,11 +41,14 @@ struct BuiltRemesh : BuiltAsset {
 // colour baked by closest point instead of through `input` and `appearance`. `images`
 // (may be null): decoded base-colour images shared with the other parts' bakes.
 // `normal_map`: with `original`, also its shading as a tangent-space normal map.
+// `texture_size`: the side of its baked textures; 0 for remesh_texture_size(resolution).
+// `input_faces` (may be null): as bake_base_color's.
 BuiltRemesh build_remesh(const MappedMesh& mapped, int resolution, int threads,
                          const PolygonMesh* input, const GltfAppearance* appearance,
                          const std::function<bool()>* should_stop = nullptr,
                          const OriginalSurface* original = nullptr, DecodedImages* images = nullptr,
-                         bool normal_map = true);
+                         bool normal_map = true, int texture_size = 0,
+                         const std::vector<uint32_t>* input_faces = nullptr);
 
 // The UV mesh of one part, without its texture. With `original` (the part is an envelope
 // standing for it): COLOR_0, the original's base colour at each vertex's closest point.

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <numeric>
 #include <set>
 
 #include "core/io/image_reader.h"
@@ -203,18 +204,18 @@ namespace {
 // COLOR_0, from the corners `vertex` (input vertices of the face) and their weights.
 class FaceColors {
  public:
-  FaceColors(const PolygonMesh& input, const GltfAppearance& look,
-             const std::vector<BaseColor>& colors)
-      : look_(look), colors_(colors), primitive_of_(input.face_count(), 0) {
-    for (uint32_t p = 0; p < look.primitives.size(); ++p)
-      for (uint32_t f = 0; f < look.primitives[p].face_count; ++f)
-        if (look.primitives[p].first_face + f < primitive_of_.size())
-          primitive_of_[look.primitives[p].first_face + f] = p;
+  // O(primitives log primitives): a part's bake need not touch every face of the input.
+  FaceColors(const GltfAppearance& look, const std::vector<BaseColor>& colors)
+      : look_(look), colors_(colors), by_first_face_(look.primitives.size()) {
+    std::iota(by_first_face_.begin(), by_first_face_.end(), 0u);
+    std::stable_sort(by_first_face_.begin(), by_first_face_.end(), [&](uint32_t a, uint32_t b) {
+      return look.primitives[a].first_face < look.primitives[b].first_face;
+    });
   }
 
   Rgba at(uint32_t face, const std::array<uint32_t, 3>& vertex,
           const std::array<double, 3>& weight) const {
-    const GltfAppearance::Primitive& p = look_.primitives[primitive_of_[face]];
+    const GltfAppearance::Primitive& p = look_.primitives[primitive_of(face)];
     auto interpolate = [&](const GltfAppearance::Attribute& a, int component) {
       double x = 0;
       for (int k = 0; k < 3; ++k)
@@ -238,9 +239,20 @@ class FaceColors {
   }
 
  private:
+  // The primitive whose face range holds `face` (ranges are disjoint: reading order), or
+  // the first primitive when none does. Precondition: the look has a primitive.
+  uint32_t primitive_of(uint32_t face) const {
+    const auto after = std::upper_bound(
+        by_first_face_.begin(), by_first_face_.end(), face,
+        [&](uint32_t f, uint32_t p) { return f < look_.primitives[p].first_face; });
+    if (after == by_first_face_.begin()) return 0;
+    const GltfAppearance::Primitive& p = look_.primitives[*(after - 1)];
+    return face - p.first_face < p.face_count ? *(after - 1) : 0;
+  }
+
   const GltfAppearance& look_;
   const std::vector<BaseColor>& colors_;
-  std::vector<uint32_t> primitive_of_;
+  std::vector<uint32_t> by_first_face_;  // primitive indices by first_face
 };
 
 // Whether `look` gives a surface a colour of its own (a material or vertex colours).
@@ -285,7 +297,8 @@ std::optional<BakedBaseColor> bake_base_color(const PolygonMesh& input, const Gl
                                               const MappedMesh& mapped,
                                               std::span<const Triangle> oriented, int size,
                                               int threads, const std::function<bool()>* should_stop,
-                                              DecodedImages* images) {
+                                              DecodedImages* images,
+                                              const std::vector<uint32_t>* input_faces) {
   const StopCheck stop(should_stop);
   if (!coloured(look) || size <= 0) return std::nullopt;
   BakedBaseColor baked;
@@ -297,14 +310,13 @@ std::optional<BakedBaseColor> bake_base_color(const PolygonMesh& input, const Gl
   // map is input face input_face[t], its corners matched by welded vertex.
   const PolygonMesh& welded = mapped.prepared.welded.mesh;
   const auto& to_welded = mapped.prepared.welded.input_to_welded;
-  const std::vector<char> dropped = dropped_faces(input, mapped);
-  std::vector<uint32_t> input_face;
-  for (uint32_t f = 0; f < input.face_count(); ++f)
-    if (!dropped[f]) input_face.push_back(f);
+  std::vector<uint32_t> own_faces;
+  if (!input_faces) own_faces = welded_input_faces(input, mapped);
+  const std::vector<uint32_t>& input_face = input_faces ? *input_faces : own_faces;
   if (input_face.size() != welded.face_count() || oriented.size() != welded.face_count())
     return std::nullopt;
   const SphereLocator locator(mapped.map.sphere, oriented);
-  const FaceColors face_colors(input, look, colors);
+  const FaceColors face_colors(look, colors);
   bake_texels(baked, locator, size, threads, should_stop, [&](const SphereHit& hit, Rgba& color) {
     const uint32_t face = input_face[hit.triangle];
     // The input corner of each map corner (same welded vertex).
@@ -341,7 +353,7 @@ std::optional<BakedBaseColor> bake_base_color_closest(
   const TriangleTree tree(input.positions, original.triangles);
   stop.check();
   const SphereLocator locator(mapped.map.sphere, oriented);
-  const FaceColors face_colors(input, look, colors);
+  const FaceColors face_colors(look, colors);
   bake_texels(baked, locator, size, threads, should_stop, [&](const SphereHit& hit, Rgba& color) {
     const Triangle& t = oriented[hit.triangle];
     Vec3 point;  // the envelope's point at the texel
@@ -370,7 +382,7 @@ std::optional<std::vector<std::array<float, 3>>> colors_closest(
   const std::vector<BaseColor> colors = base_colors(look, images ? *images : own, decoded, stop);
   stop.check();
   const TriangleTree tree(input.positions, original.triangles);
-  const FaceColors face_colors(input, look, colors);
+  const FaceColors face_colors(look, colors);
   std::vector<std::array<float, 3>> out(points.size(), {0.5f, 0.5f, 0.5f});
   ParallelStop point_stop(should_stop, 4096);
   parallel_for(points.size(), resolve_threads(threads), [&](size_t v) {

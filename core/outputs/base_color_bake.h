@@ -42,6 +42,8 @@ struct BakedBaseColor {
 // `should_stop` (may be null) is asked before each image decode and before each row of
 // texels (from every thread); once it says true, the bake throws InputError("stopped")
 // instead of going on: a bake of a large texture keeps to a job's time limit.
+// `input_faces` (may be null): the input face of each welded face, as welded_input_faces
+// gives (a part's own list, so an asset of many parts is not scanned whole per part).
 // The most pixels bake_base_color decodes in all (4 bytes each); over it, it throws
 // InputError("too_large").
 inline constexpr size_t kMaxBaseColorPixels = size_t{1} << 26;
@@ -58,7 +60,8 @@ std::optional<BakedBaseColor> bake_base_color(const PolygonMesh& input, const Gl
                                               std::span<const Triangle> oriented, int size,
                                               int threads,
                                               const std::function<bool()>* should_stop = nullptr,
-                                              DecodedImages* images = nullptr);
+                                              DecodedImages* images = nullptr,
+                                              const std::vector<uint32_t>* input_faces = nullptr);
 
 // The same for the map of an envelope (prepare wrap, or auto wrapping the whole or a part)
 // that stands for `original`: each texel's sphere point is located on the envelope, and

@@ -17,6 +17,7 @@
 #include "core/outputs/asset_builders.h"
 #include "core/outputs/base_color_bake.h"
 #include "core/outputs/normal_bake.h"
+#include "core/outputs/part_grids.h"
 #include "core/outputs/remesh.h"
 #include "core/outputs/sphere_alignment.h"
 #include "core/outputs/sphere_asset.h"
@@ -109,7 +110,8 @@ SceneGeometry scene_morph(const PolygonMesh& input, const GltfAppearance& look,
 BuiltRemesh build_remesh(const MappedMesh& mapped, int resolution, int threads,
                          const PolygonMesh* input, const GltfAppearance* appearance,
                          const std::function<bool()>* should_stop, const OriginalSurface* original,
-                         DecodedImages* images, bool normal_map) {
+                         DecodedImages* images, bool normal_map, int texture_size,
+                         const std::vector<uint32_t>* input_faces) {
   const StopCheck stop(should_stop);
   stop.check();
   const auto start = std::chrono::steady_clock::now();
@@ -196,8 +198,7 @@ BuiltRemesh build_remesh(const MappedMesh& mapped, int resolution, int threads,
   glb.triangles = remesh.triangles;
   glb.extras = {{"spheremap_remesh", without_timings(asset.metrics)}};
   glb.texcoords = std::move(texcoords);
-  // Twice the grid's resolution (a texel per half quad), within 256..2048.
-  const int size = std::clamp(2 * resolution, 256, 2048);
+  const int size = texture_size > 0 ? texture_size : remesh_texture_size(resolution);
   // A baked texture on the remesh, its figures in the metrics and the GLB's extras.
   const auto attach = [&](BakedBaseColor& baked, const char* material) {
     glb.base_color_png = std::move(baked.png);
@@ -249,7 +250,7 @@ BuiltRemesh build_remesh(const MappedMesh& mapped, int resolution, int threads,
     }
   } else if (input && appearance) {
     if (auto baked = bake_base_color(*input, *appearance, mapped, oriented.triangles, size, threads,
-                                     should_stop, images)) {
+                                     should_stop, images, input_faces)) {
       attach(*baked, "base colour of the input");
     }
   }

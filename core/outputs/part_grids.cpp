@@ -43,4 +43,14 @@ std::vector<int> part_grids(int resolution, std::span<const double> areas) {
   return scaled_grids(resolution, shares, fits, 2);
 }
 
+int remesh_texture_size(int resolution) {
+  return std::clamp(2 * resolution, 256, 2048);
+}
+
+int part_texture_size(int resolution, int grid) {
+  const int whole = remesh_texture_size(resolution);
+  const long scaled = std::lround(static_cast<double>(whole) * grid / std::max(resolution, 1));
+  return static_cast<int>(std::clamp<long>(scaled, kMinPartTexture, whole));
+}
+
 }  // namespace spheremap

@@ -1,4 +1,4 @@
-// The remesh grid of each part of an asset of several parts.
+// The remesh grid and texture of each part of an asset of several parts.
 //
 // Samples per unit area stay alike across parts: the asked resolution N for the largest
 // part, smaller parts in proportion to the square root of their area. That alone is
@@ -21,5 +21,18 @@ inline constexpr double kPartSampleBudget = 4;
 // at most `resolution` and at least min(8, resolution) while the budget allows, 2 past it.
 // Precondition: resolution >= 2 and even. O(parts), times 50 when the budget binds.
 std::vector<int> part_grids(int resolution, std::span<const double> areas);
+
+// The side of a remesh's baked textures (base colour, normal map) at a grid of `resolution`
+// quads: a texel per half quad, within 256..2048 px.
+int remesh_texture_size(int resolution);
+
+// The smallest texture side a part gets.
+inline constexpr int kMinPartTexture = 16;
+
+// The texture side of a part whose grid is `grid` when `resolution` was asked: the whole
+// mesh's side scaled by grid / resolution, at least kMinPartTexture. Texels per unit area
+// then stay alike across parts, as samples do, and fall under the same budget: a side of
+// 256 per part was 3,534 textures of 64K texels (a 64 MB remesh) for a city of small parts.
+int part_texture_size(int resolution, int grid);
 
 }  // namespace spheremap

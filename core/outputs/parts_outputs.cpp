@@ -32,9 +32,23 @@ std::vector<std::vector<std::pair<uint32_t, uint32_t>>> input_vertices_of_parts(
   const PartIndex index(mapped);
   std::vector<std::vector<std::pair<uint32_t, uint32_t>>> out(mapped.parts.size());
   for (size_t v = 0; v < to_welded.size(); ++v)
-    if (to_welded[v] != kUnreferenced)
+    if (to_welded[v] != kUnreferenced && index.part[to_welded[v]] != kUnreferenced)
       out[index.part[to_welded[v]]].emplace_back(static_cast<uint32_t>(v),
                                                  index.local[to_welded[v]]);
+  return out;
+}
+
+// Per part, the input face of each of its welded faces (what welded_input_faces gives for
+// the part with its own input_to_welded), in one pass over the input for all parts.
+std::vector<std::vector<uint32_t>> input_faces_of_parts(const PolygonMesh& input,
+                                                        const MappedMesh& mapped) {
+  const auto& to_welded = mapped.prepared.welded.input_to_welded;
+  const PartIndex index(mapped);
+  std::vector<std::vector<uint32_t>> out(mapped.parts.size());
+  for (uint32_t f = 0; f < input.face_count(); ++f)
+    if (const uint32_t w = to_welded[input.face(f)[0]];
+        w != kUnreferenced && index.part[w] != kUnreferenced)
+      out[index.part[w]].push_back(f);
   return out;
 }
 
@@ -76,9 +90,11 @@ RemeshAsset parts_remesh_asset(const MappedMesh& mapped, int resolution, int thr
   // scratch vector that each part fills and clears (O(input) in all).
   const bool bake = input && appearance;
   std::vector<std::vector<std::pair<uint32_t, uint32_t>>> inputs;
+  std::vector<std::vector<uint32_t>> input_faces;
   std::vector<uint32_t> scratch;
   if (bake) {
     inputs = input_vertices_of_parts(mapped);
+    input_faces = input_faces_of_parts(*input, mapped);
     scratch.assign(input->vertex_count(), kUnreferenced);
   }
   const std::vector<const PartReport*> reports = part_reports(mapped);
@@ -96,20 +112,21 @@ RemeshAsset parts_remesh_asset(const MappedMesh& mapped, int resolution, int thr
   for (size_t k = 0; k < mapped.parts.size(); ++k) {
     const MappedPart& part = mapped.parts[k];
     const int grid = grids[k];
+    const int texture = part_texture_size(resolution, grid);
     BuiltRemesh built;
     if (input && reports[k] && reports[k]->wrapped) {
       // An envelope: measured against, and coloured from, the input's faces it stands for.
       const OriginalSurface original =
           original_surface(*input, appearance, &reports[k]->original_faces);
       built = build_remesh(part.mapped, grid, threads, nullptr, nullptr, should_stop, &original,
-                           &decoded, normal_map);
+                           &decoded, normal_map, texture);
       ++wrapped_parts;
     } else if (bake) {
       MappedMesh with_input = part.mapped;
       for (auto [v, w] : inputs[k]) scratch[v] = w;
       with_input.prepared.welded.input_to_welded = std::move(scratch);
       built = build_remesh(with_input, grid, threads, input, appearance, should_stop, nullptr,
-                           &decoded);
+                           &decoded, normal_map, texture, &input_faces[k]);
       scratch = std::move(with_input.prepared.welded.input_to_welded);
       for (auto [v, w] : inputs[k]) scratch[v] = kUnreferenced;
     } else {

@@ -21,6 +21,14 @@ std::vector<char> dropped_faces(const PolygonMesh& input, const MappedMesh& mapp
   return dropped;
 }
 
+std::vector<uint32_t> welded_input_faces(const PolygonMesh& input, const MappedMesh& mapped) {
+  const auto& to_welded = mapped.prepared.welded.input_to_welded;
+  std::vector<uint32_t> faces;
+  for (uint32_t f = 0; f < input.face_count(); ++f)
+    if (to_welded[input.face(f)[0]] != kUnreferenced) faces.push_back(f);
+  return faces;
+}
+
 SphereAsset sphere_asset(const PolygonMesh& input, const MappedMesh& mapped,
                          const MapOptions& options, SphereLayout layout, int draco_position_bits,
                          const GltfAppearance* appearance) {

@@ -42,6 +42,10 @@ SphereAsset sphere_asset(const PolygonMesh& input, const MappedMesh& mapped,
 // Per input face, whether mapping left it out (a component dropped before mapping).
 std::vector<char> dropped_faces(const PolygonMesh& input, const MappedMesh& mapped);
 
+// The input face of each welded face: welded faces are the input's faces in order, less
+// the dropped ones.
+std::vector<uint32_t> welded_input_faces(const PolygonMesh& input, const MappedMesh& mapped);
+
 // The spherical mesh of `mapped` in `layout`, in double precision.
 PolygonMesh sphere_mesh(const PolygonMesh& input, const MappedMesh& mapped, SphereLayout layout);
 
