@@ -12,6 +12,7 @@
 
 #include "core/mesh/triangle_tree.h"
 #include "core/mesh/union_find.h"
+#include "core/prepare/corner_map.h"
 #include "core/prepare/handle_cycles.h"
 #include "core/prepare/hole_filling.h"
 
@@ -43,29 +44,22 @@ std::string number(double x) {
 struct PartSurface {
   bool closable = false;
   long long genus = 0;
-  std::unordered_map<uint64_t, uint32_t> corner_at;  // directed_edge_key(a, b) -> the slot of a
+  CornerMap corner_at;
 };
 
 PartSurface part_surface(const PolygonMesh& mesh, const std::vector<uint32_t>& faces,
                          const StopCheck* stop) {
   PartSurface s;
+  // An edge run twice the same way (inconsistent orientation, a non-manifold edge) or a
+  // repeated corner: not closable.
+  std::optional<CornerMap> corner_at = corner_map(mesh, faces);
+  if (!corner_at) return s;
+  s.corner_at = std::move(*corner_at);
   std::unordered_map<uint32_t, std::pair<uint32_t, uint32_t>> corners;  // v -> (count, a slot)
-  size_t corner_count = 0;
-  for (uint32_t f : faces) corner_count += mesh.offsets[f + 1] - mesh.offsets[f];
-  s.corner_at.reserve(corner_count);
-  corners.reserve(corner_count / 2);
-  for (uint32_t f : faces) {
-    const uint32_t size = mesh.offsets[f + 1] - mesh.offsets[f];
-    for (uint32_t k = 0; k < size; ++k) {
-      const uint32_t slot = mesh.offsets[f] + k;
-      const uint32_t a = mesh.indices[slot], b = mesh.indices[mesh.offsets[f] + (k + 1) % size];
-      // Twice the same way: inconsistent orientation, a non-manifold edge or a repeated
-      // corner.
-      if (a == b || !s.corner_at.emplace(directed_edge_key(a, b), slot).second) return s;
-      auto& [count, some_slot] = corners.try_emplace(a, 0u, slot).first->second;
-      ++count;
-    }
-  }
+  corners.reserve(s.corner_at.size() / 2);
+  for (uint32_t f : faces)
+    for (uint32_t slot = mesh.offsets[f]; slot < mesh.offsets[f + 1]; ++slot)
+      ++corners.try_emplace(mesh.indices[slot], 0u, slot).first->second.first;
   if (stop) stop->check();
   for (const auto& [key, slot] : s.corner_at)
     if (!s.corner_at.count(

@@ -1,12 +1,13 @@
 #include "core/prepare/open_part_cuts.h"
 
 #include <limits>
+#include <optional>
 #include <queue>
-#include <unordered_map>
 #include <vector>
 
 #include "core/mesh/submesh.h"
 #include "core/prepare/connected_parts.h"
+#include "core/prepare/corner_map.h"
 #include "core/prepare/hole_filling.h"    // directed_edge_key
 #include "core/prepare/sheet_doubling.h"  // is_open_sphere
 
@@ -19,20 +20,17 @@ constexpr uint32_t kNone = std::numeric_limits<uint32_t>::max();
 // in the face running a -> b, and per vertex the slot of its boundary half-edge (the one
 // a -> b with no b -> a; a manifold vertex has at most one), or kNone.
 struct HalfEdges {
-  std::unordered_map<uint64_t, uint32_t> corner_at;
+  CornerMap corner_at;
   std::vector<uint32_t> boundary_out;
   std::vector<uint32_t> boundary_next;  // per boundary vertex: the next one along its loop
 };
 
-HalfEdges half_edges(const PolygonMesh& mesh) {
+// Nothing when the part is not consistently oriented and manifold at its edges.
+std::optional<HalfEdges> half_edges(const PolygonMesh& mesh) {
+  std::optional<CornerMap> corner_at = corner_map(mesh);
+  if (!corner_at) return std::nullopt;
   HalfEdges h;
-  h.corner_at.reserve(mesh.indices.size());
-  for (size_t f = 0; f < mesh.face_count(); ++f) {
-    const auto face = mesh.face(f);
-    for (size_t k = 0; k < face.size(); ++k)
-      h.corner_at.emplace(directed_edge_key(face[k], face[(k + 1) % face.size()]),
-                          static_cast<uint32_t>(mesh.offsets[f] + k));
-  }
+  h.corner_at = std::move(*corner_at);
   h.boundary_out.assign(mesh.vertex_count(), kNone);
   h.boundary_next.assign(mesh.vertex_count(), kNone);
   for (const auto& [key, slot] : h.corner_at) {
@@ -133,7 +131,9 @@ bool cut_along(PolygonMesh& mesh, const HalfEdges& h, const std::vector<uint32_t
 // (and `part` as it may be half cut: the caller drops it) when a step fails.
 bool cut_into_disc(PolygonMesh& part, size_t loops, size_t& paths, const StopCheck* stop) {
   for (; loops > 1; --loops) {
-    const HalfEdges h = half_edges(part);
+    const std::optional<HalfEdges> edges = half_edges(part);
+    if (!edges) return false;
+    const HalfEdges& h = *edges;
     uint32_t start = kNone;
     for (uint32_t v = 0; v < part.vertex_count() && start == kNone; ++v)
       if (h.boundary_out[v] != kNone) start = v;
