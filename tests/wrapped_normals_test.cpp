@@ -192,6 +192,38 @@ TEST(WrappedNormals, TheNormalAttributeTurnsWithItsNodesTransform) {
   EXPECT_NEAR(face.z, 1, 1e-12);
 }
 
+// A wrapped part's shading normals come from its own faces' primitives: a part drawn by a
+// primitive without NORMAL gets computed normals even where another primitive of the asset
+// has the attribute, and another part's faces at the same positions do not bend them.
+TEST(WrappedNormals, APartsNormalsComeFromItsOwnFacesAndPrimitive) {
+  PolygonMesh mesh;
+  // Primitive 0: a triangle tilted out of z = 0, NORMAL given (+x). Primitive 1: a flat
+  // triangle in z = 0 on the same three positions (corners of its own).
+  mesh.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 1}, {0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+  const uint32_t tilted[3] = {0, 1, 2}, flat[3] = {3, 4, 5};
+  mesh.add_face(tilted);
+  mesh.add_face(flat);
+  GltfAppearance look;
+  GltfAppearance::Primitive with, without;
+  with.vertex_count = 3, with.face_count = 1, with.attributes = {"NORMAL"};
+  with.world = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+  without = with;
+  without.first_vertex = 3, without.first_face = 1, without.attributes = {};
+  look.primitives = {with, without};
+  look.attributes = {{"NORMAL", 3, {1, 0, 0, 1, 0, 0, 1, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0}}};
+  const std::vector<uint32_t> second = {1};
+  const OriginalSurface part = original_surface(mesh, &look, &second);
+  const ShadingNormals normals(part);
+  EXPECT_FALSE(normals.from_attribute());
+  const Vec3 n = normals.at(0, {0.2, 0.3, 0.5});
+  EXPECT_NEAR(n.z, 1, 1e-12);  // its own face's normal, not bent by the tilted face
+  const std::vector<uint32_t> first = {0};
+  const OriginalSurface other = original_surface(mesh, &look, &first);
+  const ShadingNormals given(other);
+  EXPECT_TRUE(given.from_attribute());
+  EXPECT_NEAR(given.at(0, {0.2, 0.3, 0.5}).x, 1, 1e-12);
+}
+
 TEST(WrappedNormals, AMeshMappedAsItIsGetsNoNormalMap) {
   PolygonMesh input = testing::icosphere(3);
   GltfAppearance none;

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <numeric>
 #include <unordered_map>
 
 #include "core/io/png_writer.h"
@@ -19,34 +20,35 @@
 namespace spheremap {
 namespace {
 
-// Per vertex of `mesh`, the area-weighted normals of `triangles` summed over every vertex
-// at the same position (unit length; zero where no face with area touches it).
-std::vector<Vec3> smooth_normals(const PolygonMesh& mesh, std::span<const Triangle> triangles) {
-  struct Hash {
-    size_t operator()(const Vec3& p) const {
-      uint64_t h = 1469598103934665603ull;
-      for (int k = 0; k < 3; ++k) {
-        const double c = p[k] == 0 ? 0.0 : p[k];  // -0 and +0 alike
-        uint64_t bits;
-        std::memcpy(&bits, &c, 8);
-        h = (h ^ bits) * 1099511628211ull;
-      }
-      return static_cast<size_t>(h);
+// Positions hashed by their bits (-0 and +0 alike): corners at one position share a normal.
+struct PositionHash {
+  size_t operator()(const Vec3& p) const {
+    uint64_t h = 1469598103934665603ull;
+    for (int k = 0; k < 3; ++k) {
+      const double c = p[k] == 0 ? 0.0 : p[k];
+      uint64_t bits;
+      std::memcpy(&bits, &c, 8);
+      h = (h ^ bits) * 1099511628211ull;
     }
-  };
-  std::unordered_map<Vec3, uint32_t, Hash> group_of;
-  std::vector<uint32_t> group(mesh.vertex_count());
-  for (size_t v = 0; v < mesh.vertex_count(); ++v)
-    group[v] =
-        group_of.emplace(mesh.positions[v], static_cast<uint32_t>(group_of.size())).first->second;
-  std::vector<Vec3> sum(group_of.size());
+    return static_cast<size_t>(h);
+  }
+};
+
+// Per corner of `triangles` (3 t + k), the area-weighted normals of `triangles` summed over
+// every corner at the same position (unit length; zero where no face with area touches
+// it). O(triangles): a wrapped part of a large asset does not pay for the whole mesh.
+std::vector<Vec3> smooth_corner_normals(const PolygonMesh& mesh,
+                                        std::span<const Triangle> triangles) {
+  std::unordered_map<Vec3, Vec3, PositionHash> sum;
   for (const Triangle& t : triangles) {
     const Vec3& a = mesh.positions[t[0]];
     const Vec3 n = cross(mesh.positions[t[1]] - a, mesh.positions[t[2]] - a);
-    for (uint32_t v : t) sum[group[v]] += n;
+    for (uint32_t v : t) sum[mesh.positions[v]] += n;
   }
-  std::vector<Vec3> out(mesh.vertex_count());
-  for (size_t v = 0; v < out.size(); ++v) out[v] = normalized_or(sum[group[v]], Vec3{});
+  std::vector<Vec3> out(3 * triangles.size());
+  for (size_t t = 0; t < triangles.size(); ++t)
+    for (int k = 0; k < 3; ++k)
+      out[3 * t + k] = normalized_or(sum[mesh.positions[triangles[t][k]]], Vec3{});
   return out;
 }
 
@@ -132,29 +134,41 @@ std::vector<std::array<float, 4>> remesh_tangents(const OctahedralRemesh& remesh
 
 ShadingNormals::ShadingNormals(const OriginalSurface& original) : original_(original) {
   const PolygonMesh& mesh = *original.mesh;
-  normal_ = smooth_normals(mesh, original.triangles);
+  normal_ = smooth_corner_normals(mesh, original.triangles);
   const GltfAppearance* look = original.look;
   const GltfAppearance::Attribute* attribute = look ? look->attribute("NORMAL") : nullptr;
   if (!attribute || attribute->components != 3) return;
-  for (const GltfAppearance::Primitive& p : look->primitives) {
-    const auto turn = normal_matrix(p.world);
-    if (!p.has("NORMAL") || !turn) continue;
-    for (size_t v = p.first_vertex;
-         v < size_t{p.first_vertex} + p.vertex_count && v < mesh.vertex_count(); ++v) {
-      const float* a = &attribute->values[3 * v];
-      if (3 * v + 2 >= attribute->values.size()) break;
-      const Vec3 n = (*turn)[0] * a[0] + (*turn)[1] * a[1] + (*turn)[2] * a[2];
-      const Vec3 unit = normalized_or(n, Vec3{});
+  // Each corner's vertex in its primitive's vertex range (disjoint: reading order).
+  std::vector<uint32_t> by_first_vertex(look->primitives.size());
+  std::iota(by_first_vertex.begin(), by_first_vertex.end(), 0u);
+  std::stable_sort(by_first_vertex.begin(), by_first_vertex.end(), [&](uint32_t a, uint32_t b) {
+    return look->primitives[a].first_vertex < look->primitives[b].first_vertex;
+  });
+  for (size_t t = 0; t < original.triangles.size(); ++t)
+    for (int k = 0; k < 3; ++k) {
+      const uint32_t v = original.triangles[t][k];
+      const auto after = std::upper_bound(
+          by_first_vertex.begin(), by_first_vertex.end(), v,
+          [&](uint32_t x, uint32_t p) { return x < look->primitives[p].first_vertex; });
+      if (after == by_first_vertex.begin()) continue;
+      const GltfAppearance::Primitive& p = look->primitives[*(after - 1)];
+      if (v - p.first_vertex >= p.vertex_count || v >= mesh.vertex_count() || !p.has("NORMAL") ||
+          size_t{3} * v + 2 >= attribute->values.size())
+        continue;
+      const auto turn = normal_matrix(p.world);
+      if (!turn) continue;
+      const float* a = &attribute->values[size_t{3} * v];
+      const Vec3 unit =
+          normalized_or((*turn)[0] * a[0] + (*turn)[1] * a[1] + (*turn)[2] * a[2], Vec3{});
       if (unit == Vec3{}) continue;
-      normal_[v] = unit;
+      normal_[3 * t + k] = unit;
       from_attribute_ = true;
     }
-  }
 }
 
 Vec3 ShadingNormals::at(uint32_t t, const std::array<double, 3>& w) const {
   const Triangle& c = original_.triangles[t];
-  const Vec3 n = normal_[c[0]] * w[0] + normal_[c[1]] * w[1] + normal_[c[2]] * w[2];
+  const Vec3 n = normal_[3 * t] * w[0] + normal_[3 * t + 1] * w[1] + normal_[3 * t + 2] * w[2];
   const auto& p = original_.mesh->positions;
   const Vec3 face = normalized_or(cross(p[c[1]] - p[c[0]], p[c[2]] - p[c[0]]), Vec3{0, 0, 1});
   return normalized_or(n, face);

@@ -36,7 +36,7 @@ class ShadingNormals {
 
  private:
   const OriginalSurface& original_;
-  std::vector<Vec3> normal_;  // per vertex of original.mesh
+  std::vector<Vec3> normal_;  // per corner of original.triangles: 3 t + k
   bool from_attribute_ = false;
 };
 
