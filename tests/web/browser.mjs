@@ -12,3 +12,15 @@ export function launchBrowser() {
       '--disable-component-update', '--disable-sync'],
   });
 }
+
+// How long a page may take to load (default 30 s): on a 2-core machine running two CI
+// runs at once, three.js's 100 KB module once took 10 s to be served, and a load timed out.
+// The same budget as the tests' waits for a job.
+export const kLoadTimeoutMs = 120000;
+
+// A page of `browser` with that load budget.
+export async function openPage(browser, viewport) {
+  const page = await browser.newPage({ viewport });
+  page.setDefaultNavigationTimeout(kLoadTimeoutMs);
+  return page;
+}

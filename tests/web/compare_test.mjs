@@ -4,7 +4,7 @@
 // metrics.json does (morph.vertex_distances.max). MESH (a GLB), then a torus generated as
 // binary STL (read by three.js's loader too) and as OFF (no reader in the browser: the
 // left half says so). Usage: node compare_test.mjs URL MESH.
-import { launchBrowser } from './browser.mjs';
+import { launchBrowser, openPage } from './browser.mjs';
 
 const [url, mesh] = process.argv.slice(2);
 const fail = (message) => { console.error(`FAIL: ${message}`); process.exitCode = 1; };
@@ -33,7 +33,7 @@ function torusFile(type) {
 // Maps `file` with preparation "wrap" and checks the side-by-side view: `models` drawn
 // (2, or 1 with a note when the browser cannot read the format).
 async function check(file, models) {
-  const page = await browser.newPage({ viewport: { width: 1280, height: 900 } });
+  const page = await openPage(browser, { width: 1280, height: 900 });
   const errors = [];
   page.on('console', (m) => { if (m.type() === 'error') errors.push(m.text()); });
   page.on('pageerror', (e) => errors.push(e.message));

@@ -14,7 +14,7 @@
 // map changes the input and sphere views and is disabled (with a reason) in Remesh; the
 // "Try an example" button maps examples/spot.glb and shows its sphere. With SCREENSHOTS=DIR,
 // the example's views are saved as DIR/page-{input,sphere,remesh,morph}.png.
-import { launchBrowser } from './browser.mjs';
+import { launchBrowser, openPage } from './browser.mjs';
 
 const [url, elongated, round] = process.argv.slice(2);
 let failures = 0;
@@ -96,7 +96,7 @@ const selectedView = (page) =>
 
 const browser = await launchBrowser();
 try {
-  const page = await browser.newPage({ viewport: WIDE });
+  const page = await openPage(browser, WIDE);
   const errors = [];
   page.on('console', (m) => { if (m.type() === 'error') errors.push(m.text()); });
   page.on('pageerror', (e) => errors.push(e.message));

@@ -4,14 +4,14 @@
 // succeeded, a blank canvas, or missing downloads. With EXPECT_TEXTURE=1 (the generated
 // textured mesh: red, green, blue and white squares) the sphere view must show the
 // texture's red and green, which the page's plain colours do not have.
-import { launchBrowser } from './browser.mjs';
+import { launchBrowser, openPage } from './browser.mjs';
 
 const [url, ...files] = process.argv.slice(2);
 const fail = (message) => { console.error(`FAIL: ${message}`); process.exitCode = 1; };
 
 const browser = await launchBrowser();
 try {
-  const page = await browser.newPage({ viewport: { width: 1280, height: 900 } });
+  const page = await openPage(browser, { width: 1280, height: 900 });
   const errors = [];
   page.on('console', (m) => { if (m.type() === 'error') errors.push(m.text()); });
   page.on('pageerror', (e) => errors.push(e.message));

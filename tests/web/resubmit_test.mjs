@@ -4,14 +4,14 @@
 // run, the page is watched 2 s more, in which a page that followed the late answer would
 // have replaced the results with the first job's.
 // Usage: node resubmit_test.mjs URL FIRST.glb SECOND.glb
-import { launchBrowser } from './browser.mjs';
+import { launchBrowser, openPage } from './browser.mjs';
 
 const [url, first, second] = process.argv.slice(2);
 const fail = (message) => { console.error(`FAIL: ${message}`); process.exitCode = 1; };
 
 const browser = await launchBrowser();
 try {
-  const page = await browser.newPage({ viewport: { width: 1280, height: 900 } });
+  const page = await openPage(browser, { width: 1280, height: 900 });
   const errors = [];
   page.on('pageerror', (e) => errors.push(e.message));
   const submitted = [];  // job ids in the order the answers arrived
