@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Builds the image (docker, or podman when no Docker engine runs), starts it on a
+# Builds the image (docker, or podman when no Docker engine runs), starts it on a free
 # loopback port, maps a mesh over HTTP and checks the result is a bijective sphere, then
 # sends SIGTERM and checks a clean exit (0). Prints the image size and the start-to-ready
 # time. Without a registry it makes the base image debian:bookworm-slim itself with
@@ -10,9 +10,11 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 mesh=${1:-examples/spot.glb}
-image=spheremap:smoke
+# Per run (two CI runs on one machine must not share a tag, a container or a port): the
+# host port is whichever free one the engine picks on loopback.
+image=spheremap:smoke-$$
 name=spheremap-smoke-$$
-port=18181
+port=
 sudo=
 [ "$(id -u)" = 0 ] || sudo=sudo
 work=$(mktemp -d)
@@ -78,7 +80,9 @@ echo "image size: $(( size / 1024 / 1024 )) MiB"
 [ "$size" -lt $(( 150 * 1024 * 1024 )) ] || fail "the image is over 150 MiB"
 
 start=$(date +%s.%N)
-$engine run -d --name "$name" -p 127.0.0.1:$port:8080 -e SPHEREMAP_WORKERS=2 $image > /dev/null
+$engine run -d --name "$name" -p 127.0.0.1::8080 -e SPHEREMAP_WORKERS=2 $image > /dev/null
+port=$($engine port "$name" 8080/tcp | head -1 | sed 's/.*://')
+[ -n "$port" ] || fail "no host port published"
 ready=
 for _ in $(seq 200); do
   if curl -sf "http://127.0.0.1:$port/readyz" > /dev/null; then ready=1; break; fi
