@@ -27,9 +27,8 @@ std::vector<GlbNode> part_nodes(size_t parts) {
 // Per part, its input vertices as (input vertex, vertex of the part): what a part's own
 // input_to_welded would hold, in O(input) for all parts together.
 std::vector<std::vector<std::pair<uint32_t, uint32_t>>> input_vertices_of_parts(
-    const MappedMesh& mapped) {
+    const MappedMesh& mapped, const PartIndex& index) {
   const auto& to_welded = mapped.prepared.welded.input_to_welded;
-  const PartIndex index(mapped);
   std::vector<std::vector<std::pair<uint32_t, uint32_t>>> out(mapped.parts.size());
   for (size_t v = 0; v < to_welded.size(); ++v)
     if (to_welded[v] != kUnreferenced && index.part[to_welded[v]] != kUnreferenced)
@@ -41,9 +40,9 @@ std::vector<std::vector<std::pair<uint32_t, uint32_t>>> input_vertices_of_parts(
 // Per part, the input face of each of its welded faces (what welded_input_faces gives for
 // the part with its own input_to_welded), in one pass over the input for all parts.
 std::vector<std::vector<uint32_t>> input_faces_of_parts(const PolygonMesh& input,
-                                                        const MappedMesh& mapped) {
+                                                        const MappedMesh& mapped,
+                                                        const PartIndex& index) {
   const auto& to_welded = mapped.prepared.welded.input_to_welded;
-  const PartIndex index(mapped);
   std::vector<std::vector<uint32_t>> out(mapped.parts.size());
   for (uint32_t f = 0; f < input.face_count(); ++f)
     if (const uint32_t w = to_welded[input.face(f)[0]];
@@ -93,8 +92,9 @@ RemeshAsset parts_remesh_asset(const MappedMesh& mapped, int resolution, int thr
   std::vector<std::vector<uint32_t>> input_faces;
   std::vector<uint32_t> scratch;
   if (bake) {
-    inputs = input_vertices_of_parts(mapped);
-    input_faces = input_faces_of_parts(*input, mapped);
+    const PartIndex index(mapped);
+    inputs = input_vertices_of_parts(mapped, index);
+    input_faces = input_faces_of_parts(*input, mapped, index);
     scratch.assign(input->vertex_count(), kUnreferenced);
   }
   const std::vector<const PartReport*> reports = part_reports(mapped);
