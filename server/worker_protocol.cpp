@@ -229,9 +229,10 @@ std::string encode_request(const JobSpec& spec, double time_limit_seconds, int t
         preparation.holes_filled, preparation.faces_added, preparation.holes_left,
         preparation.handles_closed, preparation.handles_left, preparation.vertices_split,
         preparation.t_junctions_zipped, preparation.vertices_added, preparation.edges_split,
-        preparation.sheets_doubled, preparation.open_parts_cut})
+        preparation.sheets_doubled, preparation.open_parts_cut, preparation.handles_opened})
     w.put<uint64_t>(count);
   w.put<double>(preparation.largest_fill);
+  w.put<double>(preparation.weld_tolerance);
   w.put<double>(preparation.largest_handle_cycle);
   w.put<double>(preparation.farthest_handle_fill);
   w.put_string(preparation.handles_stopped);
@@ -310,9 +311,10 @@ WorkerRequest decode_request(const std::string& bytes) {
         &preparation.holes_filled, &preparation.faces_added, &preparation.holes_left,
         &preparation.handles_closed, &preparation.handles_left, &preparation.vertices_split,
         &preparation.t_junctions_zipped, &preparation.vertices_added, &preparation.edges_split,
-        &preparation.sheets_doubled, &preparation.open_parts_cut})
+        &preparation.sheets_doubled, &preparation.open_parts_cut, &preparation.handles_opened})
     *count = r.get<uint64_t>();
   preparation.largest_fill = r.get<double>();
+  preparation.weld_tolerance = r.get<double>();
   preparation.largest_handle_cycle = r.get<double>();
   preparation.farthest_handle_fill = r.get<double>();
   preparation.handles_stopped = r.get_string();

@@ -31,40 +31,6 @@
 namespace spheremap {
 namespace {
 
-// A plate of unit cells (cols x rows, `thickness` thick) with a through-hole at each cell
-// of `holes`: quads on top, bottom and the walls, outward. Genus: the number of holes.
-PolygonMesh plate_with_holes(int cols, int rows, const std::vector<std::pair<int, int>>& holes,
-                             double thickness = 1) {
-  auto solid = [&](int x, int y) {
-    if (x < 0 || y < 0 || x >= cols || y >= rows) return false;
-    return std::find(holes.begin(), holes.end(), std::pair{x, y}) == holes.end();
-  };
-  PolygonMesh m;
-  std::map<std::tuple<int, int, int>, uint32_t> id;
-  auto at = [&](int x, int y, int z) {
-    const auto [it, added] = id.emplace(std::tuple{x, y, z}, uint32_t(m.positions.size()));
-    if (added) m.positions.push_back({double(x), double(y), z * thickness});
-    return it->second;
-  };
-  auto quad = [&](uint32_t a, uint32_t b, uint32_t c, uint32_t d) {
-    const uint32_t q[4] = {a, b, c, d};
-    m.add_face(q);
-  };
-  for (int y = 0; y < rows; ++y)
-    for (int x = 0; x < cols; ++x) {
-      if (!solid(x, y)) continue;
-      quad(at(x, y, 1), at(x + 1, y, 1), at(x + 1, y + 1, 1), at(x, y + 1, 1));  // top
-      quad(at(x, y + 1, 0), at(x + 1, y + 1, 0), at(x + 1, y, 0), at(x, y, 0));  // bottom
-      if (!solid(x, y - 1)) quad(at(x, y, 0), at(x + 1, y, 0), at(x + 1, y, 1), at(x, y, 1));
-      if (!solid(x, y + 1))
-        quad(at(x + 1, y + 1, 0), at(x, y + 1, 0), at(x, y + 1, 1), at(x + 1, y + 1, 1));
-      if (!solid(x - 1, y)) quad(at(x, y + 1, 0), at(x, y, 0), at(x, y, 1), at(x, y + 1, 1));
-      if (!solid(x + 1, y))
-        quad(at(x + 1, y, 0), at(x + 1, y + 1, 0), at(x + 1, y + 1, 1), at(x + 1, y, 1));
-    }
-  return m;
-}
-
 PrepareOptions repair() {
   PrepareOptions options;
   options.method = PrepareMethod::kRepair;
@@ -127,16 +93,17 @@ TEST(HandleClosing, TheRemeshDistanceIsToTheInputsOwnFacesNotItsCaps) {
 
 TEST(HandleClosing, PlatesWithThroughHolesAreClosedEveryOne) {
   // Two holes: a double torus; three: a printer bed's plate.
-  expect_closed_and_certified(plate_with_holes(5, 3, {{1, 1}, {3, 1}}), 2, repair());
-  expect_closed_and_certified(plate_with_holes(7, 3, {{1, 1}, {3, 1}, {5, 1}}), 3, repair());
+  expect_closed_and_certified(testing::plate_with_holes(5, 3, {{1, 1}, {3, 1}}), 2, repair());
+  expect_closed_and_certified(testing::plate_with_holes(7, 3, {{1, 1}, {3, 1}, {5, 1}}), 3,
+                              repair());
   // A wide hole: every short cycle has collinear corners (as along CAD edges), which the
   // fills go around instead of making triangles of no area.
-  expect_closed_and_certified(plate_with_holes(6, 6, {{2, 2}, {3, 2}, {2, 3}, {3, 3}}), 1,
+  expect_closed_and_certified(testing::plate_with_holes(6, 6, {{2, 2}, {3, 2}, {2, 3}, {3, 3}}), 1,
                               repair());
 }
 
 TEST(HandleClosing, TheCutsAreSimpleCyclesOfCopiedVerticesAndTheFillsCloseThem) {
-  PolygonMesh mesh = weld(plate_with_holes(7, 3, {{1, 1}, {3, 1}, {5, 1}}), 0).mesh;
+  PolygonMesh mesh = weld(testing::plate_with_holes(7, 3, {{1, 1}, {3, 1}, {5, 1}}), 0).mesh;
   const size_t vertices = mesh.vertex_count(), faces = mesh.face_count();
   const HandleClosing closed = close_handles(mesh, 1.0);
   EXPECT_EQ(closed.handles_closed, 3u);
@@ -161,7 +128,7 @@ TEST(HandleClosing, TheCutsAreSimpleCyclesOfCopiedVerticesAndTheFillsCloseThem) 
 // the wall beside it (longer) is capped inside the material, as far as the plate is thin.
 // The remesh of the plate follows: within 2% of the input where the rim's cap left 5%.
 TEST(HandleClosing, AThinPlatesHoleIsCutThroughItsWallWhereTheCapStaysNear) {
-  const PolygonMesh plate = weld(plate_with_holes(7, 7, {{3, 3}}, 0.1), 0).mesh;
+  const PolygonMesh plate = weld(testing::plate_with_holes(7, 7, {{3, 3}}, 0.1), 0).mesh;
   const double diagonal = std::sqrt(49.0 + 49 + 0.01);
   PolygonMesh mesh = plate;
   const HandleClosing closed = close_handles(mesh, 1.5);
@@ -184,7 +151,7 @@ TEST(HandleClosing, AThinPlatesHoleIsCutThroughItsWallWhereTheCapStaysNear) {
 // one, the other side's loop stays open; one fill across the uncut rim instead gives each
 // rim edge a third face.
 TEST(HandleClosing, AThroughHoleGetsTwoCoincidentCapsAndNeedsBoth) {
-  const PolygonMesh plate = weld(plate_with_holes(3, 3, {{1, 1}}), 0).mesh;
+  const PolygonMesh plate = weld(testing::plate_with_holes(3, 3, {{1, 1}}), 0).mesh;
   PolygonMesh mesh = plate;
   const size_t faces = mesh.face_count();
   const HandleClosing closed = close_handles(mesh, 1.0);
@@ -236,7 +203,7 @@ TEST(HandleClosing, TheBoundsStopItAndTheMessageSaysWhichWithTheNumbers) {
       << failures.front().message;
 
   // The genus cap: a plate of 3 holes with a cap of 2 is left as it is.
-  PolygonMesh plate = weld(plate_with_holes(7, 3, {{1, 1}, {3, 1}, {5, 1}}), 0).mesh;
+  PolygonMesh plate = weld(testing::plate_with_holes(7, 3, {{1, 1}, {3, 1}, {5, 1}}), 0).mesh;
   const PolygonMesh before = plate;
   const HandleClosing capped = close_handles(plate, 1.0, nullptr, 2);
   EXPECT_EQ(capped.handles_closed, 0u);

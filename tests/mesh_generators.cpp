@@ -171,6 +171,40 @@ PolygonMesh horseshoe() {
   return m;
 }
 
+// A plate of unit cells (cols x rows, `thickness` thick) with a through-hole at each cell
+// of `holes`: quads on top, bottom and the walls, outward. Genus: the number of holes.
+PolygonMesh plate_with_holes(int cols, int rows, const std::vector<std::pair<int, int>>& holes,
+                             double thickness) {
+  auto solid = [&](int x, int y) {
+    if (x < 0 || y < 0 || x >= cols || y >= rows) return false;
+    return std::find(holes.begin(), holes.end(), std::pair{x, y}) == holes.end();
+  };
+  PolygonMesh m;
+  std::map<std::tuple<int, int, int>, uint32_t> id;
+  auto at = [&](int x, int y, int z) {
+    const auto [it, added] = id.emplace(std::tuple{x, y, z}, uint32_t(m.positions.size()));
+    if (added) m.positions.push_back({double(x), double(y), z * thickness});
+    return it->second;
+  };
+  auto quad = [&](uint32_t a, uint32_t b, uint32_t c, uint32_t d) {
+    const uint32_t q[4] = {a, b, c, d};
+    m.add_face(q);
+  };
+  for (int y = 0; y < rows; ++y)
+    for (int x = 0; x < cols; ++x) {
+      if (!solid(x, y)) continue;
+      quad(at(x, y, 1), at(x + 1, y, 1), at(x + 1, y + 1, 1), at(x, y + 1, 1));  // top
+      quad(at(x, y + 1, 0), at(x + 1, y + 1, 0), at(x + 1, y, 0), at(x, y, 0));  // bottom
+      if (!solid(x, y - 1)) quad(at(x, y, 0), at(x + 1, y, 0), at(x + 1, y, 1), at(x, y, 1));
+      if (!solid(x, y + 1))
+        quad(at(x + 1, y + 1, 0), at(x, y + 1, 0), at(x, y + 1, 1), at(x + 1, y + 1, 1));
+      if (!solid(x - 1, y)) quad(at(x, y + 1, 0), at(x, y, 0), at(x, y, 1), at(x, y + 1, 1));
+      if (!solid(x + 1, y))
+        quad(at(x + 1, y, 0), at(x + 1, y + 1, 0), at(x + 1, y + 1, 1), at(x + 1, y, 1));
+    }
+  return m;
+}
+
 PolygonMesh torus(int around, int along) {
   PolygonMesh m;
   for (int j = 0; j < along; ++j)

@@ -6,6 +6,7 @@
 #include <array>
 #include <span>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/mesh/mesh.h"
@@ -56,6 +57,11 @@ std::vector<NamedMesh> stress_meshes(bool with_million);
 // sphere (5K-20K faces) with 1-30 limbs in random directions (0.5-10 long, 0.03-0.25
 // thick), swirled, twisted and stretched by random amounts: shapes no one tuned for.
 std::vector<NamedMesh> random_stress_meshes(int count, unsigned seed);
+
+// A plate of unit cells (cols x rows, `thickness` thick) with a through-hole at each cell
+// of `holes`: quads on top, bottom and the walls, outward. Genus: the number of holes.
+PolygonMesh plate_with_holes(int cols, int rows, const std::vector<std::pair<int, int>>& holes,
+                             double thickness = 1);
 
 // Torus (genus 1) of `around` x `along` quads.
 PolygonMesh torus(int around, int along);

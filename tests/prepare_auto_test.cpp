@@ -4,6 +4,8 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
+#include <map>
 
 #include "core/io/gltf_reader.h"
 #include "core/map/certification.h"
@@ -132,6 +134,42 @@ TEST(PrepareAuto, OnePartThatCannotMapIsWrappedWhole) {
   const MappedMesh mapped = map_prepared(prepared, {});
   EXPECT_TRUE(certify(mapped, mapped.float32_check).certified);
   EXPECT_EQ(metrics_json(mapped, {})["preparation"]["decided"], "wrap");
+}
+
+// A CAD export's patch stored a float apart from the rest (its corners twice, 2e-7 of the
+// diagonal apart): a torus with a hole too large to fill beside a loose disc, which mapped
+// only with the torus wrapped. Auto welds at the smallest tolerance that closes it first,
+// says which, and maps the torus as it is.
+TEST(PrepareAuto, WeldsASeamAFloatApartBeforeItWrapsAnything) {
+  PolygonMesh input = testing::torus(12, 24);
+  const double diagonal = std::sqrt(6.0 * 6 + 6 * 6 + 2 * 2);
+  std::map<uint32_t, uint32_t> copy;
+  for (int j = 0; j < 5; ++j)
+    for (int i = 0; i < 6; ++i)  // face j * 12 + i: a 6 x 5 patch, a tenth of the torus
+      for (uint32_t k = input.offsets[j * 12 + i]; k < input.offsets[j * 12 + i + 1]; ++k) {
+        const uint32_t v = input.indices[k];
+        const auto [it, added] = copy.emplace(v, uint32_t(input.positions.size()));
+        if (added) input.positions.push_back(input.positions[v] + Vec3{2e-7 * diagonal, 0, 0});
+        input.indices[k] = it->second;
+      }
+  PrepareOptions options;
+  options.method = PrepareMethod::kAuto;
+  PolygonMesh as_given = input;
+  const PreparedMesh prepared = prepare_input(input, nullptr, options);
+  EXPECT_EQ(prepared.preparation.weld_tolerance, 1e-6);
+  EXPECT_EQ(prepared.preparation.decided, "repair");
+  EXPECT_EQ(prepared.original, nullptr);
+  EXPECT_TRUE(prepared.parts.empty());  // one part again, nothing wrapped
+  EXPECT_EQ(metrics_json(map_prepared(prepared, {}), {})["preparation"]["weld_tolerance"], 1e-6);
+
+  // Without it the torus is a part only an envelope maps; an input with nothing a weld
+  // closes keeps the exact weld.
+  options.weld_tolerance = 0;
+  PrepareOptions parts = options;
+  parts.method = PrepareMethod::kParts;
+  EXPECT_FALSE(input_failures(prepare_input(as_given, nullptr, parts)).empty());
+  PolygonMesh torus = testing::torus(12, 24);
+  EXPECT_EQ(prepare_input(torus, nullptr, options).preparation.weld_tolerance, 0);
 }
 
 TEST(PrepareAuto, AMeshThatMapsIsUntouched) {

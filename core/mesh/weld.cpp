@@ -140,4 +140,23 @@ WeldResult weld(const PolygonMesh& input, double relative_tolerance, StopCheck* 
   return result;
 }
 
+size_t drop_unused_vertices(WeldResult& welded) {
+  PolygonMesh& mesh = welded.mesh;
+  std::vector<uint32_t> renamed(mesh.vertex_count(), kUnreferenced);
+  for (uint32_t v : mesh.indices) renamed[v] = 0;
+  uint32_t next = 0;
+  for (size_t v = 0; v < renamed.size(); ++v)
+    if (renamed[v] == 0) {
+      mesh.positions[next] = mesh.positions[v];
+      renamed[v] = next++;
+    }
+  const size_t dropped = mesh.vertex_count() - next;
+  if (dropped == 0) return 0;
+  mesh.positions.resize(next);
+  for (uint32_t& v : mesh.indices) v = renamed[v];
+  for (uint32_t& v : welded.input_to_welded)
+    if (v != kUnreferenced) v = renamed[v];
+  return dropped;
+}
+
 }  // namespace spheremap

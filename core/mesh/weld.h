@@ -26,4 +26,11 @@ struct WeldResult {
 WeldResult weld(const PolygonMesh& input, double relative_tolerance = 0.0,
                 StopCheck* stop = nullptr);
 
+// Drops the welded vertices that no face uses any more (a step removed faces), the others
+// renumbered in order, in the faces and in input_to_welded (an input vertex of a dropped
+// one becomes kUnreferenced: callers first move every input corner to a vertex its welded
+// face uses). Keeps the invariant above: the map cannot collapse a vertex of no face.
+// Returns how many were dropped. O(vertices + corners).
+size_t drop_unused_vertices(WeldResult& welded);
+
 }  // namespace spheremap

@@ -49,6 +49,7 @@ nlohmann::json preparation_json(const PreparationReport& p) {
                         {"t_junctions_zipped", p.t_junctions_zipped},
                         {"faces_flipped", p.flipped_faces},
                         {"parts_reoriented", p.reoriented_parts},
+                        {"weld_tolerance", p.weld_tolerance},
                         {"non_manifold_vertices_split", p.vertices_split},
                         {"non_manifold_edges_split", p.edges_split},
                         {"holes_filled", p.holes_filled},
@@ -59,6 +60,7 @@ nlohmann::json preparation_json(const PreparationReport& p) {
                         {"sheets_doubled", p.sheets_doubled},
                         {"open_parts_cut", p.open_parts_cut},
                         {"handles_closed", p.handles_closed},
+                        {"handles_opened", p.handles_opened},
                         {"handles_left", p.handles_left},
                         {"largest_handle_cycle", p.largest_handle_cycle},
                         {"farthest_handle_fill", p.farthest_handle_fill}};

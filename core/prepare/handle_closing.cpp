@@ -483,6 +483,12 @@ HandleClosing close_handles(PolygonMesh& mesh, double max_cycle, const StopCheck
       }
     }
     result.farthest_fill = std::max(result.farthest_fill, made.farthest);
+    if (!made.cuts.empty()) {
+      size_t fills = 0;
+      for (const Cut& cut : made.cuts) fills += cut.added;
+      result.closed_parts.push_back(
+          {made.cuts.front().mesh_faces, fills, made.cuts.size(), made.farthest, genus != 0});
+    }
     if (genus == 0) continue;
     result.handles_left += static_cast<size_t>(genus);
     result.stopped.push_back({some_vertex, static_cast<size_t>(genus), std::move(reason)});

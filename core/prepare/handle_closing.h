@@ -45,6 +45,14 @@ struct HandleClosing {
     std::string reason;
   };
   std::vector<Stopped> stopped;
+  // Per part cut (to genus 0 or not): its fills, the mesh's faces [first_fill, first_fill +
+  // fills) (a part's cuts append them in a row), and the farthest over its diagonal.
+  struct ClosedPart {
+    size_t first_fill = 0, fills = 0, cuts = 0;
+    double farthest = 0;
+    bool genus_left = false;  // some of its handles could not be closed
+  };
+  std::vector<ClosedPart> closed_parts;
 };
 
 // Preconditions: `mesh` welded (one vertex per point). Parts (connected components) that

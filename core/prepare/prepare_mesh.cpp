@@ -11,11 +11,13 @@
 #include "core/mesh/surface_distance.h"
 #include "core/mesh/union_find.h"
 #include "core/prepare/connected_parts.h"
+#include "core/prepare/edge_pairing.h"
 #include "core/prepare/edge_split.h"
 #include "core/prepare/envelope_plan.h"
 #include "core/prepare/face_cleanup.h"
 #include "core/prepare/far_hole_fills.h"
 #include "core/prepare/handle_closing.h"
+#include "core/prepare/handle_opening.h"
 #include "core/prepare/hole_filling.h"
 #include "core/prepare/open_part_cuts.h"
 #include "core/prepare/sheet_doubling.h"
@@ -284,7 +286,17 @@ void close_short_handles(PreparedMesh& prepared, PolygonMesh& input, GltfAppeara
   if (!closed.stopped.empty()) report.handles_stopped = closed.stopped.front().reason;
   prepared.handle_stops = closed.stopped;
   if (closed.handles_closed == 0) return;
+  // Under kAuto with backs, a part whose caps stand far keeps its cuts open for its back
+  // (as a far hole is left open: kFarHoleFill).
+  if (options.method == PrepareMethod::kAuto && options.double_open_sheets) {
+    const HandleOpening opened = open_far_handles(welded.mesh, closed, kFarHoleFill, &stop);
+    report.handles_closed -= opened.handles_opened;
+    report.handles_opened = opened.handles_opened;
+    report.faces_added -= opened.faces_removed;
+    report.farthest_handle_fill = opened.farthest_fill;
+  }
   copy_cut_input_vertices(input, look, welded);
+  drop_unused_vertices(welded);  // those only removed caps used
   prepared.topology = analyze_topology(welded.mesh, &stop);
 }
 
@@ -331,9 +343,24 @@ void split_shared_edges(PreparedMesh& prepared, PolygonMesh& input, GltfAppearan
   StopCheck stop(&options.should_stop);
   const EdgeSplit split = split_non_manifold_edges(welded.mesh, &stop);
   prepared.preparation.edges_split = split.edges_split;
-  if (split.vertices_added == 0) return;
-  copy_cut_input_vertices(input, look, welded);
-  prepared.topology = analyze_topology(welded.mesh, &stop);
+  if (split.vertices_added > 0) prepared.topology = analyze_topology(welded.mesh, &stop);
+  // Edges where one surface touches itself: split per vertex, faces paired by angle; an
+  // edge of four faces left joined is tried again with the other match.
+  size_t added = split.vertices_added;
+  for (const bool other : {false, true}) {
+    if (prepared.topology.non_manifold_edges == 0) break;
+    const EdgePairs pairs = pair_faces_at_non_manifold_edges(welded.mesh, other, &stop);
+    if (!pairs.empty()) {
+      const size_t before = prepared.topology.non_manifold_edges;
+      const VertexSplit paired = split_non_manifold_vertices(welded.mesh, &stop, &pairs);
+      added += paired.vertices_added;
+      if (paired.vertices_added > 0) {
+        prepared.topology = analyze_topology(welded.mesh, &stop);
+        prepared.preparation.edges_split += before - prepared.topology.non_manifold_edges;
+      }
+    }
+  }
+  if (added > 0) copy_cut_input_vertices(input, look, welded);
 }
 
 PreparedMesh prepare_once(PolygonMesh& input, GltfAppearance* look, const PrepareOptions& options) {
@@ -358,6 +385,7 @@ PreparedMesh prepare_once(PolygonMesh& input, GltfAppearance* look, const Prepar
   }
   PreparationReport& report = prepared.preparation;
   report.method = options.method;
+  report.weld_tolerance = options.weld_tolerance;
   report.input_faces = input_faces;
   report.collapsed_faces = cleanup.collapsed_faces;
   report.shortened_faces = cleanup.shortened_faces;
@@ -630,6 +658,8 @@ bool maps_entirely(const PreparedMesh& prepared) {
 // The smallest of a few weld tolerances with which `input` maps, 0 when none does. Each
 // try is one more weld and topology pass over a copy (linear, like preparing itself).
 double closing_weld_tolerance(const PolygonMesh& input, PrepareOptions options) {
+  // Nothing to try when the widest tolerance welds no more than exact positions do.
+  if (weld(input, 1e-4).mesh.vertex_count() == weld(input, 0).mesh.vertex_count()) return 0;
   for (const double tolerance : {1e-6, 1e-5, 1e-4}) {
     options.weld_tolerance = tolerance;
     PolygonMesh copy = input;
@@ -679,7 +709,8 @@ std::string decided(const PreparedMesh& prepared) {
   if (!prepared.parts.empty()) return "parts";
   const PreparationReport& r = prepared.preparation;
   const bool changed = r.collapsed_faces || r.shortened_faces || r.duplicate_faces ||
-                       r.t_junctions_zipped || r.flipped_faces || r.faces_added;
+                       r.t_junctions_zipped || r.flipped_faces || r.faces_added ||
+                       r.weld_tolerance > 0;
   return changed ? "repair" : "exact";
 }
 
@@ -748,6 +779,35 @@ PendingEnvelopes pending_envelopes(const PolygonMesh& input, const PrepareOption
   return pending;
 }
 
+// Whether the prepared input, or one of its parts, still fails for a boundary.
+bool has_boundary(const PreparedMesh& prepared) {
+  bool boundary = prepared.topology.boundary_edges > 0;
+  for (const PartReport& part : prepared.parts)
+    for (const ValidationFailure& f : part.failures) boundary |= f.check == "boundary";
+  return boundary;
+}
+
+// Under kAuto, before any part is wrapped: the input welded at the smallest of
+// closing_weld_tolerance's tolerances with which every part maps, when one does (a CAD
+// export's seam vertices a float apart), prepared again so; nothing otherwise. A weld moves
+// a point by at most that share of the diagonal (1e-6 to 1e-4), an envelope by its offset.
+std::optional<PreparedMesh> closed_by_weld(PolygonMesh& input, GltfAppearance* look,
+                                           const PreparedMesh& prepared,
+                                           const PrepareOptions& options) {
+  if (options.weld_tolerance != 0 || !has_boundary(prepared)) return std::nullopt;
+  PrepareOptions trial = options;
+  trial.defer_envelopes = true;  // a trial maps entirely only with no part left to wrap
+  const double tolerance = closing_weld_tolerance(input, trial);
+  if (tolerance == 0) return std::nullopt;
+  PrepareOptions welded = options;
+  welded.weld_tolerance = tolerance;
+  PreparedMesh closed = prepare_parts(input, look, welded);
+  if (!maps_entirely(closed)) return std::nullopt;
+  closed.input_topology = prepared.input_topology;
+  closed.preparation.decided = decided(closed);
+  return closed;
+}
+
 }  // namespace
 
 PreparedMesh prepare_input(PolygonMesh& input, GltfAppearance* look,
@@ -759,6 +819,8 @@ PreparedMesh prepare_input(PolygonMesh& input, GltfAppearance* look,
       prepared.preparation.decided = decided(prepared);
       return prepared;
     }
+    if (std::optional<PreparedMesh> closed = closed_by_weld(input, look, prepared, options))
+      return std::move(*closed);
     if (options.defer_envelopes) {
       const bool parts = prepared.pending.parts;
       try {
@@ -804,14 +866,12 @@ PreparedMesh prepare_input(PolygonMesh& input, GltfAppearance* look,
   }
   PreparedMesh prepared = prepare_parts(input, look, options);
   try_largest_component(prepared, input, options);
-  bool has_boundary = prepared.topology.boundary_edges > 0;
-  for (const PartReport& part : prepared.parts)
-    for (const ValidationFailure& f : part.failures) has_boundary |= f.check == "boundary";
+  const bool boundary = has_boundary(prepared);
   // Tried on the input as cleaned: cleaning again at the wider tolerance drops what that
   // weld collapses, as it would on the original.
-  if (options.weld_tolerance == 0 && has_boundary && !maps_entirely(prepared))
+  if (options.weld_tolerance == 0 && boundary && !maps_entirely(prepared))
     prepared.closing_weld_tolerance = closing_weld_tolerance(input, options);
-  if (has_boundary && prepared.closing_weld_tolerance == 0 && !maps_entirely(prepared))
+  if (boundary && prepared.closing_weld_tolerance == 0 && !maps_entirely(prepared))
     prepared.closing_hole_fill = closing_hole_fill(input, prepared.preparation, options);
   return prepared;
 }

@@ -94,6 +94,9 @@ struct PendingEnvelopes {
 // What preparation did to the input, for the metrics ("preparation").
 struct PreparationReport {
   PrepareMethod method = PrepareMethod::kExact;
+  // The weld's tolerance (over the diagonal): the option's, or under kAuto the one that
+  // closed the input when it mapped no other way but wrapped (closing_weld_tolerance).
+  double weld_tolerance = 0;
   size_t input_faces = 0;
   size_t collapsed_faces = 0, shortened_faces = 0, duplicate_faces = 0, flipped_faces = 0;
   size_t reoriented_parts = 0;
@@ -110,6 +113,8 @@ struct PreparationReport {
   size_t holes_too_large = 0;
   double largest_left_fill = 0;
   size_t handles_closed = 0, handles_left = 0;
+  // kAuto: handles cut but left open for the part's back, their caps too far (handle_opening.h)
+  size_t handles_opened = 0;
   double largest_handle_cycle = 0;  // the longest cycle cut over its part's diagonal
   double farthest_handle_fill = 0;  // how far a cut's fill strays from its part, likewise
   // Why handles were left (the first part stopped, with the numbers); "" when none was.

@@ -5,10 +5,12 @@
 #include <vector>
 
 #include "core/mesh/union_find.h"
+#include "core/prepare/hole_filling.h"  // undirected_edge_key
 
 namespace spheremap {
 
-VertexSplit split_non_manifold_vertices(PolygonMesh& mesh, const StopCheck* stop) {
+VertexSplit split_non_manifold_vertices(PolygonMesh& mesh, const StopCheck* stop,
+                                        const EdgePairs* pairs) {
   VertexSplit result;
   const size_t n = mesh.vertex_count();
   // The corners (slots in mesh.indices) of each vertex, in face order.
@@ -42,12 +44,30 @@ VertexSplit split_non_manifold_vertices(PolygonMesh& mesh, const StopCheck* stop
     std::sort(by_neighbour.begin(), by_neighbour.end());
     UnionFind fans(degree);
     size_t joined = 0;
-    for (size_t k = 1; k < by_neighbour.size(); ++k)
-      if (by_neighbour[k].first == by_neighbour[k - 1].first) {
-        const uint32_t a = fans.find(by_neighbour[k].second);
-        const uint32_t b = fans.find(by_neighbour[k - 1].second);
-        if (a != b) fans.unite(a, b), ++joined;
+    auto join = [&](uint32_t x, uint32_t y) {
+      const uint32_t a = fans.find(x), b = fans.find(y);
+      if (a != b) fans.unite(a, b), ++joined;
+    };
+    for (size_t k = 0, end = 0; k < by_neighbour.size(); k = end) {
+      // The corners beside the edge v -> w: joined in a row, or, at a paired edge, each
+      // with its partner's.
+      const uint32_t w = by_neighbour[k].first;
+      while (end < by_neighbour.size() && by_neighbour[end].first == w) ++end;
+      const auto paired =
+          pairs ? pairs->find(undirected_edge_key(v, w)) : EdgePairs::const_iterator{};
+      if (!pairs || paired == pairs->end()) {
+        for (size_t m = k + 1; m < end; ++m)
+          join(by_neighbour[m].second, by_neighbour[m - 1].second);
+        continue;
       }
+      for (size_t m = k; m < end; ++m) {
+        const uint32_t face = face_of[slots[first[v] + by_neighbour[m].second]];
+        const uint32_t partner = paired_face(*pairs, paired->first, face);
+        for (size_t o = k; o < end; ++o)
+          if (face_of[slots[first[v] + by_neighbour[o].second]] == partner)
+            join(by_neighbour[m].second, by_neighbour[o].second);
+      }
+    }
     if (joined + 1 == degree) continue;  // one fan
     ++result.vertices_split;
     // The first corner's fan keeps v; each other fan gets a copy.

@@ -8,6 +8,7 @@
 
 #include "core/mesh/mesh.h"
 #include "core/mesh/stop_check.h"
+#include "core/prepare/edge_pairing.h"
 
 namespace spheremap {
 
@@ -19,7 +20,9 @@ struct VertexSplit {
 // Each vertex's faces are grouped into fans (two faces share a fan when they share an edge
 // at the vertex); the fan of its first corner (in face order) keeps the vertex, each other
 // fan gets a copy appended after the mesh's vertices. Faces using a vertex twice count
-// once per corner. O(corners log degree). `stop` may be null.
-VertexSplit split_non_manifold_vertices(PolygonMesh& mesh, const StopCheck* stop = nullptr);
+// once per corner. With `pairs` (edge_pairing.h), two faces at a paired edge share a fan
+// only when they are partners there. O(corners log degree). `stop` may be null.
+VertexSplit split_non_manifold_vertices(PolygonMesh& mesh, const StopCheck* stop = nullptr,
+                                        const EdgePairs* pairs = nullptr);
 
 }  // namespace spheremap

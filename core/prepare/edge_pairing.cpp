@@ -1,0 +1,129 @@
+#include "core/prepare/edge_pairing.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/prepare/hole_filling.h"  // undirected_edge_key
+
+namespace spheremap {
+namespace {
+
+struct EdgeCorner {
+  uint64_t edge;
+  uint32_t face;
+  uint32_t far;  // the face's next corner after the edge (it spans the face's side)
+  bool forward;  // the face runs smaller -> larger vertex
+  bool operator<(const EdgeCorner& o) const {
+    return edge != o.edge ? edge < o.edge : face < o.face;
+  }
+};
+
+// Two faces closer in angle than this (radians) lie on each other: no order between them.
+constexpr double kSameAngle = 1e-9;
+
+// The pairs of one edge's faces (`begin`..`end` in `corners`), or nothing.
+bool pair_edge(const PolygonMesh& mesh, const EdgeCorner* begin, const EdgeCorner* end, bool other,
+               std::vector<std::pair<uint32_t, uint32_t>>& pairs) {
+  const size_t k = static_cast<size_t>(end - begin);
+  if (k < 4 || k % 2 != 0) return false;
+  const uint32_t a = static_cast<uint32_t>(begin->edge >> 32);
+  const uint32_t b = static_cast<uint32_t>(begin->edge);
+  const Vec3 origin = mesh.positions[a];
+  const Vec3 axis = mesh.positions[b] - origin;
+  const double length = norm(axis);
+  if (!(length > 0)) return false;
+  const Vec3 d = axis * (1.0 / length);
+  auto across = [&](const EdgeCorner& c) {
+    const Vec3 e = mesh.positions[c.far] - origin;
+    return e - d * dot(e, d);
+  };
+  const Vec3 x0 = across(*begin);
+  if (!(norm(x0) > 0)) return false;
+  const Vec3 x = x0 * (1.0 / norm(x0)), y = cross(d, x);
+  std::vector<std::pair<double, const EdgeCorner*>> by_angle;
+  for (const EdgeCorner* c = begin; c != end; ++c) {
+    const Vec3 e = across(*c);
+    if (!(norm(e) > 1e-12 * length)) return false;
+    by_angle.push_back({std::atan2(dot(e, y), dot(e, x)), c});
+  }
+  std::sort(by_angle.begin(), by_angle.end(),
+            [](const auto& p, const auto& q) { return p.first < q.first; });
+  for (size_t i = 0; i < k; ++i) {
+    const double gap = i + 1 < k ? by_angle[i + 1].first - by_angle[i].first
+                                 : by_angle[0].first + 2 * M_PI - by_angle[i].first;
+    if (!(gap > kSameAngle)) return false;
+  }
+  // A face running b -> a has its solid toward larger angles, one running a -> b toward
+  // smaller: read by angle, the first opens a wedge and the second closes it, as brackets.
+  // From the angle after the deepest point of the running count, the faces match as
+  // brackets do; where directions alternate, each pair bounds one solid wedge, elsewhere
+  // (faces through each other) the pairs nest.
+  long long depth = 0, lowest = 0;
+  size_t start = 0;
+  for (size_t i = 0; i < k; ++i) {
+    depth += by_angle[i].second->forward ? -1 : 1;
+    if (depth < lowest) lowest = depth, start = i + 1;
+  }
+  if (depth != 0) return false;
+  std::vector<const EdgeCorner*> open;
+  for (size_t i = 0; i < k; ++i) {
+    const EdgeCorner* c = by_angle[(start + i) % k].second;
+    if (!c->forward) {
+      open.push_back(c);
+      continue;
+    }
+    const EdgeCorner* back = open.back();
+    open.pop_back();
+    pairs.push_back({back->face, c->face});
+    pairs.push_back({c->face, back->face});
+  }
+  if (other) {  // four faces: the other match of each face with one running the other way
+    if (k != 4) return false;
+    std::swap(pairs[0].second, pairs[2].second);
+    pairs[1] = {pairs[0].second, pairs[0].first};
+    pairs[3] = {pairs[2].second, pairs[2].first};
+  }
+  return true;
+}
+
+}  // namespace
+
+EdgePairs pair_faces_at_non_manifold_edges(const PolygonMesh& mesh, bool other,
+                                           const StopCheck* stop) {
+  std::vector<EdgeCorner> corners;
+  corners.reserve(mesh.indices.size());
+  for (uint32_t f = 0; f < mesh.face_count(); ++f) {
+    const uint32_t begin = mesh.offsets[f], size = mesh.offsets[f + 1] - begin;
+    for (uint32_t i = 0; i < size; ++i) {
+      const uint32_t u = mesh.indices[begin + i], v = mesh.indices[begin + (i + 1) % size];
+      const uint32_t far = mesh.indices[begin + (i + 2) % size];
+      if (u == v) continue;
+      corners.push_back({undirected_edge_key(u, v), f, far, u < v});
+    }
+  }
+  if (stop) stop->check();
+  std::sort(corners.begin(), corners.end());
+  EdgePairs pairs;
+  std::vector<std::pair<uint32_t, uint32_t>> edge_pairs;
+  for (size_t i = 0, j = 0; i < corners.size(); i = j) {
+    while (j < corners.size() && corners[j].edge == corners[i].edge) ++j;
+    if (j - i <= 2) continue;
+    edge_pairs.clear();
+    // A face running along the edge twice (a corner repeated) has no one side there.
+    bool twice = false;
+    for (size_t m = i + 1; m < j; ++m) twice |= corners[m].face == corners[m - 1].face;
+    if (!twice && pair_edge(mesh, &corners[i], &corners[j], other, edge_pairs))
+      pairs.emplace(corners[i].edge, edge_pairs);
+  }
+  return pairs;
+}
+
+uint32_t paired_face(const EdgePairs& pairs, uint64_t edge, uint32_t face) {
+  const auto it = pairs.find(edge);
+  if (it == pairs.end()) return face;
+  for (const auto& [from, to] : it->second)
+    if (from == face) return to;
+  return face;
+}
+
+}  // namespace spheremap

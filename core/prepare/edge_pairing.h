@@ -1,0 +1,43 @@
+// Non-manifold edges where a surface touches itself, paired by angle (Reach II, cleaning).
+// A CAD solid whose features meet along an edge (a slot cut to a rib's edge, two bosses
+// touching, a fillet closed to nothing) has edges of four faces, all of one connected
+// surface, which edge_split.h cannot share out between surfaces: the part was wrapped (the
+// iCub robot's CAD parts: 4-67 such edges each, their envelopes 3-6% of the diagonal off).
+// Around such an edge the faces, sorted by angle, bound wedges of solid and of empty space
+// in turn; each face is paired with the face across the solid wedge beside it, so the solid
+// is taken as touching itself there without being joined through the edge. The split is
+// then made per vertex (vertex_split.h with the pairs): no vertex moves, no face is added.
+#pragma once
+
+#include <cstdint>
+#include <unordered_map>
+#include <utility>
+#include <vector>
+
+#include "core/mesh/mesh.h"
+#include "core/mesh/stop_check.h"
+
+namespace spheremap {
+
+// Per non-manifold edge (undirected_edge_key, hole_filling.h) whose faces pair: each face
+// with its partner, both ways.
+using EdgePairs = std::unordered_map<uint64_t, std::vector<std::pair<uint32_t, uint32_t>>>;
+
+// An edge pairs when it has 4 or more faces, each running along it once, as many each way,
+// no two at the same angle about it (of their next corners). A face running a -> b (a < b)
+// has its solid on the side of smaller angles about a -> b, one running b -> a on the side
+// of larger ones; read by angle, they match as closing and opening brackets (each pair
+// bounds a solid wedge where the directions alternate; where faces pass through each
+// other, the pairs nest). Other edges (an odd fan, a fin, faces lying on each other, a face
+// of no width there) are left out. `other`: at an edge of four faces, each face matched
+// with the other face running the other way instead (a second try where faces pass through
+// each other and the first match left the edge joined); edges of more faces are left out.
+// O(corners log corners). `stop` may be null.
+EdgePairs pair_faces_at_non_manifold_edges(const PolygonMesh& mesh, bool other = false,
+                                           const StopCheck* stop = nullptr);
+
+// The face across `edge` from `face` when the edge is paired; `face` itself when it is
+// not in `pairs` (every face there is joined, as at a manifold edge).
+uint32_t paired_face(const EdgePairs& pairs, uint64_t edge, uint32_t face);
+
+}  // namespace spheremap

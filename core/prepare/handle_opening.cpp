@@ -1,0 +1,78 @@
+#include "core/prepare/handle_opening.h"
+
+#include <algorithm>
+#include <vector>
+
+#include "core/mesh/submesh.h"
+#include "core/prepare/connected_parts.h"
+#include "core/prepare/open_part_cuts.h"
+
+namespace spheremap {
+namespace {
+
+// `mesh` without the faces marked in `removed`, in order, over the same vertices.
+PolygonMesh without_faces(const PolygonMesh& mesh, const std::vector<char>& removed) {
+  PolygonMesh kept;
+  kept.positions = mesh.positions;
+  for (size_t f = 0; f < mesh.face_count(); ++f)
+    if (!removed[f]) kept.add_face(mesh.face(f));
+  return kept;
+}
+
+}  // namespace
+
+HandleOpening open_far_handles(PolygonMesh& mesh, const HandleClosing& closed, double near,
+                               const StopCheck* stop) {
+  HandleOpening result;
+  std::vector<const HandleClosing::ClosedPart*> far;
+  for (const HandleClosing::ClosedPart& part : closed.closed_parts) {
+    if (part.farthest > near && !part.genus_left)
+      far.push_back(&part);
+    else
+      result.farthest_fill = std::max(result.farthest_fill, part.farthest);
+  }
+  if (far.empty()) return result;
+  std::vector<char> removed(mesh.face_count(), 0);
+  auto mark = [&](const HandleClosing::ClosedPart& part, char value) {
+    std::fill_n(removed.begin() + static_cast<std::ptrdiff_t>(part.first_fill), part.fills, value);
+  };
+  for (const HandleClosing::ClosedPart* part : far) mark(*part, 1);
+  // The parts as they would be without their caps: the corners of a part's caps that other
+  // faces use must lie in one of them (the part stayed connected), an open sphere that a
+  // cut makes a disc.
+  const PolygonMesh opened = without_faces(mesh, removed);
+  const std::vector<std::vector<uint32_t>> parts = connected_part_faces(opened, stop);
+  std::vector<uint32_t> part_of(mesh.vertex_count(), kUnreferenced);
+  for (uint32_t p = 0; p < parts.size(); ++p)
+    for (uint32_t f : parts[p])
+      for (uint32_t v : opened.face(f)) part_of[v] = p;
+  for (const HandleClosing::ClosedPart* part : far) {
+    if (stop) stop->check();
+    uint32_t p = kUnreferenced;
+    bool opens = true;
+    for (size_t f = part->first_fill; f < part->first_fill + part->fills; ++f)
+      for (uint32_t v : mesh.face(f)) {
+        if (part_of[v] == kUnreferenced) continue;
+        if (p == kUnreferenced) p = part_of[v];
+        opens &= part_of[v] == p;
+      }
+    opens &= p != kUnreferenced;
+    if (opens) {
+      const MeshPart own = submesh(opened, parts[p]);
+      opens = can_become_disc(analyze_topology(own.mesh, stop), own.mesh.indices.size());
+    }
+    if (!opens) {
+      mark(*part, 0);
+      result.farthest_fill = std::max(result.farthest_fill, part->farthest);
+      continue;
+    }
+    ++result.parts_opened;
+    result.handles_opened += part->cuts;
+    result.faces_removed += part->fills;
+  }
+  if (result.faces_removed == 0) return result;
+  mesh = without_faces(mesh, removed);
+  return result;
+}
+
+}  // namespace spheremap

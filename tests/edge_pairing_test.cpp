@@ -1,0 +1,137 @@
+// Non-manifold edges where one surface touches itself (core/prepare/edge_pairing.h): five
+// unit cubes in a chain whose ends touch along one edge, as CAD solids meet themselves. The
+// four faces there are one sheet, which edge_split cannot share out; paired across their
+// solid wedges, each end cube keeps its two faces, the edge splits at its vertices, and
+// the chain maps exactly as the ball it is (no face added, no vertex moved).
+#include <gtest/gtest.h>
+
+#include <array>
+#include <map>
+#include <set>
+#include <vector>
+
+#include "core/map/certification.h"
+#include "core/map/pipeline.h"
+#include "core/mesh/topology.h"
+#include "core/mesh/weld.h"
+#include "core/outputs/report_json.h"
+#include "core/prepare/edge_pairing.h"
+#include "core/prepare/edge_split.h"
+#include "core/prepare/hole_filling.h"  // undirected_edge_key
+#include "core/prepare/prepare_mesh.h"
+#include "core/prepare/vertex_split.h"
+
+namespace spheremap {
+namespace {
+
+using Voxel = std::array<int, 3>;
+
+// The boundary of a union of unit cubes: a square (two triangles, outward) on each cube
+// side with no cube beyond it; corners shared by position. `owner` gets each face's cube.
+PolygonMesh voxel_surface(const std::vector<Voxel>& voxels, std::vector<size_t>* owner) {
+  const std::set<Voxel> filled(voxels.begin(), voxels.end());
+  PolygonMesh mesh;
+  std::map<Voxel, uint32_t> id;
+  auto at = [&](int x, int y, int z) {
+    const auto [it, added] = id.emplace(Voxel{x, y, z}, uint32_t(mesh.positions.size()));
+    if (added) mesh.positions.push_back({double(x), double(y), double(z)});
+    return it->second;
+  };
+  for (size_t k = 0; k < voxels.size(); ++k) {
+    for (int axis = 0; axis < 3; ++axis)
+      for (int side : {0, 1}) {
+        Voxel beyond = voxels[k];
+        beyond[axis] += side ? 1 : -1;
+        if (filled.count(beyond)) continue;
+        // The square's corners in the plane axis = side, counterclockwise seen from outside.
+        const int u = (axis + 1) % 3, v = (axis + 2) % 3;
+        std::array<uint32_t, 4> corner;
+        const int du[4] = {0, 1, 1, 0}, dv[4] = {0, 0, 1, 1};
+        for (int c = 0; c < 4; ++c) {
+          Voxel p = voxels[k];
+          p[axis] += side;
+          p[u] += du[side ? c : 3 - c];
+          p[v] += dv[side ? c : 3 - c];
+          corner[c] = at(p[0], p[1], p[2]);
+        }
+        for (const std::array<uint32_t, 3>& t : {std::array{corner[0], corner[1], corner[2]},
+                                                 std::array{corner[0], corner[2], corner[3]}}) {
+          mesh.add_face(t);
+          if (owner) owner->push_back(k);
+        }
+      }
+  }
+  return mesh;
+}
+
+// A chain of five cubes from (0,0,0) up and over to (1,1,0): the first and the last touch
+// along the edge x = 1, y = 1, z in [0, 1], and nowhere else.
+const std::vector<Voxel> kChain = {{0, 0, 0}, {0, 0, 1}, {0, 1, 1}, {1, 1, 1}, {1, 1, 0}};
+
+TEST(EdgePairing, PairsTheFacesAcrossTheirSolidWedges) {
+  std::vector<size_t> owner;
+  const PolygonMesh mesh = voxel_surface(kChain, &owner);
+  const TopologyReport topology = analyze_topology(mesh);
+  ASSERT_EQ(topology.non_manifold_edges, 1u);
+  ASSERT_EQ(topology.boundary_edges, 0u);
+  PolygonMesh shared = mesh;
+  EXPECT_EQ(split_non_manifold_edges(shared).edges_split, 0u);  // one sheet: left joined
+
+  const EdgePairs pairs = pair_faces_at_non_manifold_edges(mesh);
+  ASSERT_EQ(pairs.size(), 1u);
+  const uint64_t edge = pairs.begin()->first;
+  const Vec3 a = mesh.positions[edge >> 32], b = mesh.positions[uint32_t(edge)];
+  EXPECT_EQ(a.x, 1);
+  EXPECT_EQ(a.y, 1);
+  EXPECT_EQ(b.x, 1);
+  EXPECT_EQ(b.y, 1);
+  ASSERT_EQ(pairs.begin()->second.size(), 4u);
+  for (const auto& [face, partner] : pairs.begin()->second) {
+    EXPECT_NE(face, partner);
+    EXPECT_EQ(owner[face], owner[partner]);  // both sides of one end cube
+    EXPECT_EQ(paired_face(pairs, edge, partner), face);
+  }
+  // Paired the other way, each face goes with the other cube's.
+  const EdgePairs others = pair_faces_at_non_manifold_edges(mesh, true);
+  ASSERT_EQ(others.count(edge), 1u);
+  for (const auto& [face, partner] : others.at(edge)) EXPECT_NE(owner[face], owner[partner]);
+  // A manifold edge is not in the pairs: every face there is joined.
+  EXPECT_EQ(paired_face(pairs, undirected_edge_key(0, 1), 7), 7u);
+}
+
+TEST(EdgePairing, TheSplitMakesTheChainOneClosedBallWithNothingMoved) {
+  PolygonMesh mesh = voxel_surface(kChain, nullptr);
+  const PolygonMesh before = mesh;
+  const EdgePairs pairs = pair_faces_at_non_manifold_edges(mesh);
+  const VertexSplit split = split_non_manifold_vertices(mesh, nullptr, &pairs);
+  // The edge's lower end, where only the end cubes meet; at its upper end the cubes above
+  // join both sides into one fan, so that vertex stays one (the edge is two once either end is).
+  EXPECT_EQ(split.vertices_added, 1u);
+  const TopologyReport topology = analyze_topology(mesh);
+  EXPECT_EQ(topology.non_manifold_edges + topology.non_manifold_vertices, 0u);
+  EXPECT_EQ(topology.genus(), 0);
+  ASSERT_EQ(mesh.face_count(), before.face_count());
+  for (size_t k = 0; k < mesh.indices.size(); ++k)
+    EXPECT_EQ(mesh.positions[mesh.indices[k]], before.positions[before.indices[k]]);
+
+  PolygonMesh input = voxel_surface(kChain, nullptr);
+  PrepareOptions automatic;
+  automatic.method = PrepareMethod::kAuto;
+  const PreparedMesh prepared = prepare_input(input, nullptr, automatic);
+  EXPECT_EQ(prepared.preparation.edges_split, 1u);
+  EXPECT_EQ(prepared.preparation.faces_added, 0u);
+  EXPECT_EQ(prepared.original, nullptr);  // not wrapped
+  ASSERT_TRUE(input_failures(prepared).empty());
+  const MappedMesh mapped = map_prepared(prepared, {});
+  EXPECT_TRUE(certify(mapped, mapped.float32_check).certified);
+
+  // Before this, the chain was wrapped under auto; exact still refuses it.
+  PolygonMesh again = voxel_surface(kChain, nullptr);
+  PrepareOptions exact;
+  exact.method = PrepareMethod::kExact;
+  EXPECT_EQ(input_failures(prepare_input(again, nullptr, exact)).front().check,
+            "non_manifold_edge");
+}
+
+}  // namespace
+}  // namespace spheremap
