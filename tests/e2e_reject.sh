@@ -34,5 +34,5 @@ if [ -n "$method" ]; then
   python3 -c 'import json,sys; m=json.load(open(sys.argv[1])); p=m["preparation"]
 assert m["bijective"] and m.get("parts_left_out", 0) == 0, m
 assert sys.argv[2] != "boundary" or p["holes_filled"] > 0 or p["sheets_doubled"] > 0, p
-assert sys.argv[2] != "genus" or p["handles_closed"] > 0 and p["handles_left"] == 0, p' "$out/metrics.json" "$check" || exit 1
+assert sys.argv[2] != "genus" or p["handles_closed"] + p["handles_opened"] > 0 and p["handles_left"] == 0, p' "$out/metrics.json" "$check" || exit 1
 fi

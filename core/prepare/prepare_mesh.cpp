@@ -779,12 +779,21 @@ PendingEnvelopes pending_envelopes(const PolygonMesh& input, const PrepareOption
   return pending;
 }
 
-// Whether the prepared input, or one of its parts, still fails for a boundary.
+// Whether the prepared input, or one of its parts, failed for a boundary (still, or before
+// it was wrapped).
 bool has_boundary(const PreparedMesh& prepared) {
   bool boundary = prepared.topology.boundary_edges > 0;
-  for (const PartReport& part : prepared.parts)
+  for (const PartReport& part : prepared.parts) {
     for (const ValidationFailure& f : part.failures) boundary |= f.check == "boundary";
+    for (const ValidationFailure& f : part.wrap_reasons) boundary |= f.check == "boundary";
+  }
   return boundary;
+}
+
+bool wraps_a_part(const PreparedMesh& prepared) {
+  return prepared.pending.parts ||
+         std::any_of(prepared.parts.begin(), prepared.parts.end(),
+                     [](const PartReport& p) { return p.wrapped; });
 }
 
 // Under kAuto, before any part is wrapped: the input welded at the smallest of
@@ -801,8 +810,14 @@ std::optional<PreparedMesh> closed_by_weld(PolygonMesh& input, GltfAppearance* l
   if (tolerance == 0) return std::nullopt;
   PrepareOptions welded = options;
   welded.weld_tolerance = tolerance;
-  PreparedMesh closed = prepare_parts(input, look, welded);
-  if (!maps_entirely(closed)) return std::nullopt;
+  // On copies: `prepared` stands for the input as it is unless this one maps.
+  PolygonMesh input_copy = input;
+  std::optional<GltfAppearance> look_copy;
+  if (look) look_copy = *look;
+  PreparedMesh closed = prepare_parts(input_copy, look_copy ? &*look_copy : nullptr, welded);
+  if (!maps_entirely(closed) || wraps_a_part(closed)) return std::nullopt;
+  input = std::move(input_copy);
+  if (look) *look = std::move(*look_copy);
   closed.input_topology = prepared.input_topology;
   closed.preparation.decided = decided(closed);
   return closed;
@@ -815,12 +830,17 @@ PreparedMesh prepare_input(PolygonMesh& input, GltfAppearance* look,
   if (options.method == PrepareMethod::kAuto) {
     // Every part that maps as it is (after the safe cleaning), each other part wrapped.
     PreparedMesh prepared = prepare_parts(input, look, options);
-    if (!prepared.pending.parts && (maps_entirely(prepared) || options.largest_component)) {
+    const bool mapped = maps_entirely(prepared) || options.largest_component;
+    if (!prepared.pending.parts && mapped && !wraps_a_part(prepared)) {
       prepared.preparation.decided = decided(prepared);
       return prepared;
     }
     if (std::optional<PreparedMesh> closed = closed_by_weld(input, look, prepared, options))
       return std::move(*closed);
+    if (!prepared.pending.parts && mapped) {  // some parts wrapped
+      prepared.preparation.decided = decided(prepared);
+      return prepared;
+    }
     if (options.defer_envelopes) {
       const bool parts = prepared.pending.parts;
       try {
