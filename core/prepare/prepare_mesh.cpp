@@ -791,9 +791,8 @@ bool has_boundary(const PreparedMesh& prepared) {
 }
 
 bool wraps_a_part(const PreparedMesh& prepared) {
-  return prepared.pending.parts ||
-         std::any_of(prepared.parts.begin(), prepared.parts.end(),
-                     [](const PartReport& p) { return p.wrapped; });
+  return prepared.pending.parts || std::any_of(prepared.parts.begin(), prepared.parts.end(),
+                                               [](const PartReport& p) { return p.wrapped; });
 }
 
 // Under kAuto, before any part is wrapped: the input welded at the smallest of
