@@ -229,7 +229,8 @@ std::string encode_request(const JobSpec& spec, double time_limit_seconds, int t
         preparation.holes_filled, preparation.faces_added, preparation.holes_left,
         preparation.handles_closed, preparation.handles_left, preparation.vertices_split,
         preparation.t_junctions_zipped, preparation.vertices_added, preparation.edges_split,
-        preparation.sheets_doubled, preparation.open_parts_cut, preparation.handles_opened})
+        preparation.sheets_doubled, preparation.open_parts_cut, preparation.handles_opened,
+        preparation.walls_doubled})
     w.put<uint64_t>(count);
   w.put<double>(preparation.largest_fill);
   w.put<double>(preparation.weld_tolerance);
@@ -311,7 +312,8 @@ WorkerRequest decode_request(const std::string& bytes) {
         &preparation.holes_filled, &preparation.faces_added, &preparation.holes_left,
         &preparation.handles_closed, &preparation.handles_left, &preparation.vertices_split,
         &preparation.t_junctions_zipped, &preparation.vertices_added, &preparation.edges_split,
-        &preparation.sheets_doubled, &preparation.open_parts_cut, &preparation.handles_opened})
+        &preparation.sheets_doubled, &preparation.open_parts_cut, &preparation.handles_opened,
+        &preparation.walls_doubled})
     *count = r.get<uint64_t>();
   preparation.largest_fill = r.get<double>();
   preparation.weld_tolerance = r.get<double>();

@@ -2,7 +2,9 @@
 // unit cubes in a chain whose ends touch along one edge, as CAD solids meet themselves. The
 // four faces there are one sheet, which edge_split cannot share out; paired across their
 // solid wedges, each end cube keeps its two faces, the edge splits at its vertices, and
-// the chain maps exactly as the ball it is (no face added, no vertex moved).
+// the chain maps exactly as the ball it is (no face added, no vertex moved). Two cubes
+// stacked with the wall between them stored once (core/prepare/interior_walls.h) become two
+// closed cubes, the wall doubled.
 #include <gtest/gtest.h>
 
 #include <array>
@@ -18,6 +20,7 @@
 #include "core/prepare/edge_pairing.h"
 #include "core/prepare/edge_split.h"
 #include "core/prepare/hole_filling.h"  // undirected_edge_key
+#include "core/prepare/interior_walls.h"
 #include "core/prepare/prepare_mesh.h"
 #include "core/prepare/vertex_split.h"
 
@@ -131,6 +134,62 @@ TEST(EdgePairing, TheSplitMakesTheChainOneClosedBallWithNothingMoved) {
   exact.method = PrepareMethod::kExact;
   EXPECT_EQ(input_failures(prepare_input(again, nullptr, exact)).front().check,
             "non_manifold_edge");
+}
+
+// Two cubes stacked, the square between them stored once (facing up, as the lower cube's
+// top): its rim edges have three faces. The wall is doubled, each cube closed by one side.
+TEST(InteriorWalls, AWallTwoSolidsShareIsDoubledOneSideEach) {
+  PolygonMesh mesh = voxel_surface({{0, 0, 0}, {0, 0, 1}}, nullptr);
+  const std::array<uint32_t, 4> square = [&] {
+    std::array<uint32_t, 4> ids{};
+    const Vec3 corners[4] = {{0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};
+    for (int c = 0; c < 4; ++c)
+      for (uint32_t v = 0; v < mesh.vertex_count(); ++v)
+        if (mesh.positions[v] == corners[c]) ids[c] = v;
+    return ids;
+  }();
+  mesh.add_face(std::array{square[0], square[1], square[2]});
+  mesh.add_face(std::array{square[0], square[2], square[3]});
+  ASSERT_EQ(analyze_topology(mesh).non_manifold_edges, 4u);
+  PolygonMesh shared = mesh;
+  EXPECT_EQ(split_non_manifold_edges(shared).edges_split, 0u);  // one face per sheet there
+
+  const PolygonMesh before = mesh;
+  const InteriorWalls walls = double_interior_walls(mesh);
+  EXPECT_EQ(walls.walls, 1u);
+  EXPECT_EQ(walls.faces_added, 2u);
+  const TopologyReport topology = analyze_topology(mesh);
+  EXPECT_EQ(topology.non_manifold_edges + topology.non_manifold_vertices, 0u);
+  EXPECT_EQ(topology.boundary_edges, 0u);
+  EXPECT_EQ(topology.component_vertices.size(), 2u);  // two closed cubes
+  for (size_t k = 0; k < before.indices.size(); ++k)  // nothing moved
+    EXPECT_EQ(mesh.positions[mesh.indices[k]], before.positions[before.indices[k]]);
+
+  PrepareOptions automatic;
+  automatic.method = PrepareMethod::kAuto;
+  PolygonMesh input = before;
+  const PreparedMesh prepared = prepare_input(input, nullptr, automatic);
+  EXPECT_EQ(prepared.preparation.walls_doubled, 1u);
+  EXPECT_EQ(prepared.preparation.decided, "parts");
+  EXPECT_EQ(prepared.original, nullptr);
+  ASSERT_TRUE(input_failures(prepared).empty());
+  const MappedMesh mapped = map_prepared(prepared, {});
+  EXPECT_EQ(mapped.parts.size(), 2u);
+  EXPECT_TRUE(certify(mapped, mapped.float32_check).certified);
+
+  // A fin (a triangle standing on a closed cube's edge) is no wall: left as it was.
+  PolygonMesh finned = voxel_surface({{0, 0, 0}}, nullptr);
+  uint32_t edge[2] = {0, 0};
+  for (uint32_t v = 0; v < finned.vertex_count(); ++v) {
+    if (finned.positions[v] == Vec3{1, 0, 1}) edge[0] = v;
+    if (finned.positions[v] == Vec3{1, 1, 1}) edge[1] = v;
+  }
+  finned.positions.push_back({1, 0.5, 2});
+  finned.add_face(std::array{edge[0], edge[1], uint32_t(finned.vertex_count() - 1)});
+  ASSERT_EQ(analyze_topology(finned).non_manifold_edges, 1u);
+  const PolygonMesh fin = finned;
+  EXPECT_EQ(double_interior_walls(finned).walls, 0u);
+  EXPECT_EQ(finned.indices, fin.indices);
 }
 
 }  // namespace

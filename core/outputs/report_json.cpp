@@ -52,6 +52,7 @@ nlohmann::json preparation_json(const PreparationReport& p) {
                         {"weld_tolerance", p.weld_tolerance},
                         {"non_manifold_vertices_split", p.vertices_split},
                         {"non_manifold_edges_split", p.edges_split},
+                        {"walls_doubled", p.walls_doubled},
                         {"holes_filled", p.holes_filled},
                         {"faces_added", p.faces_added},
                         {"vertices_added", p.vertices_added},

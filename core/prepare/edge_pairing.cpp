@@ -26,26 +26,13 @@ bool pair_edge(const PolygonMesh& mesh, const EdgeCorner* begin, const EdgeCorne
                std::vector<std::pair<uint32_t, uint32_t>>& pairs) {
   const size_t k = static_cast<size_t>(end - begin);
   if (k < 4 || k % 2 != 0) return false;
-  const uint32_t a = static_cast<uint32_t>(begin->edge >> 32);
-  const uint32_t b = static_cast<uint32_t>(begin->edge);
-  const Vec3 origin = mesh.positions[a];
-  const Vec3 axis = mesh.positions[b] - origin;
-  const double length = norm(axis);
-  if (!(length > 0)) return false;
-  const Vec3 d = axis * (1.0 / length);
-  auto across = [&](const EdgeCorner& c) {
-    const Vec3 e = mesh.positions[c.far] - origin;
-    return e - d * dot(e, d);
-  };
-  const Vec3 x0 = across(*begin);
-  if (!(norm(x0) > 0)) return false;
-  const Vec3 x = x0 * (1.0 / norm(x0)), y = cross(d, x);
+  std::vector<uint32_t> far;
+  for (const EdgeCorner* c = begin; c != end; ++c) far.push_back(c->far);
+  const std::vector<double> angles = angles_about_edge(
+      mesh, static_cast<uint32_t>(begin->edge >> 32), static_cast<uint32_t>(begin->edge), far);
+  if (angles.empty()) return false;
   std::vector<std::pair<double, const EdgeCorner*>> by_angle;
-  for (const EdgeCorner* c = begin; c != end; ++c) {
-    const Vec3 e = across(*c);
-    if (!(norm(e) > 1e-12 * length)) return false;
-    by_angle.push_back({std::atan2(dot(e, y), dot(e, x)), c});
-  }
+  for (size_t i = 0; i < k; ++i) by_angle.push_back({angles[i], begin + i});
   std::sort(by_angle.begin(), by_angle.end(),
             [](const auto& p, const auto& q) { return p.first < q.first; });
   for (size_t i = 0; i < k; ++i) {
@@ -116,6 +103,29 @@ EdgePairs pair_faces_at_non_manifold_edges(const PolygonMesh& mesh, bool other,
       pairs.emplace(corners[i].edge, edge_pairs);
   }
   return pairs;
+}
+
+std::vector<double> angles_about_edge(const PolygonMesh& mesh, uint32_t a, uint32_t b,
+                                      std::span<const uint32_t> far) {
+  const Vec3 origin = mesh.positions[a];
+  const Vec3 axis = mesh.positions[b] - origin;
+  const double length = norm(axis);
+  if (!(length > 0) || far.empty()) return {};
+  const Vec3 d = axis * (1.0 / length);
+  auto across = [&](uint32_t v) {
+    const Vec3 e = mesh.positions[v] - origin;
+    return e - d * dot(e, d);
+  };
+  const Vec3 x0 = across(far[0]);
+  if (!(norm(x0) > 1e-12 * length)) return {};
+  const Vec3 x = x0 * (1.0 / norm(x0)), y = cross(d, x);
+  std::vector<double> angles;
+  for (uint32_t v : far) {
+    const Vec3 e = across(v);
+    if (!(norm(e) > 1e-12 * length)) return {};
+    angles.push_back(std::atan2(dot(e, y), dot(e, x)));
+  }
+  return angles;
 }
 
 uint32_t paired_face(const EdgePairs& pairs, uint64_t edge, uint32_t face) {

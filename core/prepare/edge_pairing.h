@@ -10,6 +10,7 @@
 #pragma once
 
 #include <cstdint>
+#include <span>
 #include <unordered_map>
 #include <utility>
 #include <vector>
@@ -35,6 +36,12 @@ using EdgePairs = std::unordered_map<uint64_t, std::vector<std::pair<uint32_t, u
 // O(corners log corners). `stop` may be null.
 EdgePairs pair_faces_at_non_manifold_edges(const PolygonMesh& mesh, bool other = false,
                                            const StopCheck* stop = nullptr);
+
+// The angles (radians, in (-pi, pi]) about the edge a -> b of the points `far` (each a
+// face's next corner after the edge), from a common axis across the edge; empty when the
+// edge or a point's distance from its line is of no length.
+std::vector<double> angles_about_edge(const PolygonMesh& mesh, uint32_t a, uint32_t b,
+                                      std::span<const uint32_t> far);
 
 // The face across `edge` from `face` when the edge is paired; `face` itself when it is
 // not in `pairs` (every face there is joined, as at a manifold edge).

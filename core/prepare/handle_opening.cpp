@@ -6,6 +6,7 @@
 #include "core/mesh/submesh.h"
 #include "core/prepare/connected_parts.h"
 #include "core/prepare/open_part_cuts.h"
+#include "core/prepare/vertex_split.h"
 
 namespace spheremap {
 namespace {
@@ -37,29 +38,38 @@ HandleOpening open_far_handles(PolygonMesh& mesh, const HandleClosing& closed, d
     std::fill_n(removed.begin() + static_cast<std::ptrdiff_t>(part.first_fill), part.fills, value);
   };
   for (const HandleClosing::ClosedPart* part : far) mark(*part, 1);
-  // The parts as they would be without their caps: the corners of a part's caps that other
-  // faces use must lie in one of them (the part stayed connected), an open sphere that a
-  // cut makes a disc.
+  // The parts as they would be without their caps. A later cycle may have run across an
+  // earlier cap, so the faces left can fall apart: the part's caps must touch one piece (a
+  // part opened into pieces, each doubled, was measured farther than capped: the allegro
+  // hand's base 2.75% of its diagonal, capped 1.99%), an open sphere a cut makes a disc.
   const PolygonMesh opened = without_faces(mesh, removed);
   const std::vector<std::vector<uint32_t>> parts = connected_part_faces(opened, stop);
   std::vector<uint32_t> part_of(mesh.vertex_count(), kUnreferenced);
   for (uint32_t p = 0; p < parts.size(); ++p)
     for (uint32_t f : parts[p])
       for (uint32_t v : opened.face(f)) part_of[v] = p;
+  bool split_pinches = false;
+  std::vector<uint32_t> pieces;
   for (const HandleClosing::ClosedPart* part : far) {
     if (stop) stop->check();
-    uint32_t p = kUnreferenced;
-    bool opens = true;
+    pieces.clear();
     for (size_t f = part->first_fill; f < part->first_fill + part->fills; ++f)
-      for (uint32_t v : mesh.face(f)) {
-        if (part_of[v] == kUnreferenced) continue;
-        if (p == kUnreferenced) p = part_of[v];
-        opens &= part_of[v] == p;
+      for (uint32_t v : mesh.face(f))
+        if (part_of[v] != kUnreferenced) pieces.push_back(part_of[v]);
+    std::sort(pieces.begin(), pieces.end());
+    pieces.erase(std::unique(pieces.begin(), pieces.end()), pieces.end());
+    bool opens = pieces.size() == 1;
+    for (uint32_t p : pieces) {
+      if (!opens) break;
+      MeshPart own = submesh(opened, parts[p]);
+      TopologyReport topology = analyze_topology(own.mesh, stop);
+      // Two cuts through one vertex leave their holes touching there: one vertex per fan.
+      if (topology.non_manifold_vertices > 0 &&
+          split_non_manifold_vertices(own.mesh, stop).vertices_added > 0) {
+        topology = analyze_topology(own.mesh, stop);
+        split_pinches = true;
       }
-    opens &= p != kUnreferenced;
-    if (opens) {
-      const MeshPart own = submesh(opened, parts[p]);
-      opens = can_become_disc(analyze_topology(own.mesh, stop), own.mesh.indices.size());
+      opens = can_become_disc(topology, own.mesh.indices.size());
     }
     if (!opens) {
       mark(*part, 0);
@@ -72,6 +82,7 @@ HandleOpening open_far_handles(PolygonMesh& mesh, const HandleClosing& closed, d
   }
   if (result.faces_removed == 0) return result;
   mesh = without_faces(mesh, removed);
+  if (split_pinches) result.vertices_split = split_non_manifold_vertices(mesh, stop).vertices_split;
   return result;
 }
 

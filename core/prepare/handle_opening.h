@@ -22,16 +22,18 @@ struct HandleOpening {
   size_t handles_opened = 0;  // cuts left open, their caps removed
   size_t faces_removed = 0;   // the caps' faces
   double farthest_fill = 0;   // the farthest cap kept, over its part's diagonal
+  size_t vertices_split = 0;  // where two opened cuts touch (vertex_split.h)
 };
 
 // Preconditions: `closed` is what close_handles returned on `mesh`, nothing added since.
 // Each part that close_handles took to genus 0 and whose farthest cap stands beyond `near`
 // (over the part's diagonal) loses its caps when the part's faces without them are one open
-// sphere that can be cut into a disc (can_become_disc, open_part_cuts.h); otherwise it keeps
-// them. The faces after a removed cap move down in order; vertices do not change, so a
-// vertex only caps used (a later cycle ran across an earlier cap) is left without faces:
-// the caller drops it (drop_unused_vertices, weld.h). O(faces + corners). `stop` may be
-// null.
+// sphere that can be cut into a disc (can_become_disc, open_part_cuts.h), once a vertex
+// where two cuts' holes touch is split per fan (split then in the mesh too); otherwise it
+// keeps them. The faces after a removed cap move down in order; no vertex moves or goes (a split
+// appends copies), so a vertex only caps used (a later cycle ran across an earlier cap) is
+// left without faces: the caller drops it (drop_unused_vertices, weld.h).
+// O(faces + corners). `stop` may be null.
 HandleOpening open_far_handles(PolygonMesh& mesh, const HandleClosing& closed, double near,
                                const StopCheck* stop = nullptr);
 

@@ -21,8 +21,9 @@
 
 namespace spheremap {
 
-// Past this many boundary loops a part is left (each join costs a pass over the part).
-inline constexpr size_t kMaxJoinedLoops = 64;
+// Past this many boundary loops a part is left (each join costs a pass over the part, and
+// kMaxCutWork bounds them all: a CAD part of 38 through-holes opened has 76).
+inline constexpr size_t kMaxJoinedLoops = 256;
 // Joins x corners at most, for one part (each join rebuilds the part's half-edges and
 // searches it: ~0.05 us a corner here, so about 3 s): a larger part is left (wrapped).
 inline constexpr size_t kMaxCutWork = size_t{1} << 26;

@@ -19,6 +19,7 @@
 #include "core/prepare/handle_closing.h"
 #include "core/prepare/handle_opening.h"
 #include "core/prepare/hole_filling.h"
+#include "core/prepare/interior_walls.h"
 #include "core/prepare/open_part_cuts.h"
 #include "core/prepare/sheet_doubling.h"
 #include "core/prepare/vertex_copies.h"
@@ -294,6 +295,7 @@ void close_short_handles(PreparedMesh& prepared, PolygonMesh& input, GltfAppeara
     report.handles_opened = opened.handles_opened;
     report.faces_added -= opened.faces_removed;
     report.farthest_handle_fill = opened.farthest_fill;
+    report.vertices_split += opened.vertices_split;
   }
   copy_cut_input_vertices(input, look, welded);
   drop_unused_vertices(welded);  // those only removed caps used
@@ -344,9 +346,22 @@ void split_shared_edges(PreparedMesh& prepared, PolygonMesh& input, GltfAppearan
   const EdgeSplit split = split_non_manifold_edges(welded.mesh, &stop);
   prepared.preparation.edges_split = split.edges_split;
   if (split.vertices_added > 0) prepared.topology = analyze_topology(welded.mesh, &stop);
+  size_t added = split.vertices_added;
+  // Walls two solids share, stored once: doubled, one side each.
+  if (prepared.topology.non_manifold_edges > 0) {
+    const size_t before = prepared.topology.non_manifold_edges;
+    const InteriorWalls walls = double_interior_walls(welded.mesh, &stop);
+    if (walls.walls > 0) {
+      added += walls.vertices_added;
+      prepared.preparation.walls_doubled = walls.walls;
+      prepared.preparation.faces_added += walls.faces_added;
+      prepared.topology = analyze_topology(welded.mesh, &stop);
+      prepared.preparation.edges_split +=
+          before - std::min(before, prepared.topology.non_manifold_edges);
+    }
+  }
   // Edges where one surface touches itself: split per vertex, faces paired by angle; an
   // edge of four faces left joined is tried again with the other match.
-  size_t added = split.vertices_added;
   for (const bool other : {false, true}) {
     if (prepared.topology.non_manifold_edges == 0) break;
     const EdgePairs pairs = pair_faces_at_non_manifold_edges(welded.mesh, other, &stop);

@@ -103,6 +103,7 @@ struct PreparationReport {
   size_t t_junctions_zipped = 0;  // T-junction vertices inserted into cracks' edges
   size_t vertices_split = 0;      // non-manifold vertices made one vertex per fan
   size_t edges_split = 0;         // non-manifold edges shared out between closed surfaces
+  size_t walls_doubled = 0;       // walls two solids shared, stored once (interior_walls.h)
   size_t holes_filled = 0, holes_left = 0;
   size_t faces_added = 0;     // by hole fills, handle closings and sheets' backs together
   size_t vertices_added = 0;  // inside hole fills (refinement) and backs, after the input's own
