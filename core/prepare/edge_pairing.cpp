@@ -8,16 +8,6 @@
 namespace spheremap {
 namespace {
 
-struct EdgeCorner {
-  uint64_t edge;
-  uint32_t face;
-  uint32_t far;  // the face's next corner after the edge (it spans the face's side)
-  bool forward;  // the face runs smaller -> larger vertex
-  bool operator<(const EdgeCorner& o) const {
-    return edge != o.edge ? edge < o.edge : face < o.face;
-  }
-};
-
 // Two faces closer in angle than this (radians) lie on each other: no order between them.
 constexpr double kSameAngle = 1e-9;
 
@@ -77,19 +67,7 @@ bool pair_edge(const PolygonMesh& mesh, const EdgeCorner* begin, const EdgeCorne
 
 EdgePairs pair_faces_at_non_manifold_edges(const PolygonMesh& mesh, bool other,
                                            const StopCheck* stop) {
-  std::vector<EdgeCorner> corners;
-  corners.reserve(mesh.indices.size());
-  for (uint32_t f = 0; f < mesh.face_count(); ++f) {
-    const uint32_t begin = mesh.offsets[f], size = mesh.offsets[f + 1] - begin;
-    for (uint32_t i = 0; i < size; ++i) {
-      const uint32_t u = mesh.indices[begin + i], v = mesh.indices[begin + (i + 1) % size];
-      const uint32_t far = mesh.indices[begin + (i + 2) % size];
-      if (u == v) continue;
-      corners.push_back({undirected_edge_key(u, v), f, far, u < v});
-    }
-  }
-  if (stop) stop->check();
-  std::sort(corners.begin(), corners.end());
+  const std::vector<EdgeCorner> corners = sorted_edge_corners(mesh, stop);
   EdgePairs pairs;
   std::vector<std::pair<uint32_t, uint32_t>> edge_pairs;
   for (size_t i = 0, j = 0; i < corners.size(); i = j) {
@@ -103,6 +81,23 @@ EdgePairs pair_faces_at_non_manifold_edges(const PolygonMesh& mesh, bool other,
       pairs.emplace(corners[i].edge, edge_pairs);
   }
   return pairs;
+}
+
+std::vector<EdgeCorner> sorted_edge_corners(const PolygonMesh& mesh, const StopCheck* stop) {
+  std::vector<EdgeCorner> corners;
+  corners.reserve(mesh.indices.size());
+  for (uint32_t f = 0; f < mesh.face_count(); ++f) {
+    const uint32_t begin = mesh.offsets[f], size = mesh.offsets[f + 1] - begin;
+    for (uint32_t i = 0; i < size; ++i) {
+      const uint32_t u = mesh.indices[begin + i], v = mesh.indices[begin + (i + 1) % size];
+      if (u != v)
+        corners.push_back(
+            {undirected_edge_key(u, v), f, mesh.indices[begin + (i + 2) % size], u < v});
+    }
+  }
+  if (stop) stop->check();
+  std::sort(corners.begin(), corners.end());
+  return corners;
 }
 
 std::vector<double> angles_about_edge(const PolygonMesh& mesh, uint32_t a, uint32_t b,

@@ -20,6 +20,23 @@
 
 namespace spheremap {
 
+// One side of a face along an edge: the edge (undirected_edge_key, hole_filling.h), the
+// face, the face's next corner after the edge (it spans the face's side), and whether the
+// face runs the edge from its smaller vertex to its larger.
+struct EdgeCorner {
+  uint64_t edge;
+  uint32_t face;
+  uint32_t far;
+  bool forward;
+  bool operator<(const EdgeCorner& o) const {
+    return edge != o.edge ? edge < o.edge : face < o.face;
+  }
+};
+
+// Every face side of `mesh` (a side between a corner and itself left out), sorted by edge,
+// then face. O(corners log corners). `stop` may be null.
+std::vector<EdgeCorner> sorted_edge_corners(const PolygonMesh& mesh, const StopCheck* stop);
+
 // Per non-manifold edge (undirected_edge_key, hole_filling.h) whose faces pair: each face
 // with its partner, both ways.
 using EdgePairs = std::unordered_map<uint64_t, std::vector<std::pair<uint32_t, uint32_t>>>;

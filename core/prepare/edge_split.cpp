@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "core/mesh/union_find.h"
+#include "core/prepare/edge_pairing.h"  // sorted_edge_corners
 
 namespace spheremap {
 namespace {
@@ -14,31 +15,12 @@ namespace {
 // at least one edge) the rest are joined at once: the loop stays bounded on soups.
 constexpr int kMaxPasses = 64;
 
-struct EdgeCorner {
-  uint64_t edge;  // (smaller vertex << 32) | larger vertex
-  uint32_t face;
-  bool operator<(const EdgeCorner& o) const {
-    return edge != o.edge ? edge < o.edge : face < o.face;
-  }
-};
-
 }  // namespace
 
 EdgeSplit split_non_manifold_edges(PolygonMesh& mesh, const StopCheck* stop) {
   EdgeSplit result;
   const uint32_t faces = static_cast<uint32_t>(mesh.face_count());
-  std::vector<EdgeCorner> corners;
-  corners.reserve(mesh.indices.size());
-  for (uint32_t f = 0; f < faces; ++f) {
-    const uint32_t begin = mesh.offsets[f], size = mesh.offsets[f + 1] - begin;
-    for (uint32_t k = 0; k < size; ++k) {
-      const uint32_t a = mesh.indices[begin + k], b = mesh.indices[begin + (k + 1) % size];
-      if (a == b) continue;
-      corners.push_back({(uint64_t{std::min(a, b)} << 32) | std::max(a, b), f});
-    }
-  }
-  if (stop) stop->check();
-  std::sort(corners.begin(), corners.end());
+  const std::vector<EdgeCorner> corners = sorted_edge_corners(mesh, stop);
   // Sheets: faces joined across each edge of exactly two faces; the non-manifold edges'
   // ranges in `corners` kept for the passes below.
   UnionFind sheets(faces);

@@ -10,35 +10,11 @@
 #include "core/prepare/vertex_split.h"
 
 namespace spheremap {
-namespace {
-
-struct EdgeCorner {
-  uint64_t edge;
-  uint32_t face;
-  uint32_t far;  // the face's next corner after the edge
-  bool forward;  // the face runs smaller -> larger vertex
-  bool operator<(const EdgeCorner& o) const {
-    return edge != o.edge ? edge < o.edge : face < o.face;
-  }
-};
-
-}  // namespace
 
 InteriorWalls double_interior_walls(PolygonMesh& mesh, const StopCheck* stop) {
   InteriorWalls result;
   const uint32_t faces = static_cast<uint32_t>(mesh.face_count());
-  std::vector<EdgeCorner> corners;
-  corners.reserve(mesh.indices.size());
-  for (uint32_t f = 0; f < faces; ++f) {
-    const auto face = mesh.face(f);
-    for (size_t i = 0; i < face.size(); ++i) {
-      const uint32_t a = face[i], b = face[(i + 1) % face.size()];
-      if (a != b)
-        corners.push_back({undirected_edge_key(a, b), f, face[(i + 2) % face.size()], a < b});
-    }
-  }
-  if (stop) stop->check();
-  std::sort(corners.begin(), corners.end());
+  const std::vector<EdgeCorner> corners = sorted_edge_corners(mesh, stop);
   UnionFind sheets(faces);
   for (size_t i = 0, j = 0; i < corners.size(); i = j) {
     while (j < corners.size() && corners[j].edge == corners[i].edge) ++j;
