@@ -17,6 +17,7 @@
 #include "core/mesh/topology.h"
 #include "core/mesh/weld.h"
 #include "core/outputs/report_json.h"
+#include "core/outputs/sphere_asset.h"
 #include "core/prepare/edge_pairing.h"
 #include "core/prepare/edge_split.h"
 #include "core/prepare/hole_filling.h"  // undirected_edge_key
@@ -165,17 +166,26 @@ TEST(InteriorWalls, AWallTwoSolidsShareIsDoubledOneSideEach) {
   for (size_t k = 0; k < before.indices.size(); ++k)  // nothing moved
     EXPECT_EQ(mesh.positions[mesh.indices[k]], before.positions[before.indices[k]]);
 
+  // Under auto, beside a loose triangle (a hole, so the hole step runs too): the copies are
+  // counted in faces_added, and the sphere as written in the input's layout, where the
+  // wall is once, is certified like one with fills.
   PrepareOptions automatic;
   automatic.method = PrepareMethod::kAuto;
   PolygonMesh input = before;
+  const uint32_t loose = static_cast<uint32_t>(input.vertex_count());
+  for (const Vec3& p : {Vec3{5, 0, 0}, Vec3{6, 0, 0}, Vec3{5, 1, 0}}) input.positions.push_back(p);
+  input.add_face(std::array{loose, loose + 1, loose + 2});
   const PreparedMesh prepared = prepare_input(input, nullptr, automatic);
   EXPECT_EQ(prepared.preparation.walls_doubled, 1u);
   EXPECT_EQ(prepared.preparation.decided, "parts");
+  EXPECT_EQ(prepared.preparation.faces_added, 2u + 3u);  // the wall's copy, the triangle's back
   EXPECT_EQ(prepared.original, nullptr);
   ASSERT_TRUE(input_failures(prepared).empty());
   const MappedMesh mapped = map_prepared(prepared, {});
-  EXPECT_EQ(mapped.parts.size(), 2u);
+  EXPECT_EQ(mapped.parts.size(), 3u);
   EXPECT_TRUE(certify(mapped, mapped.float32_check).certified);
+  const SphereAsset sphere = sphere_asset(input, mapped, {}, SphereLayout::kOriginal, 0);
+  EXPECT_TRUE(sphere.metrics["bijective"]);
 
   // A fin (a triangle standing on a closed cube's edge) is no wall: left as it was.
   PolygonMesh finned = voxel_surface({{0, 0, 0}}, nullptr);

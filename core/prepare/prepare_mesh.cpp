@@ -336,12 +336,14 @@ void split_pinched_vertices(PreparedMesh& prepared, PolygonMesh& input, GltfAppe
 }
 
 // Non-manifold edges where closed surfaces meet split between them (edge_split.h), on the
-// welded mesh; the input's vertices there follow, as for pinched vertices.
-void split_shared_edges(PreparedMesh& prepared, PolygonMesh& input, GltfAppearance* look,
-                        const PrepareOptions& options) {
-  if (prepared.topology.non_manifold_edges == 0) return;
+// welded mesh; the input's vertices there follow, as for pinched vertices. Returns the
+// faces added (interior walls' copies).
+size_t split_shared_edges(PreparedMesh& prepared, PolygonMesh& input, GltfAppearance* look,
+                          const PrepareOptions& options) {
+  size_t wall_faces = 0;
+  if (prepared.topology.non_manifold_edges == 0) return wall_faces;
   WeldResult& welded = prepared.welded;
-  if (!input_faces_lead(input, welded)) return;
+  if (!input_faces_lead(input, welded)) return wall_faces;
   StopCheck stop(&options.should_stop);
   const EdgeSplit split = split_non_manifold_edges(welded.mesh, &stop);
   prepared.preparation.edges_split = split.edges_split;
@@ -354,7 +356,7 @@ void split_shared_edges(PreparedMesh& prepared, PolygonMesh& input, GltfAppearan
     if (walls.walls > 0) {
       added += walls.vertices_added;
       prepared.preparation.walls_doubled = walls.walls;
-      prepared.preparation.faces_added += walls.faces_added;
+      wall_faces = walls.faces_added;
       prepared.topology = analyze_topology(welded.mesh, &stop);
       prepared.preparation.edges_split +=
           before - std::min(before, prepared.topology.non_manifold_edges);
@@ -376,6 +378,7 @@ void split_shared_edges(PreparedMesh& prepared, PolygonMesh& input, GltfAppearan
     }
   }
   if (added > 0) copy_cut_input_vertices(input, look, welded);
+  return wall_faces;
 }
 
 PreparedMesh prepare_once(PolygonMesh& input, GltfAppearance* look, const PrepareOptions& options) {
@@ -408,10 +411,11 @@ PreparedMesh prepare_once(PolygonMesh& input, GltfAppearance* look, const Prepar
   report.flipped_faces = cleanup.flipped_faces;
   report.reoriented_parts = cleanup.reoriented_parts;
   report.t_junctions_zipped = cleanup.t_junctions_zipped;
-  split_shared_edges(prepared, input, look, options);
+  const size_t wall_faces = split_shared_edges(prepared, input, look, options);
   split_pinched_vertices(prepared, input, look, options);
   const size_t own_faces = prepared.welded.mesh.face_count();
   const size_t kept_open = fill_small_holes(prepared, options);
+  report.faces_added += wall_faces;  // (the fill's count is set, not added)
   close_short_handles(prepared, input, look, options, own_faces);
   const size_t closed_faces = prepared.welded.mesh.face_count();
   cut_open_parts(prepared, input, look, options);
