@@ -387,6 +387,7 @@ PreparedMesh prepare_once(PolygonMesh& input, GltfAppearance* look, const Prepar
   // flipped one each fails a check), so repair costs nothing there.
   if (options.method == PrepareMethod::kExact || mapping_failures(as_given.topology).empty()) {
     as_given.preparation.method = options.method;
+    as_given.preparation.weld_tolerance = options.weld_tolerance;
     return as_given;
   }
   StopCheck stop(&options.should_stop);
