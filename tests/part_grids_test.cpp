@@ -30,6 +30,17 @@ TEST(PartGrids, TheLargestPartGetsTheResolutionAndSmallerOnesTheirAreasRoot) {
   EXPECT_EQ(part_grids(64, std::vector<double>{0.0, 0.0}), (std::vector<int>{64, 64}));
 }
 
+// A rod half as long as the largest part but of a ten-thousandth of its area: by area alone
+// it would get the smallest grid; by its length it gets half the resolution.
+TEST(PartGrids, ALongThinPartGetsAGridForItsLength) {
+  const std::vector<double> areas = {1.0, 1e-4, 1e-4}, diagonals = {1.5, 0.75, 0.01};
+  EXPECT_EQ(part_grids(128, areas), (std::vector<int>{128, 8, 8}));
+  EXPECT_EQ(part_grids(128, areas, diagonals), (std::vector<int>{128, 64, 8}));
+  // The longest part need not be the largest: both get the whole resolution.
+  EXPECT_EQ(part_grids(64, std::vector<double>{1.0, 0.01}, std::vector<double>{1.0, 2.0}),
+            (std::vector<int>{64, 64}));
+}
+
 TEST(PartGrids, ManyEqualPartsShareTheBudgetAlike) {
   const std::vector<double> areas(500, 1.0);
   const std::vector<int> grids = part_grids(256, areas);

@@ -25,12 +25,18 @@ double samples(const std::vector<int>& grids) {
 
 }  // namespace
 
-std::vector<int> part_grids(int resolution, std::span<const double> areas) {
-  double largest = 0;
+std::vector<int> part_grids(int resolution, std::span<const double> areas,
+                            std::span<const double> diagonals) {
+  double largest = 0, longest = 0;
   for (double area : areas) largest = std::max(largest, area);
+  for (double diagonal : diagonals) longest = std::max(longest, diagonal);
   std::vector<double> shares(areas.size(), 1.0);
   if (largest > 0)
-    for (size_t k = 0; k < areas.size(); ++k) shares[k] = std::sqrt(areas[k] / largest);
+    for (size_t k = 0; k < areas.size(); ++k) {
+      shares[k] = std::sqrt(areas[k] / largest);
+      if (longest > 0 && k < diagonals.size())
+        shares[k] = std::max(shares[k], diagonals[k] / longest);
+    }
   const double budget = kPartSampleBudget * (resolution + 1.0) * (resolution + 1.0);
   std::vector<int> grids = scaled_grids(resolution, shares, 1, 8);
   if (samples(grids) <= budget) return grids;

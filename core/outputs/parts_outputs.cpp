@@ -82,9 +82,12 @@ RemeshAsset parts_remesh_asset(const MappedMesh& mapped, int resolution, int thr
                                const PolygonMesh* input, const GltfAppearance* appearance,
                                const std::function<bool()>* should_stop, bool normal_map) {
   const auto start = std::chrono::steady_clock::now();
-  std::vector<double> areas;
-  for (const MappedPart& part : mapped.parts) areas.push_back(part.surface_area);
-  const std::vector<int> grids = part_grids(resolution, areas);
+  std::vector<double> areas, diagonals;
+  for (const MappedPart& part : mapped.parts) {
+    areas.push_back(part.surface_area);
+    diagonals.push_back(faces_diagonal(part.mapped.prepared.welded.mesh));
+  }
+  const std::vector<int> grids = part_grids(resolution, areas, diagonals);
   // The base colour is baked per part through the part's own input_to_welded, made in one
   // scratch vector that each part fills and clears (O(input) in all).
   const bool bake = input && appearance;
