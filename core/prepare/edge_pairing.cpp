@@ -100,6 +100,15 @@ std::vector<EdgeCorner> sorted_edge_corners(const PolygonMesh& mesh, const StopC
   return corners;
 }
 
+UnionFind manifold_sheets(std::span<const EdgeCorner> corners, uint32_t faces) {
+  UnionFind sheets(faces);
+  for (size_t i = 0, j = 0; i < corners.size(); i = j) {
+    while (j < corners.size() && corners[j].edge == corners[i].edge) ++j;
+    if (j - i == 2) sheets.unite(corners[i].face, corners[i + 1].face);
+  }
+  return sheets;
+}
+
 std::vector<double> angles_about_edge(const PolygonMesh& mesh, uint32_t a, uint32_t b,
                                       std::span<const uint32_t> far) {
   const Vec3 origin = mesh.positions[a];

@@ -17,6 +17,7 @@
 
 #include "core/mesh/mesh.h"
 #include "core/mesh/stop_check.h"
+#include "core/mesh/union_find.h"
 
 namespace spheremap {
 
@@ -36,6 +37,10 @@ struct EdgeCorner {
 // Every face side of `mesh` (a side between a corner and itself left out), sorted by edge,
 // then face. O(corners log corners). `stop` may be null.
 std::vector<EdgeCorner> sorted_edge_corners(const PolygonMesh& mesh, const StopCheck* stop);
+
+// The sheets of a mesh of `faces` faces whose sorted_edge_corners are `corners`: faces
+// joined across each edge of exactly two faces (not across an edge of one or of more).
+UnionFind manifold_sheets(std::span<const EdgeCorner> corners, uint32_t faces);
 
 // Per non-manifold edge (undirected_edge_key, hole_filling.h) whose faces pair: each face
 // with its partner, both ways.

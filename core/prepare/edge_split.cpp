@@ -6,7 +6,7 @@
 #include <vector>
 
 #include "core/mesh/union_find.h"
-#include "core/prepare/edge_pairing.h"  // sorted_edge_corners
+#include "core/prepare/edge_pairing.h"  // sorted_edge_corners, manifold_sheets
 
 namespace spheremap {
 namespace {
@@ -21,13 +21,11 @@ EdgeSplit split_non_manifold_edges(PolygonMesh& mesh, const StopCheck* stop) {
   EdgeSplit result;
   const uint32_t faces = static_cast<uint32_t>(mesh.face_count());
   const std::vector<EdgeCorner> corners = sorted_edge_corners(mesh, stop);
-  // Sheets: faces joined across each edge of exactly two faces; the non-manifold edges'
-  // ranges in `corners` kept for the passes below.
-  UnionFind sheets(faces);
+  // The non-manifold edges' ranges in `corners`, kept for the passes below.
+  UnionFind sheets = manifold_sheets(corners, faces);
   std::vector<std::pair<size_t, size_t>> non_manifold;
   for (size_t i = 0, j = 0; i < corners.size(); i = j) {
     while (j < corners.size() && corners[j].edge == corners[i].edge) ++j;
-    if (j - i == 2) sheets.unite(corners[i].face, corners[i + 1].face);
     if (j - i > 2) non_manifold.push_back({i, j});
   }
   if (non_manifold.empty()) return result;

@@ -20,6 +20,20 @@ PolygonMesh without_faces(const PolygonMesh& mesh, const std::vector<char>& remo
   return kept;
 }
 
+// The same in place: the faces kept move down, their corners with them.
+void erase_faces(PolygonMesh& mesh, const std::vector<char>& removed) {
+  uint32_t corner = 0, face = 0;
+  for (size_t f = 0; f < mesh.face_count(); ++f) {
+    if (removed[f]) continue;
+    const uint32_t begin = mesh.offsets[f], end = mesh.offsets[f + 1];
+    mesh.offsets[face++] = corner;
+    for (uint32_t s = begin; s < end; ++s) mesh.indices[corner++] = mesh.indices[s];
+  }
+  mesh.offsets[face] = corner;
+  mesh.offsets.resize(face + 1);
+  mesh.indices.resize(corner);
+}
+
 }  // namespace
 
 HandleOpening open_far_handles(PolygonMesh& mesh, const HandleClosing& closed, double near,
@@ -58,12 +72,11 @@ HandleOpening open_far_handles(PolygonMesh& mesh, const HandleClosing& closed, d
         if (part_of[v] != kUnreferenced) pieces.push_back(part_of[v]);
     std::sort(pieces.begin(), pieces.end());
     pieces.erase(std::unique(pieces.begin(), pieces.end()), pieces.end());
+    // One piece, one open sphere (once two cuts' touching holes are split apart).
     bool opens = pieces.size() == 1;
-    for (uint32_t p : pieces) {
-      if (!opens) break;
-      MeshPart own = submesh(opened, parts[p]);
+    if (opens) {
+      MeshPart own = submesh(opened, parts[pieces[0]]);
       TopologyReport topology = analyze_topology(own.mesh, stop);
-      // Two cuts through one vertex leave their holes touching there: one vertex per fan.
       if (topology.non_manifold_vertices > 0 &&
           split_non_manifold_vertices(own.mesh, stop).vertices_added > 0) {
         topology = analyze_topology(own.mesh, stop);
@@ -81,7 +94,7 @@ HandleOpening open_far_handles(PolygonMesh& mesh, const HandleClosing& closed, d
     result.faces_removed += part->fills;
   }
   if (result.faces_removed == 0) return result;
-  mesh = without_faces(mesh, removed);
+  erase_faces(mesh, removed);
   if (split_pinches) result.vertices_split = split_non_manifold_vertices(mesh, stop).vertices_split;
   return result;
 }

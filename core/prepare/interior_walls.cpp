@@ -15,11 +15,7 @@ InteriorWalls double_interior_walls(PolygonMesh& mesh, const StopCheck* stop) {
   InteriorWalls result;
   const uint32_t faces = static_cast<uint32_t>(mesh.face_count());
   const std::vector<EdgeCorner> corners = sorted_edge_corners(mesh, stop);
-  UnionFind sheets(faces);
-  for (size_t i = 0, j = 0; i < corners.size(); i = j) {
-    while (j < corners.size() && corners[j].edge == corners[i].edge) ++j;
-    if (j - i == 2) sheets.unite(corners[i].face, corners[i + 1].face);
-  }
+  UnionFind sheets = manifold_sheets(corners, faces);
   // At an edge of three faces, two run one way and the odd one the other way; of the two,
   // the wall is the one inside the solid that the odd face and the other bound (met first
   // turning from the odd face toward its solid: larger angles about a -> b for a face
@@ -70,11 +66,10 @@ InteriorWalls double_interior_walls(PolygonMesh& mesh, const StopCheck* stop) {
     std::vector<uint32_t> reversed(mesh.face(f).begin(), mesh.face(f).end());
     std::reverse(reversed.begin(), reversed.end());
     mesh.add_face(reversed);
-    ++result.faces_added;
   }
-  std::vector<char> counted(faces, 0);
-  for (uint32_t f : wall_faces)
-    if (!counted[sheets.find(f)]) counted[sheets.find(f)] = 1, ++result.walls;
+  result.faces_added = wall_faces.size();
+  for (uint32_t f = 0; f < faces; ++f)  // a sheet is counted at its root face
+    if (sheets.find(f) == f && is_wall(f)) ++result.walls;
   // The pairs: at a rim edge the wall's face with the solid's face running the other way,
   // its copy with the other; at an edge inside the wall, the wall's faces together and
   // their copies together.
