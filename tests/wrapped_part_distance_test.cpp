@@ -16,22 +16,19 @@ namespace spheremap {
 namespace {
 
 // testing::icosphere(3) (radius 1) without its faces above z = 0.93 (a round hole about
-// 0.7 across, 3.5% of the area, which the repair fills), with a fin: a triangle hanging off
-// the edge of its first face's first two corners, an edge of three faces that no split
-// shares out, so the part does not map and is wrapped.
-PolygonMesh holed_sphere_with_fin() {
+// 0.7 across, 3.5% of the area, which the repair fills) and below z = -0.6 (a hole of a
+// fifth of the area, too large to fill): with double_open_sheets off, a part that does not
+// map even once repaired, so it is wrapped. (It had a fin for that; a fin now lets go of
+// the sphere, sheet_ends.h, and the part maps.)
+PolygonMesh sphere_with_two_holes() {
   const PolygonMesh sphere = testing::icosphere(3);
   PolygonMesh out;
   out.positions = sphere.positions;
   for (size_t f = 0; f < sphere.face_count(); ++f) {
     double z = 0;
     for (uint32_t v : sphere.face(f)) z += sphere.positions[v].z / 3;
-    if (z <= 0.93) out.add_face(sphere.face(f));
+    if (z <= 0.93 && z >= -0.6) out.add_face(sphere.face(f));
   }
-  const auto edge = out.face(0);
-  out.positions.push_back((out.positions[edge[0]] + out.positions[edge[1]]) * 0.75);
-  const uint32_t fin[3] = {edge[0], edge[1], static_cast<uint32_t>(out.positions.size() - 1)};
-  out.add_face(fin);
   return out;
 }
 
@@ -58,11 +55,12 @@ std::vector<Triangle> triangles_of(const PolygonMesh& mesh, const std::vector<ui
 }
 
 TEST(WrappedPartDistance, IsMeasuredToThePartsInputFacesNotItsFills) {
-  // A sphere (maps) and the holed sphere with its fin (its hole filled; wrapped).
+  // A sphere (maps) and the sphere with two holes (its small hole filled; wrapped).
   PolygonMesh input = testing::assembled(
-      {{testing::icosphere(2), {0, 0, 0}}, {holed_sphere_with_fin(), {6, 0, 0}}});
+      {{testing::icosphere(2), {0, 0, 0}}, {sphere_with_two_holes(), {6, 0, 0}}});
   PrepareOptions options;
   options.method = PrepareMethod::kAuto;
+  options.double_open_sheets = false;
   options.envelope.resolution = 96;
   const PreparedMesh prepared = prepare_input(input, nullptr, options);
   ASSERT_EQ(prepared.preparation.decided, "parts+wrap");

@@ -22,6 +22,7 @@
 #include "core/prepare/interior_walls.h"
 #include "core/prepare/open_part_cuts.h"
 #include "core/prepare/sheet_doubling.h"
+#include "core/prepare/sheet_ends.h"
 #include "core/prepare/vertex_copies.h"
 #include "core/prepare/vertex_split.h"
 
@@ -372,6 +373,19 @@ size_t split_shared_edges(PreparedMesh& prepared, PolygonMesh& input, GltfAppear
       const VertexSplit paired = split_non_manifold_vertices(welded.mesh, &stop, &pairs);
       added += paired.vertices_added;
       if (paired.vertices_added > 0) {
+        prepared.topology = analyze_topology(welded.mesh, &stop);
+        prepared.preparation.edges_split += before - prepared.topology.non_manifold_edges;
+      }
+    }
+  }
+  // Sheets that end on a surface passing through the edge (a wall on a floor): let go.
+  if (prepared.topology.non_manifold_edges > 0) {
+    const EdgePairs ends = pair_sheets_ending_on_edges(welded.mesh, &stop);
+    if (!ends.empty()) {
+      const size_t before = prepared.topology.non_manifold_edges;
+      const VertexSplit detached = split_non_manifold_vertices(welded.mesh, &stop, &ends);
+      added += detached.vertices_added;
+      if (detached.vertices_added > 0) {
         prepared.topology = analyze_topology(welded.mesh, &stop);
         prepared.preparation.edges_split += before - prepared.topology.non_manifold_edges;
       }
