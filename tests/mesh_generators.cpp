@@ -318,6 +318,24 @@ PolygonMesh holed_torus(int around, int along) {
   return holed;
 }
 
+PolygonMesh moebius_band(int segments) {
+  PolygonMesh out;
+  for (int k = 0; k < segments; ++k) {
+    const double t = 2 * M_PI * k / segments;
+    const Vec3 centre{2 * std::cos(t), 2 * std::sin(t), 0};
+    const Vec3 across =
+        Vec3{std::cos(t), std::sin(t), 0} * std::cos(t / 2) + Vec3{0, 0, 1} * std::sin(t / 2);
+    out.positions.push_back(centre - across * 0.5);  // a_k = 2k
+    out.positions.push_back(centre + across * 0.5);  // b_k = 2k + 1
+  }
+  const auto n = static_cast<uint32_t>(segments);
+  for (uint32_t k = 0; k + 1 < n; ++k)
+    out.add_face(std::array{2 * k, 2 * k + 2, 2 * k + 3, 2 * k + 1});
+  // Half a turn round, a_n is b_0 and b_n is a_0.
+  out.add_face(std::array{2 * (n - 1), 1u, 0u, 2 * (n - 1) + 1});
+  return out;
+}
+
 PolygonMesh quad_scatter(int count, unsigned seed) {
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> uniform(0, 100);

@@ -88,6 +88,10 @@ PolygonMesh band(int levels);
 // torus(around, along) without the quads of a patch on its outer side (a quarter of the
 // way round each circle): genus 1 with one hole too large to fill, which prepare=auto wraps.
 PolygonMesh holed_torus(int around, int along);
+// A Moebius band of `segments` quads (a strip of width 1 around a circle of radius 2, turned
+// half a turn on the way): open, one boundary loop, not orientable, so no repair maps it and
+// prepare=auto wraps it.
+PolygonMesh moebius_band(int segments);
 // `count` separate quads (1 x 0.5, bent 0.3 along x, two triangles each) at positions drawn
 // from std::mt19937(seed) in a 100^3 box: a scatter whose envelope merges them into one body
 // of many blobs (bench/reach/scatter.py draws the same shape from Python's generator).

@@ -35,4 +35,17 @@ std::vector<Triangle> kept_triangles(std::span<const Triangle> triangles,
   return kept;
 }
 
+void erase_faces(PolygonMesh& mesh, std::span<const char> removed) {
+  uint32_t corner = 0, face = 0;
+  for (size_t f = 0; f < mesh.face_count(); ++f) {
+    if (removed[f]) continue;
+    const uint32_t begin = mesh.offsets[f], end = mesh.offsets[f + 1];
+    mesh.offsets[face++] = corner;  // face <= f: offsets[f + 1] is still to be read
+    for (uint32_t s = begin; s < end; ++s) mesh.indices[corner++] = mesh.indices[s];
+  }
+  mesh.offsets[face] = corner;
+  mesh.offsets.resize(face + 1);
+  mesh.indices.resize(corner);
+}
+
 }  // namespace spheremap

@@ -30,4 +30,9 @@ MeshPart submesh(const PolygonMesh& mesh, std::span<const uint32_t> faces,
 std::vector<Triangle> kept_triangles(std::span<const Triangle> triangles,
                                      std::span<const char> left_out);
 
+// `mesh` without the faces whose `removed` entry (one per face) is set, in place: the faces
+// kept move down in order, their corners with them; vertices stay (some may be left
+// without faces). O(corners).
+void erase_faces(PolygonMesh& mesh, std::span<const char> removed);
+
 }  // namespace spheremap

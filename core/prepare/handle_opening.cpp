@@ -20,20 +20,6 @@ PolygonMesh without_faces(const PolygonMesh& mesh, const std::vector<char>& remo
   return kept;
 }
 
-// The same in place: the faces kept move down, their corners with them.
-void erase_faces(PolygonMesh& mesh, const std::vector<char>& removed) {
-  uint32_t corner = 0, face = 0;
-  for (size_t f = 0; f < mesh.face_count(); ++f) {
-    if (removed[f]) continue;
-    const uint32_t begin = mesh.offsets[f], end = mesh.offsets[f + 1];
-    mesh.offsets[face++] = corner;
-    for (uint32_t s = begin; s < end; ++s) mesh.indices[corner++] = mesh.indices[s];
-  }
-  mesh.offsets[face] = corner;
-  mesh.offsets.resize(face + 1);
-  mesh.indices.resize(corner);
-}
-
 }  // namespace
 
 HandleOpening open_far_handles(PolygonMesh& mesh, const HandleClosing& closed, double near,

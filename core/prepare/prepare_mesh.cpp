@@ -18,6 +18,7 @@
 #include "core/prepare/far_hole_fills.h"
 #include "core/prepare/handle_closing.h"
 #include "core/prepare/handle_opening.h"
+#include "core/prepare/hole_cones.h"
 #include "core/prepare/hole_filling.h"
 #include "core/prepare/interior_walls.h"
 #include "core/prepare/open_part_cuts.h"
@@ -277,8 +278,21 @@ void close_short_handles(PreparedMesh& prepared, PolygonMesh& input, GltfAppeara
   StopCheck stop(&options.should_stop);
   WeldResult& welded = prepared.welded;
   if (!input_faces_lead(input, welded)) return;
-  const HandleClosing closed =
+  // Under kAuto with backs, a part with holes and handles lends the handle search a closed
+  // surface: its holes are coned for a while (hole_cones.h), the cones taken out below.
+  const bool open_handles = options.method == PrepareMethod::kAuto && options.double_open_sheets;
+  const HoleCones cones = open_handles && prepared.topology.boundary_edges > 0
+                              ? cone_holes_of_parts_with_handles(welded.mesh, &stop)
+                              : HoleCones{};
+  HandleClosing closed =
       close_handles(welded.mesh, options.max_handle_cycle, &stop, kMaxHandles, own_faces);
+  if (cones.faces > 0) {
+    // The cones lie before the caps (appended after them): the caps move down.
+    std::vector<char> cone(welded.mesh.face_count(), 0);
+    std::fill_n(cone.begin() + static_cast<std::ptrdiff_t>(cones.first_face), cones.faces, 1);
+    erase_faces(welded.mesh, cone);
+    for (HandleClosing::ClosedPart& part : closed.closed_parts) part.first_fill -= cones.faces;
+  }
   PreparationReport& report = prepared.preparation;
   report.handles_closed = closed.handles_closed;
   report.handles_left = closed.handles_left;
@@ -287,10 +301,10 @@ void close_short_handles(PreparedMesh& prepared, PolygonMesh& input, GltfAppeara
   report.faces_added += closed.faces_added;
   if (!closed.stopped.empty()) report.handles_stopped = closed.stopped.front().reason;
   prepared.handle_stops = closed.stopped;
-  if (closed.handles_closed == 0) return;
+  if (closed.handles_closed == 0 && cones.faces == 0) return;
   // Under kAuto with backs, a part whose caps stand far keeps its cuts open for its back
   // (as a far hole is left open: kFarHoleFill).
-  if (options.method == PrepareMethod::kAuto && options.double_open_sheets) {
+  if (open_handles && closed.handles_closed > 0) {
     const HandleOpening opened = open_far_handles(welded.mesh, closed, kFarHoleFill, &stop);
     report.handles_closed -= opened.handles_opened;
     report.handles_opened = opened.handles_opened;
@@ -299,7 +313,7 @@ void close_short_handles(PreparedMesh& prepared, PolygonMesh& input, GltfAppeara
     report.vertices_split += opened.vertices_split;
   }
   copy_cut_input_vertices(input, look, welded);
-  drop_unused_vertices(welded);  // those only removed caps used
+  drop_unused_vertices(welded);  // the cones' apexes, and those only removed caps used
   prepared.topology = analyze_topology(welded.mesh, &stop);
 }
 
@@ -363,34 +377,24 @@ size_t split_shared_edges(PreparedMesh& prepared, PolygonMesh& input, GltfAppear
           before - std::min(before, prepared.topology.non_manifold_edges);
     }
   }
-  // Edges where one surface touches itself: split per vertex, faces paired by angle; an
-  // edge of four faces left joined is tried again with the other match.
-  for (const bool other : {false, true}) {
-    if (prepared.topology.non_manifold_edges == 0) break;
-    const EdgePairs pairs = pair_faces_at_non_manifold_edges(welded.mesh, other, &stop);
-    if (!pairs.empty()) {
-      const size_t before = prepared.topology.non_manifold_edges;
-      const VertexSplit paired = split_non_manifold_vertices(welded.mesh, &stop, &pairs);
-      added += paired.vertices_added;
-      if (paired.vertices_added > 0) {
-        prepared.topology = analyze_topology(welded.mesh, &stop);
-        prepared.preparation.edges_split += before - prepared.topology.non_manifold_edges;
-      }
-    }
-  }
+  // Each split below is made per vertex, the faces at some edges paired (vertex_split.h).
+  auto split_paired = [&](const EdgePairs& pairs) {
+    if (pairs.empty()) return;
+    const size_t before = prepared.topology.non_manifold_edges;
+    const VertexSplit split = split_non_manifold_vertices(welded.mesh, &stop, &pairs);
+    added += split.vertices_added;
+    if (split.vertices_added == 0) return;
+    prepared.topology = analyze_topology(welded.mesh, &stop);
+    prepared.preparation.edges_split += before - prepared.topology.non_manifold_edges;
+  };
+  // Edges where one surface touches itself: faces paired by angle; an edge of four faces
+  // left joined is tried again with the other match.
+  for (const bool other : {false, true})
+    if (prepared.topology.non_manifold_edges > 0)
+      split_paired(pair_faces_at_non_manifold_edges(welded.mesh, other, &stop));
   // Sheets that end on a surface passing through the edge (a wall on a floor): let go.
-  if (prepared.topology.non_manifold_edges > 0) {
-    const EdgePairs ends = pair_sheets_ending_on_edges(welded.mesh, &stop);
-    if (!ends.empty()) {
-      const size_t before = prepared.topology.non_manifold_edges;
-      const VertexSplit detached = split_non_manifold_vertices(welded.mesh, &stop, &ends);
-      added += detached.vertices_added;
-      if (detached.vertices_added > 0) {
-        prepared.topology = analyze_topology(welded.mesh, &stop);
-        prepared.preparation.edges_split += before - prepared.topology.non_manifold_edges;
-      }
-    }
-  }
+  if (prepared.topology.non_manifold_edges > 0)
+    split_paired(pair_sheets_ending_on_edges(welded.mesh, &stop));
   if (added > 0) copy_cut_input_vertices(input, look, welded);
   return wall_faces;
 }
@@ -824,6 +828,11 @@ bool has_boundary(const PreparedMesh& prepared) {
   return boundary;
 }
 
+// Whether some part was closed by its own back (an open sheet, a cut, an opened handle).
+bool has_backs(const PreparationReport& report) {
+  return report.sheets_doubled > 0 || report.open_parts_cut > 0 || report.handles_opened > 0;
+}
+
 bool wraps_a_part(const PreparedMesh& prepared) {
   return prepared.pending.parts || std::any_of(prepared.parts.begin(), prepared.parts.end(),
                                                [](const PartReport& p) { return p.wrapped; });
@@ -833,12 +842,20 @@ bool wraps_a_part(const PreparedMesh& prepared) {
 // closing_weld_tolerance's tolerances with which every part maps, when one does (a CAD
 // export's seam vertices a float apart), prepared again so; nothing otherwise. A weld moves
 // a point by at most that share of the diagonal (1e-6 to 1e-4), an envelope by its offset.
+//
+// `with_backs`: the input mapped, nothing wrapped, but some part closed by its own back (a
+// seam a float apart left open is a hole, which a back closes at half the remesh's samples
+// per side: iCub's and the allegro hand's CAD parts). A weld is then taken only when it
+// closes every hole by itself: the trial has neither backs nor fills.
 std::optional<PreparedMesh> closed_by_weld(PolygonMesh& input, GltfAppearance* look,
                                            const PreparedMesh& prepared,
-                                           const PrepareOptions& options) {
-  if (options.weld_tolerance != 0 || !has_boundary(prepared)) return std::nullopt;
+                                           const PrepareOptions& options, bool with_backs) {
+  const bool read_open = prepared.input_topology && prepared.input_topology->boundary_edges > 0;
+  if (options.weld_tolerance != 0 || !(has_boundary(prepared) || (with_backs && read_open)))
+    return std::nullopt;
   PrepareOptions trial = options;
   trial.defer_envelopes = true;  // a trial maps entirely only with no part left to wrap
+  if (with_backs) trial.double_open_sheets = false, trial.max_hole_fill = 0;
   const double tolerance = closing_weld_tolerance(input, trial);
   if (tolerance == 0) return std::nullopt;
   PrepareOptions welded = options;
@@ -864,12 +881,18 @@ PreparedMesh prepare_input(PolygonMesh& input, GltfAppearance* look,
     // Every part that maps as it is (after the safe cleaning), each other part wrapped.
     PreparedMesh prepared = prepare_parts(input, look, options);
     const bool mapped = maps_entirely(prepared) || options.largest_component;
-    if (!prepared.pending.parts && mapped && !wraps_a_part(prepared)) {
+    const bool unwrapped = !prepared.pending.parts && mapped && !wraps_a_part(prepared);
+    if (unwrapped && !has_backs(prepared.preparation)) {
       prepared.preparation.decided = decided(prepared);
       return prepared;
     }
-    if (std::optional<PreparedMesh> closed = closed_by_weld(input, look, prepared, options))
+    if (std::optional<PreparedMesh> closed =
+            closed_by_weld(input, look, prepared, options, unwrapped))
       return std::move(*closed);
+    if (unwrapped) {  // with backs that no weld closes
+      prepared.preparation.decided = decided(prepared);
+      return prepared;
+    }
     if (!prepared.pending.parts && mapped) {  // some parts wrapped
       prepared.preparation.decided = decided(prepared);
       return prepared;
