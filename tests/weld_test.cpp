@@ -1,7 +1,11 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
+#include <random>
 
+#include "core/mesh/union_find.h"
 #include "core/mesh/weld.h"
 #include "tests/mesh_generators.h"
 
@@ -55,6 +59,47 @@ TEST(Weld, ToleranceMergesNearbyPositionsOnly) {
   m.positions[5].x += 1e-9;
   EXPECT_EQ(weld(m).mesh.vertex_count(), 9u);        // exact: the nudged copy stays apart
   EXPECT_EQ(weld(m, 1e-6).mesh.vertex_count(), 8u);  // within 1e-6 x diagonal: merged
+}
+
+// Clusters of points a little apart (some chains of them longer than the tolerance, each
+// link within it) welded at a tolerance: the groups are the connected components of
+// "within tolerance x diagonal", as every pair compared says.
+TEST(Weld, ToleranceGroupsAreTheComponentsOfNearPairs) {
+  std::mt19937 random(7);
+  std::uniform_real_distribution<double> unit(0, 1), jitter(-1, 1);
+  PolygonMesh m;
+  for (int cluster = 0; cluster < 300; ++cluster) {
+    Vec3 p{unit(random), unit(random), unit(random)};
+    for (int k = 0; k < 4; ++k) {
+      m.positions.push_back(p);
+      p += Vec3{jitter(random), jitter(random), jitter(random)} * 0.004;
+    }
+  }
+  m.positions.push_back({0, 0, 0}), m.positions.push_back({1, 1, 1});
+  for (uint32_t v = 0; v + 2 < m.positions.size(); v += 3) m.add_face(std::array{v, v + 1, v + 2});
+  m.add_face(std::array<uint32_t, 3>{0, uint32_t(m.positions.size() - 2),
+                                     uint32_t(m.positions.size() - 1)});
+  const double tolerance = 0.003;
+  Vec3 lo = m.positions[0], hi = lo;
+  for (const Vec3& p : m.positions) {
+    lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
+    hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
+  }
+  const double radius = tolerance * norm(hi - lo);
+  UnionFind expected(m.positions.size());
+  for (uint32_t a = 0; a < m.positions.size(); ++a)
+    for (uint32_t b = 0; b < a; ++b)
+      if (squared_norm(m.positions[a] - m.positions[b]) <= radius * radius) expected.unite(a, b);
+  const WeldResult r = weld(m, tolerance);
+  size_t merged = 0, apart = 0;
+  for (uint32_t a = 0; a < m.positions.size(); ++a)
+    for (uint32_t b = 0; b < a; ++b) {
+      const bool together = expected.find(a) == expected.find(b);
+      EXPECT_EQ(r.input_to_welded[a] == r.input_to_welded[b], together) << a << " " << b;
+      (together ? merged : apart) += 1;
+    }
+  EXPECT_GT(merged, 100u);  // the test has both kinds of pairs
+  EXPECT_GT(apart, 100u);
 }
 
 TEST(Weld, NeverMergesNonFinitePositions) {

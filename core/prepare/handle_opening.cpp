@@ -9,18 +9,6 @@
 #include "core/prepare/vertex_split.h"
 
 namespace spheremap {
-namespace {
-
-// `mesh` without the faces marked in `removed`, in order, over the same vertices.
-PolygonMesh without_faces(const PolygonMesh& mesh, const std::vector<char>& removed) {
-  PolygonMesh kept;
-  kept.positions = mesh.positions;
-  for (size_t f = 0; f < mesh.face_count(); ++f)
-    if (!removed[f]) kept.add_face(mesh.face(f));
-  return kept;
-}
-
-}  // namespace
 
 HandleOpening open_far_handles(PolygonMesh& mesh, const HandleClosing& closed, double near,
                                const StopCheck* stop) {
@@ -42,7 +30,8 @@ HandleOpening open_far_handles(PolygonMesh& mesh, const HandleClosing& closed, d
   // earlier cap, so the faces left can fall apart: the part's caps must touch one piece (a
   // part opened into pieces, each doubled, was measured farther than capped: the allegro
   // hand's base 2.75% of its diagonal, capped 1.99%), an open sphere a cut makes a disc.
-  const PolygonMesh opened = without_faces(mesh, removed);
+  PolygonMesh opened = mesh;
+  erase_faces(opened, removed);
   const std::vector<std::vector<uint32_t>> parts = connected_part_faces(opened, stop);
   std::vector<uint32_t> part_of(mesh.vertex_count(), kUnreferenced);
   for (uint32_t p = 0; p < parts.size(); ++p)

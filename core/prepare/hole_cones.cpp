@@ -19,9 +19,8 @@ HoleCones cone_holes_of_parts_with_handles(PolygonMesh& mesh, const StopCheck* s
   UnionFind parts(faces);
   for (size_t k = 1; k < corners.size(); ++k)
     if (corners[k].edge == corners[k - 1].edge) parts.unite(corners[k - 1].face, corners[k].face);
-  // Per part (at its root face): V - E + F, its boundary edges, and whether it qualifies.
+  // Per part (at its root face): V - E + F and whether it qualifies.
   std::vector<int64_t> euler(faces, 0);
-  std::vector<size_t> boundary(faces, 0);
   std::vector<char> unfit(faces, 0);
   std::vector<uint32_t> part_of_vertex(n, UINT32_MAX);
   std::vector<uint32_t> next(n, UINT32_MAX);  // along a boundary loop, the way faces run it
@@ -54,7 +53,6 @@ HoleCones cone_holes_of_parts_with_handles(PolygonMesh& mesh, const StopCheck* s
     const uint32_t a = corners[i].forward ? lo : hi, b = corners[i].forward ? hi : lo;
     if (next[a] != UINT32_MAX) unfit[part] = 1;  // two boundary edges run out of a
     next[a] = b;
-    ++boundary[part];
   }
   // Loops: followed from each boundary vertex not yet on one.
   std::vector<std::vector<uint32_t>> loops;
@@ -79,7 +77,7 @@ HoleCones cone_holes_of_parts_with_handles(PolygonMesh& mesh, const StopCheck* s
   // Genus from chi = 2 - 2g - b: only parts with handles are coned.
   auto coned = [&](uint32_t part) {
     const int64_t twice_genus = 2 - euler[part] - static_cast<int64_t>(loops_of[part]);
-    return !unfit[part] && boundary[part] > 0 && twice_genus >= 2 && twice_genus % 2 == 0;
+    return !unfit[part] && loops_of[part] > 0 && twice_genus >= 2 && twice_genus % 2 == 0;
   };
   std::vector<char> counted(faces, 0);
   for (size_t l = 0; l < loops.size(); ++l) {
