@@ -137,6 +137,48 @@ TEST(EdgePairing, TheSplitMakesTheChainOneClosedBallWithNothingMoved) {
             "non_manifold_edge");
 }
 
+// The chain with a flap: a triangle on the touching edge standing out into the empty
+// quadrant (x > 1, y < 1), as a scan's stray face does. Five faces at the edge: neither the
+// pairing above (an odd count) nor sheet_ends.h (the chain's sheet has four) takes it; the
+// last resort pairs the chain's faces as before and lets the flap go, and auto maps both
+// (the flap a doubled sheet) instead of wrapping the whole.
+TEST(EdgePairing, ALastResortPairsWhatMatchesAndLetsAFlapGo) {
+  std::vector<size_t> owner;
+  PolygonMesh mesh = voxel_surface(kChain, &owner);
+  const uint32_t c = static_cast<uint32_t>(mesh.positions.size());
+  std::vector<uint32_t> ends;
+  for (uint32_t v = 0; v < mesh.positions.size(); ++v)
+    if (mesh.positions[v].x == 1 && mesh.positions[v].y == 1 && mesh.positions[v].z <= 1)
+      ends.push_back(v);  // the touching edge's ends, (1, 1, 0) and (1, 1, 1)
+  ASSERT_EQ(ends.size(), 2u);
+  mesh.positions.push_back({2, 0, 0.5});
+  const uint32_t flap = static_cast<uint32_t>(mesh.face_count());
+  mesh.add_face(std::array{ends[0], ends[1], c});
+  ASSERT_EQ(analyze_topology(mesh).non_manifold_edges, 1u);
+  EXPECT_TRUE(pair_faces_at_non_manifold_edges(mesh).empty());  // five faces: not paired
+
+  const EdgePairs pairs = pair_faces_letting_go_of_the_rest(mesh);
+  const uint64_t edge = undirected_edge_key(ends[0], ends[1]);
+  ASSERT_EQ(pairs.count(edge), 1u);
+  EXPECT_EQ(pairs.at(edge).size(), 4u);
+  EXPECT_EQ(paired_face(pairs, edge, flap), flap);  // let go
+  for (const auto& [face, partner] : pairs.at(edge)) {
+    ASSERT_NE(face, flap);
+    ASSERT_NE(partner, flap);
+    EXPECT_EQ(owner[face], owner[partner]);  // both sides of one end cube, as before
+  }
+
+  PolygonMesh input = mesh;
+  PrepareOptions automatic;
+  automatic.method = PrepareMethod::kAuto;
+  const PreparedMesh prepared = prepare_input(input, nullptr, automatic);
+  EXPECT_EQ(prepared.original, nullptr);  // not wrapped
+  EXPECT_GE(prepared.preparation.edges_split, 1u);
+  ASSERT_TRUE(input_failures(prepared).empty());
+  const MappedMesh mapped = map_prepared(prepared, {});
+  EXPECT_TRUE(certify(mapped, mapped.float32_check).certified);
+}
+
 // Two cubes stacked, the square between them stored once (facing up, as the lower cube's
 // top): its rim edges have three faces. The wall is doubled, each cube closed by one side.
 TEST(InteriorWalls, AWallTwoSolidsShareIsDoubledOneSideEach) {

@@ -11,11 +11,15 @@ namespace {
 // Two faces closer in angle than this (radians) lie on each other: no order between them.
 constexpr double kSameAngle = 1e-9;
 
+// How pair_edge matches: every face (as many each way), the other match of four, or the
+// faces that match and each other face let go.
+enum class Match { kAll, kOther, kLetGo };
+
 // The pairs of one edge's faces (`begin`..`end` in `corners`), or nothing.
-bool pair_edge(const PolygonMesh& mesh, const EdgeCorner* begin, const EdgeCorner* end, bool other,
+bool pair_edge(const PolygonMesh& mesh, const EdgeCorner* begin, const EdgeCorner* end, Match match,
                std::vector<std::pair<uint32_t, uint32_t>>& pairs) {
   const size_t k = static_cast<size_t>(end - begin);
-  if (k < 4 || k % 2 != 0) return false;
+  if (match == Match::kLetGo ? k < 3 : k < 4 || k % 2 != 0) return false;
   std::vector<uint32_t> far;
   for (const EdgeCorner* c = begin; c != end; ++c) far.push_back(c->far);
   const std::vector<double> angles = angles_about_edge(
@@ -41,7 +45,9 @@ bool pair_edge(const PolygonMesh& mesh, const EdgeCorner* begin, const EdgeCorne
     depth += by_angle[i].second->forward ? -1 : 1;
     if (depth < lowest) lowest = depth, start = i + 1;
   }
-  if (depth != 0) return false;
+  if (depth != 0 && match != Match::kLetGo) return false;
+  // Letting go, a closing face with no open wedge before it and the opening faces left at
+  // the end stay unpaired (partnered with nothing at this edge).
   std::vector<const EdgeCorner*> open;
   for (size_t i = 0; i < k; ++i) {
     const EdgeCorner* c = by_angle[(start + i) % k].second;
@@ -49,12 +55,14 @@ bool pair_edge(const PolygonMesh& mesh, const EdgeCorner* begin, const EdgeCorne
       open.push_back(c);
       continue;
     }
+    if (open.empty()) continue;
     const EdgeCorner* back = open.back();
     open.pop_back();
     pairs.push_back({back->face, c->face});
     pairs.push_back({c->face, back->face});
   }
-  if (other) {  // four faces: the other match of each face with one running the other way
+  if (match ==
+      Match::kOther) {  // four faces: the other match of each with one running the other way
     if (k != 4) return false;
     std::swap(pairs[0].second, pairs[2].second);
     pairs[1] = {pairs[0].second, pairs[0].first};
@@ -65,8 +73,9 @@ bool pair_edge(const PolygonMesh& mesh, const EdgeCorner* begin, const EdgeCorne
 
 }  // namespace
 
-EdgePairs pair_faces_at_non_manifold_edges(const PolygonMesh& mesh, bool other,
-                                           const StopCheck* stop) {
+namespace {
+
+EdgePairs pair_faces(const PolygonMesh& mesh, Match match, const StopCheck* stop) {
   const std::vector<EdgeCorner> corners = sorted_edge_corners(mesh, stop);
   EdgePairs pairs;
   std::vector<std::pair<uint32_t, uint32_t>> edge_pairs;
@@ -77,10 +86,21 @@ EdgePairs pair_faces_at_non_manifold_edges(const PolygonMesh& mesh, bool other,
     // A face running along the edge twice (a corner repeated) has no one side there.
     bool twice = false;
     for (size_t m = i + 1; m < j; ++m) twice |= corners[m].face == corners[m - 1].face;
-    if (!twice && pair_edge(mesh, &corners[i], &corners[j], other, edge_pairs))
+    if (!twice && pair_edge(mesh, &corners[i], &corners[j], match, edge_pairs))
       pairs.emplace(corners[i].edge, edge_pairs);
   }
   return pairs;
+}
+
+}  // namespace
+
+EdgePairs pair_faces_at_non_manifold_edges(const PolygonMesh& mesh, bool other,
+                                           const StopCheck* stop) {
+  return pair_faces(mesh, other ? Match::kOther : Match::kAll, stop);
+}
+
+EdgePairs pair_faces_letting_go_of_the_rest(const PolygonMesh& mesh, const StopCheck* stop) {
+  return pair_faces(mesh, Match::kLetGo, stop);
 }
 
 std::vector<EdgeCorner> sorted_edge_corners(const PolygonMesh& mesh, const StopCheck* stop) {

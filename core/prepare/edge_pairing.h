@@ -59,6 +59,16 @@ using EdgePairs = std::unordered_map<uint64_t, std::vector<std::pair<uint32_t, u
 EdgePairs pair_faces_at_non_manifold_edges(const PolygonMesh& mesh, bool other = false,
                                            const StopCheck* stop = nullptr);
 
+// The last resort at the edges left non-manifold by every rule above and by sheet_ends.h
+// (an odd fan, more faces running one way than the other: a scan's stray flap on its
+// surface, a CAD part's fin of one face): per edge of 3 faces or more (each running along
+// it once, no two at the same angle), the faces that match as brackets, as above, paired,
+// and each other face let go (paired with nothing: it gets a boundary there when its
+// vertices' fans come apart). A flap standing in empty space lets go; the surface through
+// the edge keeps it. No vertex moves, no face is added. O(corners log corners).
+EdgePairs pair_faces_letting_go_of_the_rest(const PolygonMesh& mesh,
+                                            const StopCheck* stop = nullptr);
+
 // The angles (radians, in (-pi, pi]) about the edge a -> b of the points `far` (each a
 // face's next corner after the edge), from a common axis across the edge; empty when the
 // edge or a point's distance from its line is of no length.

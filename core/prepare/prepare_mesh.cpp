@@ -395,6 +395,9 @@ size_t split_shared_edges(PreparedMesh& prepared, PolygonMesh& input, GltfAppear
   // Sheets that end on a surface passing through the edge (a wall on a floor): let go.
   if (prepared.topology.non_manifold_edges > 0)
     split_paired(pair_sheets_ending_on_edges(welded.mesh, &stop));
+  // Any edge still shared by more: what pairs by angle kept, the rest let go.
+  if (prepared.topology.non_manifold_edges > 0)
+    split_paired(pair_faces_letting_go_of_the_rest(welded.mesh, &stop));
   if (added > 0) copy_cut_input_vertices(input, look, welded);
   return wall_faces;
 }
