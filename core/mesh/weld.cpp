@@ -56,7 +56,7 @@ void unite_within(const std::vector<Vec3>& p, double radius, UnionFind& sets, St
     if (k == 0 || points[k].first != points[k - 1].first) starts.push_back(k);
   const size_t cells = starts.size();
   starts.push_back(static_cast<uint32_t>(points.size()));
-  auto hash = [](const Key& c) {  // splitmix64's finaliser over the three coordinates
+  auto hash = [](const Key& c) {  // multiply-xorshift rounds over the three coordinates
     uint64_t h = 0;
     for (int64_t v : c) {
       h = (h ^ static_cast<uint64_t>(v)) * 0x9e3779b97f4a7c15ull;

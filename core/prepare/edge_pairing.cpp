@@ -61,8 +61,8 @@ bool pair_edge(const PolygonMesh& mesh, const EdgeCorner* begin, const EdgeCorne
     pairs.push_back({back->face, c->face});
     pairs.push_back({c->face, back->face});
   }
-  if (match ==
-      Match::kOther) {  // four faces: the other match of each with one running the other way
+  // Four faces: the other match of each with one running the other way.
+  if (match == Match::kOther) {
     if (k != 4) return false;
     std::swap(pairs[0].second, pairs[2].second);
     pairs[1] = {pairs[0].second, pairs[0].first};
@@ -70,10 +70,6 @@ bool pair_edge(const PolygonMesh& mesh, const EdgeCorner* begin, const EdgeCorne
   }
   return true;
 }
-
-}  // namespace
-
-namespace {
 
 EdgePairs pair_faces(const PolygonMesh& mesh, Match match, const StopCheck* stop) {
   const std::vector<EdgeCorner> corners = sorted_edge_corners(mesh, stop);

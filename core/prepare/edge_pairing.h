@@ -61,7 +61,7 @@ EdgePairs pair_faces_at_non_manifold_edges(const PolygonMesh& mesh, bool other =
 
 // The last resort at the edges left non-manifold by every rule above and by sheet_ends.h
 // (an odd fan, more faces running one way than the other: a scan's stray flap on its
-// surface, a CAD part's fin of one face): per edge of 3 faces or more (each running along
+// surface, a volume grid's inner faces): per edge of 3 faces or more (each running along
 // it once, no two at the same angle), the faces that match as brackets, as above, paired,
 // and each other face let go (paired with nothing: it gets a boundary there when its
 // vertices' fans come apart). A flap standing in empty space lets go; the surface through
