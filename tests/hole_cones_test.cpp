@@ -73,5 +73,26 @@ TEST(HoleCones, AutoMapsATorusWithAHoleAsItsDoubledDiscNotAnEnvelope) {
   EXPECT_EQ(prepare_input(again, nullptr, automatic).preparation.decided, "wrap");
 }
 
+// The same torus with fills allowed up to its whole area: the hole's fill, a flat cap
+// across a curved patch, would stand over 1% of the torus's diagonal off it, so the hole is
+// left for the back as an open sphere's far hole is (far_hole_fills.h), not capped with the
+// handle closed around it.
+TEST(HoleCones, AFarHoleOfAPartWithHandlesIsLeftForItsBack) {
+  PolygonMesh input = testing::holed_torus(24, 12);
+  PrepareOptions automatic;
+  automatic.method = PrepareMethod::kAuto;
+  automatic.max_hole_fill = 1;
+  const PreparedMesh prepared = prepare_input(input, nullptr, automatic);
+  EXPECT_EQ(prepared.original, nullptr);  // not wrapped
+  EXPECT_EQ(prepared.preparation.holes_filled, 0u);
+  EXPECT_EQ(prepared.preparation.sheets_doubled, 1u);
+  ASSERT_TRUE(input_failures(prepared).empty()) << input_failures(prepared).front().message;
+  std::vector<uint32_t> faces(input.face_count());
+  for (uint32_t f = 0; f < faces.size(); ++f) faces[f] = f;
+  const TriangleTree surface = polygon_tree(input, faces);
+  for (const Vec3& p : prepared.welded.mesh.positions)  // no cap: all on the input's faces
+    EXPECT_LT(surface.squared_distance(p), 1e-20) << p.x << " " << p.y << " " << p.z;
+}
+
 }  // namespace
 }  // namespace spheremap

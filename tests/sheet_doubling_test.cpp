@@ -4,7 +4,9 @@
 // sphere in the input's layout leaves the back out.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
+#include <map>
 #include <vector>
 
 #include "core/map/certification.h"
@@ -84,6 +86,59 @@ TEST(SheetDoubling, ADiscIsClosedByItsBackAndNothingElseMoves) {
   EXPECT_EQ(result.faces_added, doubled.face_count() - dome.face_count());
   EXPECT_EQ(result.vertices_added, doubled.vertex_count() - dome.vertex_count());
   expect_doubled_exactly(dome, doubled);
+}
+
+// A dome with a sliver: an interior edge p-q split at its midpoint m on one side only, so
+// the triangle (p, q, m) has no area (as CAD exports have). Its back is its mirror, as flat
+// as it; the map takes both as it takes the front's (the back was refused, and auto wrapped
+// the dome).
+TEST(SheetDoubling, ADiscWithASliverIsDoubledAndMaps) {
+  PolygonMesh dome = testing::dome(3);
+  const TopologyReport before = analyze_topology(dome);
+  ASSERT_EQ(before.boundary_loops, 1u);
+  // The interior edge nearest the dome's top (both ends far from its rim), its two faces.
+  std::vector<char> rim(dome.vertex_count(), 0);
+  {
+    std::map<std::pair<uint32_t, uint32_t>, int> directed;
+    for (size_t f = 0; f < dome.face_count(); ++f)
+      for (size_t i = 0; i < 3; ++i) ++directed[{dome.face(f)[i], dome.face(f)[(i + 1) % 3]}];
+    for (const auto& [edge, count] : directed)
+      if (!directed.count({edge.second, edge.first})) rim[edge.first] = rim[edge.second] = 1;
+  }
+  size_t upper = SIZE_MAX;
+  double highest = -1e9;
+  for (size_t f = 0; f < dome.face_count(); ++f) {
+    const auto c = dome.face(f);
+    if (rim[c[0]] || rim[c[1]] || rim[c[2]]) continue;
+    const double z = dome.positions[c[0]].z + dome.positions[c[1]].z;
+    if (z > highest) highest = z, upper = f;
+  }
+  ASSERT_NE(upper, SIZE_MAX);
+  const uint32_t p = dome.face(upper)[0], q = dome.face(upper)[1], r = dome.face(upper)[2];
+  const uint32_t m = static_cast<uint32_t>(dome.positions.size());
+  dome.positions.push_back((dome.positions[p] + dome.positions[q]) * 0.5);
+  PolygonMesh sliver;
+  sliver.positions = dome.positions;
+  for (size_t f = 0; f < dome.face_count(); ++f)
+    if (f != upper) sliver.add_face(dome.face(f));
+  sliver.add_face(std::array{p, m, r});
+  sliver.add_face(std::array{m, q, r});
+  sliver.add_face(std::array{p, q, m});  // no area: m lies on p-q
+  const TopologyReport topology = analyze_topology(sliver);
+  ASSERT_EQ(topology.boundary_loops, 1u);
+  ASSERT_EQ(topology.euler_characteristic, 1);
+  ASSERT_EQ(topology.non_manifold_edges + topology.non_manifold_vertices, 0u);
+
+  PolygonMesh doubled = sliver;
+  EXPECT_EQ(double_open_sheets(doubled).sheets_doubled, 1u);
+  PolygonMesh input = sliver;
+  PrepareOptions automatic;
+  automatic.method = PrepareMethod::kAuto;
+  const PreparedMesh prepared = prepare_input(input, nullptr, automatic);
+  EXPECT_EQ(prepared.original, nullptr);  // not wrapped
+  EXPECT_EQ(prepared.preparation.sheets_doubled, 1u);
+  const MappedMesh mapped = map_prepared(prepared, {});
+  EXPECT_TRUE(certify(mapped, mapped.float32_check).certified);
 }
 
 // All six corners of the strip are on its boundary, so its interior edges join boundary

@@ -28,10 +28,11 @@ class FarHoleFills {
   FarHoleFills(const PolygonMesh& mesh, double max_distance);
 
   // Whether the hole `loop` (a boundary loop of the mesh, as hole_filling.h finds them) is
-  // a hole of a part that is or can be cut into a disc (can_become_disc, open_part_cuts.h)
-  // whose `fill` (triangles over the loop's corners) has a point farther than max_distance
-  // from the part's own faces (points spread on each fill triangle, measured to a triangle
-  // tree of the part, built when first asked).
+  // a hole of a part that is or can be cut into a disc (can_become_disc, open_part_cuts.h),
+  // or is open with handles (which hole_cones.h and the handle cuts make one), whose `fill`
+  // (triangles over the loop's corners) has a point farther than max_distance from the part's own
+  // faces (points spread on each fill triangle, measured to a triangle tree of the part, built when
+  // first asked).
   bool operator()(std::span<const uint32_t> loop, std::span<const Triangle> fill) const;
 
  private:

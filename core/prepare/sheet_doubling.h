@@ -37,11 +37,12 @@ struct SheetDoubling {
 
 // Preconditions: `mesh` welded (one vertex per point). Every connected component whose only
 // mapping failure is one boundary loop and whose Euler characteristic is 1 (a disc) gets a
-// back; a component whose back would have a triangle of no area, or would not be closed
-// genus 0 (checked), is left as it was. However many they are: each then maps as a part
-// of its own, as a closed fragment would (a scatter of 20,000 quads: 6 s, 350 MB; wrapped
-// as one, their envelope was a body of merged blobs that did not map), and the parts' remesh
-// grids share one budget (part_grids.h). The mesh's own vertices and faces are unchanged.
+// back; a component whose back would have a fan triangle of no area (around the centroid of
+// a front triangle of none), or would not be closed genus 0 (checked), is left as it was (a
+// front triangle's mirror may be as flat as it: the map takes both). However many they are: each
+// then maps as a part of its own, as a closed fragment would (a scatter of 20,000 quads: 6 s, 350
+// MB; wrapped as one, their envelope was a body of merged blobs that did not map), and the parts'
+// remesh grids share one budget (part_grids.h). The mesh's own vertices and faces are unchanged.
 // O(vertices + corners). `stop` may be null.
 SheetDoubling double_open_sheets(PolygonMesh& mesh, const StopCheck* stop = nullptr);
 
