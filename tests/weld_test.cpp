@@ -1,10 +1,10 @@
 #include <gtest/gtest.h>
 
-#include <algorithm>
 #include <array>
 #include <cmath>
 #include <random>
 
+#include "core/mesh/triangle_tree.h"  // AxisBox
 #include "core/mesh/union_find.h"
 #include "core/mesh/weld.h"
 #include "tests/mesh_generators.h"
@@ -80,12 +80,9 @@ TEST(Weld, ToleranceGroupsAreTheComponentsOfNearPairs) {
   m.add_face(std::array<uint32_t, 3>{0, uint32_t(m.positions.size() - 2),
                                      uint32_t(m.positions.size() - 1)});
   const double tolerance = 0.003;
-  Vec3 lo = m.positions[0], hi = lo;
-  for (const Vec3& p : m.positions) {
-    lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
-    hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
-  }
-  const double radius = tolerance * norm(hi - lo);
+  AxisBox box;
+  for (const Vec3& p : m.positions) box.add(p);
+  const double radius = tolerance * norm(box.hi - box.lo);
   UnionFind expected(m.positions.size());
   for (uint32_t a = 0; a < m.positions.size(); ++a)
     for (uint32_t b = 0; b < a; ++b)

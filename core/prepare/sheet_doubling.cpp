@@ -72,7 +72,6 @@ std::optional<Back> back_of(const PolygonMesh& part, const StopCheck* stop) {
     return it->second;
   };
   std::vector<uint32_t> corners;
-  std::vector<char> mirrored;  // per back triangle: a front triangle reversed, not a fan's
   for (size_t t = 0; t < front.size(); ++t) {
     corners.clear();
     for (int i = 3; i-- > 0;) {  // the triangle reversed, split edges' midpoints in
@@ -81,27 +80,21 @@ std::optional<Back> back_of(const PolygonMesh& part, const StopCheck* stop) {
       if (const std::optional<uint32_t> m = split(a, b)) corners.push_back(*m);
     }
     if (corners.size() == 3 && front.size() > 1) {
+      // A front triangle's mirror, as flat as it may be (a CAD export's sliver): the map
+      // takes it as it takes the front's.
       back.triangles.push_back({corners[0], corners[1], corners[2]});
-      mirrored.push_back(1);
     } else {  // a fan around the centroid, in the triangle's plane (a lone triangle too: two
               // faces on three vertices cannot be mapped)
       Vec3 centroid{0, 0, 0};
       for (uint32_t v : corners) centroid += position(v);
       const uint32_t apex = add_vertex(centroid * (1.0 / static_cast<double>(corners.size())));
       for (size_t i = 0; i < corners.size(); ++i) {
-        back.triangles.push_back({apex, corners[i], corners[(i + 1) % corners.size()]});
-        mirrored.push_back(0);
+        const Triangle fan{apex, corners[i], corners[(i + 1) % corners.size()]};
+        if (!has_area(position(fan[0]), position(fan[1]), position(fan[2]))) return std::nullopt;
+        back.triangles.push_back(fan);
       }
     }
     if (stop && t % 4096 == 0) stop->check();
-  }
-  // A front triangle's mirror is as flat as it (a CAD export's sliver): the map takes it as
-  // it takes the front's. A fan around the centroid of one of no area would be of no area
-  // at all: refused.
-  for (size_t t = 0; t < back.triangles.size(); ++t) {
-    const Triangle& c = back.triangles[t];
-    if (!mirrored[t] && !has_area(position(c[0]), position(c[1]), position(c[2])))
-      return std::nullopt;
   }
   return back;
 }
