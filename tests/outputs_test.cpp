@@ -92,6 +92,58 @@ TEST(Remesh, OfASphereIsAClosedGenusZeroSphere) {
                std::invalid_argument);
 }
 
+// A cube (the sphere's points pushed out onto it, turned so that its edges cross the grid at
+// a slant): a quad an edge crosses is split along the diagonal nearer the surface at its
+// centre, so the remesh keeps nearer the edges than with every quad split along the
+// octahedron's edge direction (the same samples).
+TEST(Remesh, SplitsEachQuadAlongTheDiagonalNearerTheSurface) {
+  const PolygonMesh sphere = testing::icosphere(5);
+  const std::vector<Triangle> triangles = fan_triangulate(sphere).triangles;
+  const auto rotate = [](const Vec3& p) {
+    const double c = std::cos(0.4), s = std::sin(0.4);
+    const Vec3 q{c * p.x - s * p.y, s * p.x + c * p.y, p.z};
+    return Vec3{q.x, c * q.y - s * q.z, s * q.y + c * q.z};
+  };
+  std::vector<Vec3> surface;
+  for (const Vec3& p : sphere.positions) {
+    const Vec3 r = rotate(p);
+    surface.push_back(r * (1 / std::max({std::abs(r.x), std::abs(r.y), std::abs(r.z)})));
+  }
+  const int n = 16, side = n + 1;
+  const OctahedralRemesh remesh = octahedral_remesh(surface, sphere.positions, triangles, n);
+  ASSERT_EQ(remesh.triangles.size(), 2u * n * n);
+  std::vector<Triangle> fixed;
+  size_t other_diagonal = 0;
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      const uint32_t a = j * side + i, b = a + 1, c = a + side + 1, d = a + side;
+      const size_t q = 2 * (static_cast<size_t>(j) * n + i);
+      const bool along_ac = (2 * i + 1 - n) * (2 * j + 1 - n) < 0;
+      const std::vector<Triangle> pair = along_ac ? std::vector<Triangle>{{a, b, c}, {a, c, d}}
+                                                  : std::vector<Triangle>{{a, b, d}, {b, c, d}};
+      fixed.insert(fixed.end(), pair.begin(), pair.end());
+      const bool same = remesh.triangles[q] == pair[0] && remesh.triangles[q + 1] == pair[1];
+      if (!same) {
+        ++other_diagonal;
+        EXPECT_FALSE(i == 0 || j == 0 || i == n - 1 || j == n - 1) << "a border quad " << i << j;
+        const std::vector<Triangle> other = along_ac ? std::vector<Triangle>{{a, b, d}, {b, c, d}}
+                                                     : std::vector<Triangle>{{a, b, c}, {a, c, d}};
+        EXPECT_EQ(remesh.triangles[q], other[0]);
+        EXPECT_EQ(remesh.triangles[q + 1], other[1]);
+      }
+    }
+  EXPECT_GT(other_diagonal, 0u);
+  const TopologyReport report = analyze_topology(stitched_mesh(remesh));
+  EXPECT_TRUE(mapping_failures(report).empty());
+  EXPECT_EQ(report.genus(), 0);
+  const SurfaceDistance adaptive =
+      surface_distance(surface, triangles, remesh.positions, remesh.triangles);
+  const SurfaceDistance default_split =
+      surface_distance(surface, triangles, remesh.positions, fixed);
+  EXPECT_LT(adaptive.rms, 0.98 * default_split.rms);
+  EXPECT_LE(adaptive.hausdorff, default_split.hausdorff);
+}
+
 // A large, obtuse spherical triangle (one edge over 90 degrees, as coarse parts' certified
 // maps have): a point near its far corner is on the far side of its corners' sum, and
 // was left unlocated by a test that asked for the near side.

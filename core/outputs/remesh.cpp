@@ -1,6 +1,7 @@
 #include "core/outputs/remesh.h"
 
 #include <atomic>
+#include <optional>
 #include <stdexcept>
 
 #include "core/mesh/parallel.h"
@@ -34,6 +35,56 @@ std::vector<uint32_t> stitch(int n, size_t& distinct) {
   return vertex;
 }
 
+// The original surface at a point of the sphere: interpolated in the map triangle holding
+// it, or in the nearest one when none does (not bijective). Nothing when neither is found.
+std::optional<Vec3> surface_at(const SphereLocator& locator, std::span<const Vec3> surface,
+                               std::span<const Triangle> triangles, const Vec3& point,
+                               bool* located = nullptr) {
+  SphereHit hit = locator.locate(point);
+  if (located) *located = hit.triangle != UINT32_MAX;
+  if (hit.triangle == UINT32_MAX) hit = locator.nearest(point);
+  if (hit.triangle == UINT32_MAX) return std::nullopt;
+  const Triangle& t = triangles[hit.triangle];
+  return surface[t[0]] * hit.barycentric[0] + surface[t[1]] * hit.barycentric[1] +
+         surface[t[2]] * hit.barycentric[2];
+}
+
+// Per quad (index j * n + i, corners a = (i, j), b = (i + 1, j), c = (i + 1, j + 1),
+// d = (i, j + 1)): 1 to split it along a-c, 0 along b-d. By default along the octahedron's
+// edge direction in its quadrant (so the octahedron's edges are mesh edges). A quad off the
+// square's border takes instead the diagonal whose midpoint lies nearer the surface sampled
+// at the quad's centre: the two triangulations differ most there, and where the surface
+// folds across the quad (a CAD part's sharp edge) the other diagonal cuts the corner off
+// (remesh at 128 against the original, 93 files of the reach sets at 1.5% or more of their
+// diagonal: 10 nearer, 1 farther by 0.07%, none farther past 2%). A border quad keeps the
+// default: the stitching identifies border samples, and its other diagonal could join two
+// samples that are one vertex or give the quad the same triangle as its mirror.
+std::vector<uint8_t> quad_splits(const OctahedralRemesh& out, const SphereLocator& locator,
+                                 std::span<const Vec3> surface, std::span<const Triangle> triangles,
+                                 int threads, const std::function<bool()>* should_stop) {
+  const int n = out.resolution, side = n + 1;
+  std::vector<uint8_t> along_ac(static_cast<size_t>(n) * n);
+  ParallelStop stop(should_stop, 4096);
+  parallel_for(along_ac.size(), resolve_threads(threads), [&](size_t q) {
+    if (stop.skip(q)) return;
+    const int i = static_cast<int>(q % n), j = static_cast<int>(q / n);
+    const bool default_ac = (2 * i + 1 - n) * (2 * j + 1 - n) <= 0;
+    along_ac[q] = default_ac;
+    if (i == 0 || j == 0 || i == n - 1 || j == n - 1) return;
+    const Vec2 centre{-1 + (2.0 * i + 1) / n, -1 + (2.0 * j + 1) / n};
+    bool located = false;
+    const std::optional<Vec3> at =
+        surface_at(locator, surface, triangles, octahedral_decode(centre), &located);
+    if (!located) return;
+    const size_t a = static_cast<size_t>(j) * side + i, b = a + 1, c = a + side + 1, d = a + side;
+    const double off_ac = squared_norm((out.positions[a] + out.positions[c]) * 0.5 - *at);
+    const double off_bd = squared_norm((out.positions[b] + out.positions[d]) * 0.5 - *at);
+    if (off_ac != off_bd) along_ac[q] = off_ac < off_bd;
+  });
+  stop.throw_if_stopped();
+  return along_ac;
+}
+
 }  // namespace
 
 OctahedralRemesh octahedral_remesh(std::span<const Vec3> surface, std::span<const Vec3> sphere,
@@ -61,35 +112,31 @@ OctahedralRemesh octahedral_remesh(std::span<const Vec3> surface, std::span<cons
   ParallelStop stop(should_stop, 4096);
   parallel_for(out.vertex_count, resolve_threads(threads), [&](size_t v) {
     if (stop.skip(v)) return;
-    const Vec3 point = octahedral_decode(out.square[representative[v]]);
-    SphereHit hit = locator.locate(point);
-    if (hit.triangle == UINT32_MAX) {
-      // Counted, and put on the triangle next to the gap rather than at the origin (a
-      // sample at (0,0,0) of a model far from it is a spike across the scene).
-      unlocated.fetch_add(1, std::memory_order_relaxed);
-      hit = locator.nearest(point);
-      if (hit.triangle == UINT32_MAX) return;
-    }
-    const Triangle& t = triangles[hit.triangle];
-    at_vertex[v] = surface[t[0]] * hit.barycentric[0] + surface[t[1]] * hit.barycentric[1] +
-                   surface[t[2]] * hit.barycentric[2];
+    // An unlocated sample is counted, and put on the triangle next to the gap rather than
+    // at the origin (a sample at (0,0,0) of a model far from it is a spike across the scene).
+    bool located = false;
+    const std::optional<Vec3> at = surface_at(
+        locator, surface, triangles, octahedral_decode(out.square[representative[v]]), &located);
+    if (!located) unlocated.fetch_add(1, std::memory_order_relaxed);
+    if (at) at_vertex[v] = *at;
   });
   stop.throw_if_stopped();
   out.unlocated = unlocated;
   for (size_t s = 0; s < samples; ++s) out.positions[s] = at_vertex[out.vertex[s]];
 
-  // Two triangles per quad, split along the octahedron's edge direction in its quadrant.
+  // Two triangles per quad, counter-clockwise in (u, v) either way.
+  const std::vector<uint8_t> along_ac =
+      quad_splits(out, locator, surface, triangles, threads, should_stop);
   out.triangles.reserve(2 * static_cast<size_t>(n) * n);
   for (int j = 0; j < n; ++j)
     for (int i = 0; i < n; ++i) {
       const uint32_t a = j * side + i, b = a + 1, c = a + side + 1, d = a + side;
-      const bool same_signs = (2 * i + 1 - n) * (2 * j + 1 - n) > 0;
-      if (same_signs) {
-        out.triangles.push_back({a, b, d});
-        out.triangles.push_back({b, c, d});
-      } else {
+      if (along_ac[static_cast<size_t>(j) * n + i]) {
         out.triangles.push_back({a, b, c});
         out.triangles.push_back({a, c, d});
+      } else {
+        out.triangles.push_back({a, b, d});
+        out.triangles.push_back({b, c, d});
       }
     }
   return out;

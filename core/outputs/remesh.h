@@ -17,11 +17,14 @@ namespace spheremap {
 struct OctahedralRemesh {
   int resolution = 0;  // N: quads per side, (N + 1)^2 samples
   // Per sample, row-major (index j * (N + 1) + i for u = -1 + 2i/N, v = -1 + 2j/N):
-  std::vector<Vec3> positions;      // the original surface at the sample
-  std::vector<Vec2> square;         // (u, v) in [-1, 1]^2
-  std::vector<uint32_t> vertex;     // the stitched vertex: samples the border identifies share one
-  size_t vertex_count = 0;          // distinct stitched vertices
-  std::vector<Triangle> triangles;  // over samples, outward (counter-clockwise in (u, v))
+  std::vector<Vec3> positions;   // the original surface at the sample
+  std::vector<Vec2> square;      // (u, v) in [-1, 1]^2
+  std::vector<uint32_t> vertex;  // the stitched vertex: samples the border identifies share one
+  size_t vertex_count = 0;       // distinct stitched vertices
+  // Over samples, outward (counter-clockwise in (u, v)), two per quad: a quad off the
+  // square's border is split along the diagonal nearer the surface at its centre, a border
+  // quad along the octahedron's edge direction in its quadrant (remesh.cpp, quad_splits).
+  std::vector<Triangle> triangles;
   size_t unlocated = 0;  // samples no map triangle held (0 for a bijective map): put on the nearest
 };
 
