@@ -102,5 +102,57 @@ TEST(HandleOpening, OpensEveryFarHandleOfAPartAndKeepsANearCap) {
   EXPECT_LE(near.preparation.farthest_handle_fill, 0.01);
 }
 
+// Two open tubes touching at one vertex, with a cap (appended after their faces, as
+// close_handles appends its fills) standing far from them: without the cap they are one
+// piece only through that vertex, and once it is split per fan two open spheres, each of
+// which becomes a disc. The cap is taken out (it was kept when the piece had to be one
+// open sphere).
+TEST(HandleOpening, OpensAPartThatFallsIntoOpenSpheresAtATouchingCut) {
+  PolygonMesh mesh;
+  const int around = 6;
+  // Tube k: rings at z = 0 and 1 around (2k, 0); tube 1's vertex at angle pi is tube 0's
+  // vertex at angle 0, (1, 0, 0).
+  std::vector<std::vector<uint32_t>> ring(4);
+  for (int k = 0; k < 2; ++k)
+    for (int z = 0; z < 2; ++z)
+      for (int a = 0; a < around; ++a) {
+        const double angle = 2 * M_PI * a / around + (k ? M_PI : 0);
+        if (k == 1 && z == 0 && a == 0) {
+          ring[2 + z].push_back(ring[0][0]);
+          continue;
+        }
+        ring[2 * k + z].push_back(static_cast<uint32_t>(mesh.positions.size()));
+        mesh.positions.push_back({2.0 * k + std::cos(angle), std::sin(angle), double(z)});
+      }
+  for (int k = 0; k < 2; ++k)
+    for (int a = 0; a < around; ++a) {
+      const int b = (a + 1) % around;
+      const uint32_t quad[4] = {ring[2 * k][a], ring[2 * k][b], ring[2 * k + 1][b],
+                                ring[2 * k + 1][a]};
+      mesh.add_face(quad);
+    }
+  const size_t tube_faces = mesh.face_count();
+  const uint32_t centre = static_cast<uint32_t>(mesh.positions.size());
+  mesh.positions.push_back({0, 0, 1.5});
+  for (int a = 0; a < around; ++a) {  // the cap over tube 0's top, a cone standing off it
+    const uint32_t fan[3] = {ring[1][(a + 1) % around], ring[1][a], centre};
+    mesh.add_face(fan);
+  }
+  ASSERT_EQ(analyze_topology(mesh).non_manifold_vertices, 1u);
+  HandleClosing closed;
+  closed.closed_parts.push_back({tube_faces, static_cast<size_t>(around), 1, 0.3, false});
+  const HandleOpening opened = open_far_handles(mesh, closed, 0.01);
+  EXPECT_EQ(opened.parts_opened, 1u);
+  EXPECT_EQ(opened.handles_opened, 1u);
+  EXPECT_EQ(opened.faces_removed, static_cast<size_t>(around));
+  EXPECT_EQ(opened.farthest_fill, 0);
+  EXPECT_EQ(opened.vertices_split, 1u);
+  EXPECT_EQ(mesh.face_count(), tube_faces);
+  const TopologyReport tubes = analyze_topology(mesh);
+  EXPECT_EQ(tubes.non_manifold_vertices, 0u);
+  EXPECT_EQ(tubes.component_faces.size(), 2u);
+  EXPECT_EQ(tubes.boundary_loops, 4u);
+}
+
 }  // namespace
 }  // namespace spheremap

@@ -27,13 +27,13 @@ struct HandleOpening {
 
 // Preconditions: `closed` is what close_handles returned on `mesh`, nothing added since.
 // Each part that close_handles took to genus 0 and whose farthest cap stands beyond `near`
-// (over the part's diagonal) loses its caps when the part's faces without them are one open
-// sphere that can be cut into a disc (can_become_disc, open_part_cuts.h), once a vertex
-// where two cuts' holes touch is split per fan (split then in the mesh too); otherwise it
-// keeps them. The faces after a removed cap move down in order; no vertex moves or goes (a split
-// appends copies), so a vertex only caps used (a later cycle ran across an earlier cap) is
-// left without faces: the caller drops it (drop_unused_vertices, weld.h).
-// O(faces + corners). `stop` may be null.
+// (over the part's diagonal) loses its caps when the part's faces without them are one piece
+// that, once a vertex where two cuts' holes touch is split per fan (split then in the mesh
+// too), is an open sphere that can be cut into a disc (can_become_disc, open_part_cuts.h) or
+// falls apart into such open spheres; otherwise it keeps them. The faces after a removed cap move
+// down in order; no vertex moves or goes (a split appends copies), so a vertex only caps used (a
+// later cycle ran across an earlier cap) is left without faces: the caller drops it
+// (drop_unused_vertices, weld.h). O(faces + corners). `stop` may be null.
 HandleOpening open_far_handles(PolygonMesh& mesh, const HandleClosing& closed, double near,
                                const StopCheck* stop = nullptr);
 
