@@ -509,6 +509,24 @@ TEST(Envelope, OffsetAndTargetOptionsAreFollowed) {
   EXPECT_EQ(envelope_failures(e.mesh), "");
 }
 
+// A caller that measures the envelope against other faces (a repaired part's own input
+// faces) asks for no distances: the same envelope, its report's distances left 0.
+TEST(Envelope, WithoutItsDistanceTheEnvelopeIsTheSame) {
+  EnvelopeOptions measured;
+  measured.resolution = 64;
+  EnvelopeOptions unmeasured = measured;
+  unmeasured.measure_distance = false;
+  const PolygonMesh input = testing::torus(24, 48);
+  const Envelope a = build_envelope(input, measured), b = build_envelope(input, unmeasured);
+  EXPECT_EQ(a.mesh.positions, b.mesh.positions);
+  EXPECT_EQ(a.mesh.indices, b.mesh.indices);
+  EXPECT_GT(a.report.hausdorff, 0);
+  EXPECT_GT(a.report.rms, 0);
+  EXPECT_EQ(b.report.hausdorff, 0);
+  EXPECT_EQ(b.report.rms, 0);
+  EXPECT_EQ(b.report.envelope_to_original + b.report.original_to_envelope, 0);
+}
+
 TEST(Envelope, HostileSizesAreRefusedBeforeAllocating) {
   EnvelopeOptions options;
   options.resolution = 1e6;

@@ -114,6 +114,7 @@ Envelope build_envelope(const PolygonMesh& input, const EnvelopeOptions& options
   if (out.mesh.face_count() == 0)
     throw InputError("envelope_topology", "the envelope's fitted surface fails its checks");
   report.faces = out.mesh.face_count();
+  if (!options.measure_distance) return out;
 
   std::vector<Triangle> envelope_triangles(out.mesh.face_count());
   for (size_t f = 0; f < envelope_triangles.size(); ++f) {

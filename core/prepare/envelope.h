@@ -51,6 +51,9 @@ struct EnvelopeOptions {
   EnvelopeRule rule = EnvelopeRule::kFewestVoxels;
   // Threads for the two-sided distance of the report (0: all cores); the rest runs on one.
   int threads = 0;
+  // false: the report's distances are left 0, for a caller that measures the envelope
+  // against other faces than it was built from (a repaired part's own input faces).
+  bool measure_distance = true;
 };
 
 struct EnvelopeReport {

@@ -539,12 +539,13 @@ void measure_to_original(EnvelopeReport& report, const PolygonMesh& envelope,
 
 // The envelope of one part of an asset under kAuto, with part_envelope_options. Nothing
 // when it cannot be made (a part of no extent, a grid over the cap): the part is then left
-// out as it was.
+// out as it was. Without `measure_distance` its distances are left to the caller.
 std::optional<Envelope> part_envelope(const PolygonMesh& part, double asset_diagonal,
-                                      const PrepareOptions& options) {
-  const std::optional<EnvelopeOptions> options_of_part =
+                                      const PrepareOptions& options, bool measure_distance) {
+  std::optional<EnvelopeOptions> options_of_part =
       part_envelope_options(part, asset_diagonal, options);
   if (!options_of_part) return std::nullopt;
+  options_of_part->measure_distance = measure_distance;
   const EnvelopeOptions& wrap = *options_of_part;
   try {
     const std::function<bool()> stop = envelope_stop(options);
@@ -585,13 +586,16 @@ void wrap_left_out_parts(PreparedMesh& prepared, const PolygonMesh& input,
   for (size_t k = 0; k < parts.size(); ++k) {
     if (keep[k]) continue;
     std::vector<uint32_t> original_faces = faces_of_part(k);
-    std::optional<Envelope> envelope = part_envelope(parts[k].mesh, asset_diagonal, options);
-    if (!envelope) continue;
     // The envelope is of the part as repaired (its fills are closer caps than the grid's:
     // beetle.obj 4.6% of the diagonal, 5.4% when wrapped without them), but its distances
     // are measured to the part's own input faces, which the outputs stand for: a fill
     // inside the envelope hid how far it is from them (lato315.ply: 1.4% said, 4.5% true).
-    if (part_was_changed(parts[k].mesh, input, original_faces))
+    // Then they are measured once, here, not also to the repaired part.
+    const bool changed = part_was_changed(parts[k].mesh, input, original_faces);
+    std::optional<Envelope> envelope =
+        part_envelope(parts[k].mesh, asset_diagonal, options, !changed);
+    if (!envelope) continue;
+    if (changed)
       measure_to_original(envelope->report, envelope->mesh, submesh(input, original_faces).mesh,
                           asset_diagonal, options);
     PartReport& report = prepared.parts[k];
