@@ -6,6 +6,7 @@
 #include <limits>
 
 #include "core/io/bounded_json.h"
+#include "core/io/gltf1_upgrade.h"
 #include "core/io/meshopt_view.h"
 #include "core/io/shown_bytes.h"
 #include "core/mesh/counted.h"
@@ -19,11 +20,6 @@ constexpr uint32_t kJsonChunk = 0x4E4F534A;
 constexpr uint32_t kBinChunk = 0x004E4942;
 // A GLB chunk's length is a uint32: no external buffer may be larger either.
 constexpr size_t kMaxResourceBytes = UINT32_MAX;
-
-const char* const kGltf1 =
-    "this is a glTF 1.0 file; spheremap reads glTF 2.0. Convert it first, e.g. with Cesium's "
-    "gltf-pipeline (npx gltf-pipeline -i in.gltf -o out.glb) or the Khronos glTF 1.0-to-2.0 "
-    "converter";
 
 // Extensions a file may require that change what is drawn, not where: materials,
 // textures, lights. The geometry ones read here are listed separately.
@@ -167,11 +163,17 @@ Document::Document(std::span<const uint8_t> bytes, const GltfResources* resource
         "not glTF: neither a GLB (which starts with \"glTF\") nor glTF JSON (which starts "
         "with '{'); the file starts with " +
         shown_prefix({reinterpret_cast<const char*>(bytes.data()), bytes.size()}));
-  if (bytes.size() >= 4 && read_u32(bytes, 0) == kGlbMagic) {
-    if (bytes.size() < 20) fail("GLB is truncated: " + std::to_string(bytes.size()) + " bytes");
-    if (read_u32(bytes, 4) == 1) fail(kGltf1);
-    if (read_u32(bytes, 4) != 2)
-      fail("GLB version " + std::to_string(read_u32(bytes, 4)) + " is not 2");
+  const bool glb = bytes.size() >= 4 && read_u32(bytes, 0) == kGlbMagic;
+  if (glb && bytes.size() < 20)
+    fail("GLB is truncated: " + std::to_string(bytes.size()) + " bytes");
+  const uint32_t glb_version = glb ? read_u32(bytes, 4) : 0;
+  if (glb && glb_version != 1 && glb_version != 2)
+    fail("GLB version " + std::to_string(glb_version) + " is not 1 or 2");
+  if (glb_version == 1) {  // glTF 1.0's KHR_binary_glTF container
+    split_glb1(bytes, &json_text, &bin);
+    has_bin = true;
+  }
+  if (glb_version == 2) {
     const uint32_t length = read_u32(bytes, 8);
     if (length > bytes.size())
       fail("GLB header declares " + std::to_string(length) + " bytes but the file has " +
@@ -199,23 +201,26 @@ Document::Document(std::span<const uint8_t> bytes, const GltfResources* resource
     fail(std::string("the glTF JSON is ") + e.what());
   }
   if (json_.is_discarded() || !json_.is_object()) fail("the glTF JSON does not parse as an object");
-  // glTF 1.0 files say "1.0", and some exporters wrote the number 1 or 1.0 (or "1"):
-  // all get the conversion hint, not the bare "must be 2.x".
+  // glTF 1.0 is read as the 2.0 document it upgrades to (gltf1_upgrade.h), which is then
+  // checked like any other.
+  if (declares_gltf1(json_)) {
+    json_ = upgrade_gltf1(json_, has_bin);
+    read_as_gltf1_ = true;
+  }
   const auto asset = json_.find("asset");
   const nlohmann::json* version =
       asset != json_.end() && asset->is_object() && asset->contains("version")
           ? &(*asset)["version"]
           : nullptr;
-  const bool version_1 =
-      version &&
-      ((version->is_string() &&
-        (version->get<std::string>() == "1" || version->get<std::string>().rfind("1.", 0) == 0)) ||
-       (version->is_number() && version->get<double>() >= 1 && version->get<double>() < 2));
-  if (version_1) fail(kGltf1);
   if (!version || !version->is_string() || version->get<std::string>().rfind("2.", 0) != 0)
-    fail("not a glTF 2.0 asset (asset.version must be \"2.x\")");
-  check_required_extensions();
-  load_buffers(bin, has_bin);
+    fail("not a glTF 2.0 asset (asset.version must be \"2.x\", or 1.x for glTF 1.0)");
+  try {
+    check_required_extensions();
+    load_buffers(bin, has_bin);
+  } catch (const InputError& e) {
+    if (!read_as_gltf1_) throw;
+    throw in_upgrade(e);
+  }
 }
 
 bool Document::uses_extension(const char* name) const {
@@ -601,6 +606,10 @@ Document::AccessorView Document::with_sparse(size_t index, AccessorView v,
 
 std::vector<std::string> Document::warnings() const {
   std::vector<std::string> out;
+  if (read_as_gltf1_)
+    out.push_back(
+        "read as glTF 1.0: its geometry, node transforms and diffuse colours and textures; "
+        "its shaders, animations and skins are not read");
   if (uses_extension(kShaderExtension))
     out.push_back(std::string("the file's ") + kShaderExtension +
                   " shaders are not run: its geometry is read as stored");

@@ -39,6 +39,8 @@ class Document {
            const DocumentLimits& limits);
 
   const nlohmann::json& json() const { return json_; }
+  // The file was glTF 1.0 and json() is its 2.0 upgrade (gltf1_upgrade.h).
+  bool read_as_gltf1() const { return read_as_gltf1_; }
   // The bytes of bufferView `index`, checked against its buffer.
   std::span<const uint8_t> buffer_view(size_t index) const;
   // Accessor `index` read as doubles (positions: FLOAT, or the integer types of
@@ -108,6 +110,7 @@ class Document {
   void charge(size_t bytes, const std::string& what) const;
 
   nlohmann::json json_;
+  bool read_as_gltf1_ = false;      // json_ is the 2.0 upgrade of a glTF 1.0 file
   const GltfResources* resources_;  // lives as long as the Document (read_gltf's caller)
   // Per buffer, its bytes: in the GLB's binary chunk, or in `owned_` (decoded data:
   // URIs, fetched files). Buffers naming one file share its one copy.

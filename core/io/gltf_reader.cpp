@@ -9,6 +9,7 @@
 #include <optional>
 
 #include "core/io/draco_header.h"
+#include "core/io/gltf1_upgrade.h"
 #include "core/io/gltf_checked.h"
 #include "core/io/gltf_document.h"
 #include "core/io/gltf_look.h"
@@ -97,6 +98,8 @@ class Reader {
         options_(options),
         stats_(stats),
         look_(look) {}
+
+  bool read_as_gltf1() const { return doc_.read_as_gltf1(); }
 
   PolygonMesh read() {
     const nlohmann::json& json = doc_.json();
@@ -640,7 +643,13 @@ PolygonMesh read_gltf(std::span<const uint8_t> bytes, const GltfReadOptions& opt
                       GltfAppearance* appearance) {
   GltfReadStats local;
   if (appearance) *appearance = {};
-  return Reader(bytes, options, stats ? *stats : local, resources, appearance).read();
+  Reader reader(bytes, options, stats ? *stats : local, resources, appearance);
+  try {
+    return reader.read();
+  } catch (const InputError& e) {
+    if (!reader.read_as_gltf1()) throw;
+    throw gltf::in_upgrade(e);
+  }
 }
 
 void suggest_gltf_fixes(std::vector<ValidationFailure>& failures, const GltfReadStats& stats) {

@@ -1,6 +1,7 @@
 // Reading glTF 2.0 (GLB, or JSON with its buffers embedded or supplied by a
 // GltfResources), plain, KHR_draco_mesh_compression, KHR_mesh_quantization or
-// EXT_meshopt_compression, as one polygon mesh of triangles. Input is untrusted: nothing
+// EXT_meshopt_compression, as one polygon mesh of triangles; glTF 1.0 too, through its 2.0
+// upgrade (gltf1_upgrade.h). Input is untrusted: nothing
 // here touches the filesystem or the network itself (external URIs go to the caller's
 // GltfResources, checked first), every index, offset, stride and count is checked
 // against the bytes actually present before it is used, and sizes are capped. Errors are

@@ -96,6 +96,8 @@ PY
       { printf 'glTF'; head -c 200 /dev/urandom; } > "$seeds/garbage.glb"
     fi
     printf '%s' '{"asset":{"version":"2.0"},"buffers":[{"uri":"file:///etc/passwd","byteLength":10}],"bufferViews":[{"buffer":0,"byteLength":10}],"accessors":[{"bufferView":0,"componentType":5126,"count":1000000000,"type":"VEC3"}],"meshes":[{"primitives":[{"attributes":{"POSITION":0}}]}]}' > "$seeds/external_uri.gltf"
+    # glTF 1.0 (read through its 2.0 upgrade): ids for indices, a node of two meshes.
+    printf '%s' '{"asset":{"version":"1.0"},"buffers":{"b":{"byteLength":42,"uri":"data:;base64,AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAAAAABAAIA"}},"bufferViews":{"v":{"buffer":"b","byteOffset":0,"byteLength":36},"i":{"buffer":"b","byteOffset":36,"byteLength":6}},"accessors":{"p":{"bufferView":"v","byteOffset":0,"byteStride":12,"componentType":5126,"count":3,"type":"VEC3"},"x":{"bufferView":"i","byteOffset":0,"componentType":5123,"count":3,"type":"SCALAR"}},"meshes":{"m":{"primitives":[{"attributes":{"POSITION":"p"},"indices":"x","material":"c"}]}},"materials":{"c":{"values":{"diffuse":[1,0,0,1]}}},"nodes":{"n":{"meshes":["m","m"],"matrix":[1,0,0,0,0,1,0,0,0,0,1,0,0,0,0,1]}},"scenes":{"s":{"nodes":["n"]}},"scene":"s"}' > "$seeds/gltf1.gltf"
   fi
 }
 
