@@ -4,6 +4,7 @@
 #include <cctype>
 
 #include "core/io/draco_file.h"
+#include "core/io/mni_obj.h"
 #include "core/io/obj.h"
 #include "core/io/off.h"
 #include "core/io/off_binary.h"
@@ -95,7 +96,7 @@ std::optional<MeshFormat> sniff_mesh_format(std::string_view bytes) {
   if (bytes.substr(start, 5) == "solid") return MeshFormat::kStl;
   const std::string_view word = first_word(bytes);
   if (word == "OFF") return MeshFormat::kOff;
-  if (is_obj_statement(word)) return MeshFormat::kObj;
+  if (is_obj_statement(word) || looks_like_mni_obj(bytes)) return MeshFormat::kObj;
   return std::nullopt;
 }
 
@@ -122,6 +123,9 @@ PolygonMesh parse_mesh_text(std::string_view bytes, MeshFormat format, const Mes
   switch (format) {
     case MeshFormat::kObj:
     case MeshFormat::kOff: {
+      // An MNI surface shares Wavefront's .obj extension (mni_obj.h).
+      if (format == MeshFormat::kObj && looks_like_mni_obj(bytes))
+        return parse_mni_obj(bytes, limits);
       PolygonMesh mesh = format == MeshFormat::kObj ? parse_obj(bytes)
                          : binary_off               ? parse_off_binary(bytes)
                                                     : parse_off(bytes);

@@ -1,7 +1,8 @@
 // Wavefront OBJ: positions and polygon faces. Reads `v`, `f` with v, v/vt, v//vn and
 // v/vt/vn corners, negative (relative) indices, comments, CRLF and lines continued by a
 // trailing backslash; ignores vt, vn, g, o, s, usemtl, mtllib, p and l (a file of lines
-// and no faces is refused as such). Writes `v` and `f` lines only.
+// and no faces is refused as such). Writes `v` and `f` lines only. MNI surfaces, which
+// share the .obj extension, are read by mni_obj.h.
 #pragma once
 
 #include <string>

@@ -88,6 +88,9 @@ PY
   else
     find "$corpus" -name "$pattern" -size -200k -exec cp {} "$seeds/" \; 2> /dev/null || true
   fi
+  if [ "$target" = mesh_text_fuzzer ]; then  # an MNI obj surface: a tetrahedron
+    printf 'P 0.3 0.3 0.4 10 1 4\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n\n0 0 1\n0 0 1\n0 0 1\n0 0 1\n\n4\n0 1 1 1 1\n\n3 6 9 12\n\n0 2 1 0 1 3 1 2 3 0 3 2\n' > "$seeds/mni.obj"
+  fi
   if [ "$target" = gltf_fuzzer ]; then  # the shapes of the hostile-file tests, as files
     local small
     small=$(ls "$seeds"/*.glb 2> /dev/null | sed -n 1p || true)
