@@ -9,6 +9,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <tuple>
 
 #include "core/io/gltf_reader.h"
 #include "core/io/mesh_file.h"
@@ -321,20 +322,82 @@ TEST(GltfRealWorld, RefusesMeshoptStreamsThatDoNotDecodeOrClaimTooMuch) {
             std::string::npos);
 }
 
-TEST(GltfRealWorld, GpuInstancingIsRefusedWithTheMeshToPick) {
+// EXT_mesh_gpu_instancing: each instance a copy in world space (the node's transform, then
+// the instance's translation, rotation and scale), told as the mesh drawn that many times;
+// `mesh` still reads the mesh once.
+TEST(GltfRealWorld, GpuInstancesAreReadAsCopiesInWorldSpace) {
   Glb glb(sphere_glb());
-  const size_t n = glb.json["accessors"].size();
-  glb.json["accessors"].push_back(glb.json["accessors"][0]);  // 42 VEC3 floats: 42 translations
+  const PolygonMesh sphere = read_gltf(as_bytes(sphere_glb()));
+  const float translation[9] = {10, 0, 0, 0, 20, 0, 0, 0, 30};
+  const float rotation[12] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 1, 0};  // the third: 180° about z
+  const float scale[9] = {1, 1, 1, 2, 2, 2, -1, 1, 1};              // the third mirrors x
+  const size_t views = glb.json["bufferViews"].size(), accessors = glb.json["accessors"].size();
+  for (const auto& [data, bytes, type] :
+       {std::tuple<const float*, size_t, const char*>{translation, sizeof translation, "VEC3"},
+        {rotation, sizeof rotation, "VEC4"},
+        {scale, sizeof scale, "VEC3"}}) {
+    glb.json["bufferViews"].push_back(
+        {{"buffer", 0}, {"byteOffset", glb.bin.size()}, {"byteLength", bytes}});
+    glb.json["accessors"].push_back({{"bufferView", glb.json["bufferViews"].size() - 1},
+                                     {"componentType", 5126},
+                                     {"count", 3},
+                                     {"type", type}});
+    glb.bin.append(reinterpret_cast<const char*>(data), bytes);
+  }
+  glb.json["buffers"][0]["byteLength"] = glb.bin.size();
+  glb.json["nodes"][0]["translation"] = {0, 0, 100};
   glb.json["nodes"][0]["extensions"] = {
-      {"EXT_mesh_gpu_instancing", {{"attributes", {{"TRANSLATION", n}}}}}};
-  const InputError e = read_failure(glb.bytes());
-  EXPECT_EQ(e.check(), "instancing");
-  EXPECT_NE(std::string(e.what()).find("as 42 instances"), std::string::npos) << e.what();
-  EXPECT_EQ(e.fix().option, "mesh");
-  EXPECT_EQ(e.fix().value, "0");
+      {"EXT_mesh_gpu_instancing",
+       {{"attributes",
+         {{"TRANSLATION", accessors}, {"ROTATION", accessors + 1}, {"SCALE", accessors + 2}}}}}};
+  glb.json["extensionsUsed"] = {"EXT_mesh_gpu_instancing"};
+  ASSERT_EQ(views + 3, glb.json["bufferViews"].size());
+  GltfReadStats stats;
+  GltfAppearance look;
+  const PolygonMesh copies = read_gltf(as_bytes(glb.bytes()), {}, &stats, nullptr, &look);
+  const size_t n = sphere.vertex_count();
+  ASSERT_EQ(copies.vertex_count(), 3 * n);
+  ASSERT_EQ(copies.face_count(), 3 * sphere.face_count());
+  for (size_t v = 0; v < n; ++v) {
+    const Vec3 p = sphere.positions[v];
+    EXPECT_LT(norm(copies.positions[v] - (p + Vec3{10, 0, 100})), 1e-6);
+    EXPECT_LT(norm(copies.positions[n + v] - (2 * p + Vec3{0, 20, 100})), 1e-6);
+    // Mirrored by the scale, then turned half about z.
+    EXPECT_LT(norm(copies.positions[2 * n + v] - (Vec3{p.x, -p.y, p.z} + Vec3{0, 0, 130})), 1e-6);
+  }
+  // The mirrored copy's faces are flipped back outward, and written so (no node mirrors them).
+  EXPECT_EQ(copies.face(2 * sphere.face_count())[1], sphere.face(0)[2] + 2 * n);
+  ASSERT_EQ(look.primitives.size(), 3u);
+  for (const auto& p : look.primitives) {
+    EXPECT_EQ(p.node, -1);
+    EXPECT_FALSE(p.mirrored);
+  }
+  EXPECT_EQ(stats.repeated_mesh, 0);
+  EXPECT_EQ(stats.repeated_mesh_draws, 3u);
   GltfReadOptions one;
   one.mesh_index = 0;
-  EXPECT_EQ(read_gltf(as_bytes(glb.bytes()), one).positions.size(), 42u);
+  EXPECT_EQ(read_gltf(as_bytes(glb.bytes()), one).positions.size(), n);
+  // Instances past the vertex cap are refused before any is read.
+  GltfReadOptions capped;
+  capped.max_vertices = 2 * n;
+  const InputError e = read_failure(glb.bytes(), capped);
+  EXPECT_EQ(e.check(), "too_large");
+  EXPECT_NE(std::string(e.what()).find("draws mesh 0 3 times, 42 vertices each"), std::string::npos)
+      << e.what();
+  // More than 256 instances in all (here 257, of zeros: an accessor without a bufferView)
+  // are refused, with the fix of mapping the mesh once.
+  Glb many(sphere_glb());
+  many.json["accessors"].push_back({{"componentType", 5126}, {"count", 257}, {"type", "VEC3"}});
+  many.json["nodes"][0]["extensions"] = {
+      {"EXT_mesh_gpu_instancing",
+       {{"attributes", {{"TRANSLATION", many.json["accessors"].size() - 1}}}}}};
+  const InputError refused = read_failure(many.bytes());
+  EXPECT_EQ(refused.check(), "instancing");
+  EXPECT_NE(std::string(refused.what()).find("as 257 instances; spheremap reads at most 256"),
+            std::string::npos)
+      << refused.what();
+  EXPECT_EQ(refused.fix().option, "mesh");
+  EXPECT_EQ(refused.fix().value, "0");
 }
 
 TEST(GltfRealWorld, ASceneDrawingOneMeshTwiceIsToldToPickIt) {

@@ -47,18 +47,15 @@ std::vector<double> numbers(const nlohmann::json& node, const char* key, size_t 
   return v;
 }
 
-Matrix local_transform(const nlohmann::json& node) {
-  if (auto m = numbers(node, "matrix", 16); !m.empty()) {
-    Matrix out;
-    std::copy(m.begin(), m.end(), out.begin());
-    return out;
-  }
+// T * R * S of a translation (3 numbers), a rotation (a quaternion x y z w, made usable
+// as gltf_checked.h says) and a scale (3 numbers); an empty one is the identity.
+Matrix compose_trs(const std::vector<double>& translation, const std::vector<double>& rotation,
+                   const std::vector<double>& scale) {
   Matrix t = kIdentity;
-  if (auto tr = numbers(node, "translation", 3); !tr.empty())
-    t[12] = tr[0], t[13] = tr[1], t[14] = tr[2];
+  if (!translation.empty()) t[12] = translation[0], t[13] = translation[1], t[14] = translation[2];
   Matrix r = kIdentity;
   // A non-unit quaternion is normalized (the writers write it so: gltf_checked.h).
-  if (const auto q = gltf::usable_rotation(numbers(node, "rotation", 4))) {
+  if (const auto q = gltf::usable_rotation(rotation)) {
     const auto [x, y, z, w] = *q;
     r = {1 - 2 * (y * y + z * z),
          2 * (x * y + z * w),
@@ -78,8 +75,18 @@ Matrix local_transform(const nlohmann::json& node) {
          1};
   }
   Matrix s = kIdentity;
-  if (auto sc = numbers(node, "scale", 3); !sc.empty()) s[0] = sc[0], s[5] = sc[1], s[10] = sc[2];
+  if (!scale.empty()) s[0] = scale[0], s[5] = scale[1], s[10] = scale[2];
   return multiply(t, multiply(r, s));
+}
+
+Matrix local_transform(const nlohmann::json& node) {
+  if (auto m = numbers(node, "matrix", 16); !m.empty()) {
+    Matrix out;
+    std::copy(m.begin(), m.end(), out.begin());
+    return out;
+  }
+  return compose_trs(numbers(node, "translation", 3), numbers(node, "rotation", 4),
+                     numbers(node, "scale", 3));
 }
 
 class Reader {
@@ -198,41 +205,113 @@ class Reader {
 
   void draw(size_t node_index, const nlohmann::json& node, size_t mesh, const Matrix& world) {
     ++draws_[mesh];
-    if (const size_t instances = chosen_ == SIZE_MAX ? gpu_instances(node) : 1; instances > 1) {
-      const std::string m = std::to_string(mesh);
-      throw InputError("instancing",
-                       "node " + std::to_string(node_index) + " draws mesh " + m + " as " +
-                           std::to_string(instances) +
-                           " instances (EXT_mesh_gpu_instancing); a spherical map needs one "
-                           "closed surface",
-                       {"mesh", m, "maps mesh " + m + " once"});
-    }
     const auto node_id = static_cast<int64_t>(node_index);
-    if (chosen_ == SIZE_MAX) return add_mesh(mesh, world, node_id);
+    if (chosen_ == SIZE_MAX) {
+      const InstanceTransforms instances = gpu_instances(node, node_index, mesh);
+      if (instances.count == 0) return add_mesh(mesh, world, node_id);
+      // Each instance is a copy of the mesh in world space, as a viewer draws it, and an
+      // asset of copies maps part by part. Its primitives belong to no node (-1: the
+      // outputs write them in world space): the node's one transform is not theirs.
+      draws_[mesh] += instances.count - 1;
+      for (size_t i = 0; i < instances.count; ++i)
+        add_mesh(mesh, multiply(world, instances.matrix(i)), -1);
+      return;
+    }
     if (mesh == chosen_ && !chosen_drawn_) {
       chosen_drawn_ = true;
       add_mesh(mesh, world, node_id);
     }
   }
 
-  // EXT_mesh_gpu_instancing: how many copies the node draws (1 without the extension).
-  size_t gpu_instances(const nlohmann::json& node) const {
+  // EXT_mesh_gpu_instancing's per-instance TRANSLATION, ROTATION and SCALE, decoded.
+  struct InstanceTransforms {
+    size_t count = 0;  // 0: the node draws the mesh once, with its own transform
+    std::vector<double> translation, rotation, scale;  // 3, 4 and 3 per instance, or empty
+    Matrix matrix(size_t i) const {
+      auto slice = [i](const std::vector<double>& v, size_t n) {
+        return v.empty() ? std::vector<double>{}
+                         : std::vector<double>(v.begin() + i * n, v.begin() + (i + 1) * n);
+      };
+      return compose_trs(slice(translation, 3), slice(rotation, 4), slice(scale, 3));
+    }
+  };
+
+  // The node's instances. Their count is capped (kMaxInstanceCopies in all), and times the
+  // mesh's vertices checked against the vertex cap, before any is read.
+  InstanceTransforms gpu_instances(const nlohmann::json& node, size_t node_index, size_t mesh) {
     const auto ext = node.find("extensions");
     if (ext == node.end() || !ext->is_object() || !ext->contains("EXT_mesh_gpu_instancing"))
-      return 1;
+      return {};
+    const std::string name = "node " + std::to_string(node_index) + "'s EXT_mesh_gpu_instancing";
     const nlohmann::json& instancing = (*ext)["EXT_mesh_gpu_instancing"];
     if (!instancing.is_object() || !instancing.contains("attributes") ||
         !instancing["attributes"].is_object() || instancing["attributes"].empty())
-      fail("EXT_mesh_gpu_instancing has no attributes");
-    const size_t accessor =
-        doc_.reference(instancing["attributes"], instancing["attributes"].begin().key().c_str(),
-                       "accessors", "EXT_mesh_gpu_instancing");
-    return gltf::whole_field(doc_.element("accessors", accessor), "count",
-                             "accessor " + std::to_string(accessor),
-                             "an element count (a non-negative integer)")
-        .value_or(1);
+      fail(name + " has no attributes");
+    const nlohmann::json& attributes = instancing["attributes"];
+    InstanceTransforms out;
+    bool counted = false;
+    for (const auto& [key, components] :
+         {std::pair<const char*, int>{"TRANSLATION", 3}, {"ROTATION", 4}, {"SCALE", 3}}) {
+      const size_t accessor = doc_.reference(attributes, key, "accessors", name);
+      if (accessor == SIZE_MAX) continue;
+      const auto shape = doc_.accessor_shape(accessor);
+      if (shape.components != components)
+        fail(name + "'s " + key + " has " + std::to_string(shape.components) + " components, not " +
+             std::to_string(components));
+      if (counted && shape.count != out.count)
+        fail(name + "'s attributes differ in count (" + std::to_string(out.count) + " and " +
+             std::to_string(shape.count) + ")");
+      out.count = shape.count, counted = true;
+    }
+    if (out.count == 0) return out;  // no transform attribute: custom ones only, drawn once
+    // Each copy is a part to prepare and map: a scene of thousands of instances (1,899
+    // teapots, 7.6M triangles) was prepared for over 13 minutes. Past the cap the mesh is
+    // to be mapped once, as before instances were read.
+    instance_copies_ += out.count;
+    if (instance_copies_ > kMaxInstanceCopies) {
+      const std::string m = std::to_string(mesh);
+      throw InputError("instancing",
+                       name + " draws mesh " + m + " as " + std::to_string(out.count) +
+                           " instances; spheremap reads at most " +
+                           std::to_string(kMaxInstanceCopies) +
+                           " instances in all, each a part to map",
+                       {"mesh", m, "maps mesh " + m + " once"});
+    }
+    const size_t per_instance = std::max<size_t>(mesh_vertices(mesh), 1);
+    if (out.count > (options_.max_vertices - mesh_.vertex_count()) / per_instance)
+      throw InputError("too_large", name + " draws mesh " + std::to_string(mesh) + " " +
+                                        std::to_string(out.count) + " times, " +
+                                        std::to_string(per_instance) +
+                                        " vertices each: over the limit of " +
+                                        std::to_string(options_.max_vertices) + " vertices");
+    int components = 0;
+    for (const auto& [key, values] :
+         {std::pair<const char*, std::vector<double>*>{"TRANSLATION", &out.translation},
+          {"ROTATION", &out.rotation},
+          {"SCALE", &out.scale}})
+      if (const size_t a = doc_.reference(attributes, key, "accessors", name); a != SIZE_MAX)
+        *values = doc_.read_attribute(a, &components);
+    return out;
   }
 
+  // The vertices mesh `mesh`'s primitives declare (their POSITION accessors' counts).
+  size_t mesh_vertices(size_t mesh) const {
+    const nlohmann::json& m = doc_.element("meshes", mesh);
+    size_t total = 0;
+    if (const auto primitives = m.find("primitives");
+        primitives != m.end() && primitives->is_array())
+      for (const auto& p : *primitives)
+        if (p.is_object() && p.contains("attributes") && p["attributes"].is_object() &&
+            p["attributes"].contains("POSITION"))
+          if (const size_t a = doc_.reference(p["attributes"], "POSITION", "accessors",
+                                              "mesh " + std::to_string(mesh));
+              a != SIZE_MAX)
+            total += doc_.accessor_shape(a).count;
+    return total;
+  }
+
+  static constexpr size_t kMaxInstanceCopies = 256;
+  size_t instance_copies_ = 0;                // EXT_mesh_gpu_instancing copies read so far
   std::vector<char> visited_;                 // nodes reached by the scene walk
   std::vector<size_t> draws_;                 // per mesh, how many nodes draw it
   size_t chosen_ = SIZE_MAX;                  // --mesh: the one mesh to read
@@ -318,7 +397,9 @@ class Reader {
     record.first_face = static_cast<uint32_t>(first_face);
     record.face_count = static_cast<uint32_t>(mesh_.face_count() - first_face);
     record.world = world;
-    record.mirrored = mirrored;
+    // Mirrored faces were flipped on read; an output that writes them under their node
+    // flips them back (the node mirrors them), one in world space (no node) does not.
+    record.mirrored = mirrored && node >= 0;
     for (const LookAttribute& a : carried) {
       record.attributes.push_back(a.name);
       store_attribute(a, first_vertex, record.vertex_count);

@@ -6,7 +6,9 @@
 // GltfResources, checked first), every index, offset, stride and count is checked
 // against the bytes actually present before it is used, and sizes are capped. Errors are
 // InputError("gltf", message) with our own messages only; "missing_resources" when
-// named files were not supplied, "instancing" for EXT_mesh_gpu_instancing scenes.
+// named files were not supplied. EXT_mesh_gpu_instancing's instances are read as copies
+// in world space, at most 256 in all ("instancing" past that, with the fix of mapping the
+// mesh once).
 #pragma once
 
 #include <cstdint>
