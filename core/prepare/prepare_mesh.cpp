@@ -704,7 +704,9 @@ bool maps_entirely(const PreparedMesh& prepared) {
 // try is one more weld and topology pass over a copy (linear, like preparing itself).
 double closing_weld_tolerance(const PolygonMesh& input, PrepareOptions options) {
   // Nothing to try when the widest tolerance welds no more than exact positions do.
-  if (weld(input, 1e-4).mesh.vertex_count() == weld(input, 0).mesh.vertex_count()) return 0;
+  StopCheck stop(&options.should_stop);
+  if (weld(input, 1e-4, &stop).mesh.vertex_count() == weld(input, 0, &stop).mesh.vertex_count())
+    return 0;
   for (const double tolerance : {1e-6, 1e-5, 1e-4}) {
     options.weld_tolerance = tolerance;
     PolygonMesh copy = input;
