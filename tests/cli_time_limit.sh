@@ -34,4 +34,24 @@ echo "$err (after ${elapsed} s)"
   { echo "expected the time_limit verdict naming the envelope"; exit 1; }
 [ "$elapsed" -lt 20 ] || { echo "the envelope was not stopped (${elapsed} s)"; exit 1; }
 [ ! -e "$out/wrapped.obj" ] || { echo "expected nothing written"; exit 1; }
+
+# The rest of the preparation is stopped too (no partial result either), once the limit has
+# passed by as much again or by a second: 256 GPU instances of an open sphere (1.3M
+# triangles, 256 parts) take seconds to prepare (`info`: 12 s here); with a limit of 0.2 s
+# the command ends at about 1.2 s with exit 3, naming the preparation and the mesh to map
+# once.
+"$make_test_meshes" "$out" --instanced 256 || exit 1
+start=$(date +%s)
+err=$("$spheremap" map "$out/instanced_256.glb" -o "$out/instanced.obj" --time-limit 0.2 \
+  --quiet 2>&1 >/dev/null)
+code=$?
+elapsed=$(($(date +%s) - start))
+echo "$err (after ${elapsed} s)"
+[ "$code" -eq 3 ] || { echo "expected exit code 3 for the preparation, got $code"; exit 1; }
+[[ "$err" == *"passed while the input was being prepared (stopped at 1.2 s); nothing was mapped"* ]] ||
+  { echo "expected the time_limit verdict naming the preparation"; exit 1; }
+[[ "$err" == *"the scene draws mesh 0 256 times: --mesh 0 maps it once"* ]] ||
+  { echo "expected the mesh to map once"; exit 1; }
+[ "$elapsed" -lt 20 ] || { echo "the preparation was not stopped (${elapsed} s)"; exit 1; }
+[ ! -e "$out/instanced.obj" ] || { echo "expected nothing written"; exit 1; }
 echo "ok"

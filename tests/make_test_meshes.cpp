@@ -3,8 +3,9 @@
 // torus,textured_horseshoe,ellipsoid}.glb; with --stress [--million], the stress set as OBJ
 // (bench/quality); with --stress-glb, the stress set as GLB (the service's slow jobs in tests and
 // benches); with --random COUNT SEED, random_stress_meshes as OBJ (the stress probe); with
-// --scatter COUNT SEED, quad_scatter as OUTDIR/scatter_COUNT_SEED.obj. OUTDIR is made when
-// missing.
+// --scatter COUNT SEED, quad_scatter as OUTDIR/scatter_COUNT_SEED.obj; with --instanced COUNT,
+// an open sphere drawn COUNT times by GPU instancing as OUTDIR/instanced_COUNT.glb. OUTDIR is
+// made when missing.
 #include <cstdio>
 #include <exception>
 #include <filesystem>
@@ -36,6 +37,17 @@ int write_meshes(int argc, char** argv) {
         testing::quad_scatter(std::stoi(argv[3]), static_cast<unsigned>(std::stoul(argv[4]))));
     return 0;
   }
+  if (flag == "--instanced" && argc == 4) {
+    // An open sphere (its first 8 faces taken out: a hole) drawn COUNT times with
+    // EXT_mesh_gpu_instancing: each copy a part the preparation works on.
+    const PolygonMesh sphere = testing::icosphere(4);
+    PolygonMesh open;
+    open.positions = sphere.positions;
+    for (size_t f = 8; f < sphere.face_count(); ++f) open.add_face(sphere.face(f));
+    write_binary_file(std::string(argv[1]) + "/instanced_" + argv[3] + ".glb",
+                      testing::instanced_glb(open, std::stoul(argv[3])));
+    return 0;
+  }
   if (flag == "--plates" && argc == 3) {
     for (const testing::NamedMesh& m : testing::thin_plates())
       write_mesh_file(std::string(argv[1]) + "/" + m.name + ".obj", m.mesh);
@@ -45,7 +57,7 @@ int write_meshes(int argc, char** argv) {
       (argc >= 3 && flag != "--stress" && flag != "--stress-glb")) {
     std::fprintf(asks_usage ? stdout : stderr,
                  "usage: make_test_meshes OUTDIR [--stress [--million] | --stress-glb | --plates | "
-                 "--random COUNT SEED | --scatter COUNT SEED]\n");
+                 "--random COUNT SEED | --scatter COUNT SEED | --instanced COUNT]\n");
     return asks_usage ? 0 : 1;
   }
   const std::string dir = argv[1];

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <map>
 #include <random>
 #include <tuple>
@@ -47,6 +48,49 @@ std::string textured_glb(const PolygonMesh& mesh) {
   glb.base_color_png = encode_png(16, 16, 8, rgb);
   glb.material_name = "test squares";
   return format_glb(glb);
+}
+
+std::string instanced_glb(const PolygonMesh& mesh, size_t count) {
+  GlbMesh glb;
+  glb.positions = mesh.positions;
+  glb.triangles = fan_triangulate(mesh).triangles;
+  const std::string file = format_glb(glb);
+  // Taken apart (a JSON chunk, then a BIN chunk: format_glb's layout), given the instances'
+  // accessor and the node's extension, and put back together.
+  uint32_t json_length, bin_length;
+  std::memcpy(&json_length, file.data() + 12, 4);
+  std::memcpy(&bin_length, file.data() + 20 + json_length, 4);
+  nlohmann::json json = nlohmann::json::parse(file.substr(20, json_length));
+  std::string bin = file.substr(28 + json_length, bin_length);
+  const size_t side = static_cast<size_t>(std::ceil(std::sqrt(static_cast<double>(count))));
+  const size_t at = bin.size();
+  for (size_t i = 0; i < count; ++i) {
+    const float t[3] = {3.0f * static_cast<float>(i % side), 3.0f * static_cast<float>(i / side),
+                        0};
+    bin.append(reinterpret_cast<const char*>(t), sizeof t);
+  }
+  json["bufferViews"].push_back(
+      {{"buffer", 0}, {"byteOffset", at}, {"byteLength", bin.size() - at}});
+  json["accessors"].push_back({{"bufferView", json["bufferViews"].size() - 1},
+                               {"componentType", 5126},
+                               {"count", count},
+                               {"type", "VEC3"}});
+  json["buffers"][0]["byteLength"] = bin.size();
+  json["nodes"][0]["extensions"]["EXT_mesh_gpu_instancing"]["attributes"]["TRANSLATION"] =
+      json["accessors"].size() - 1;
+  json["extensionsUsed"] = {"EXT_mesh_gpu_instancing"};
+  std::string text = json.dump();
+  while (text.size() % 4) text.push_back(' ');
+  std::string out;
+  auto u32 = [&](size_t v) {
+    const uint32_t value = static_cast<uint32_t>(v);
+    out.append(reinterpret_cast<const char*>(&value), 4);
+  };
+  u32(0x46546C67), u32(2), u32(28 + text.size() + bin.size());
+  u32(text.size()), u32(0x4E4F534A);
+  out += text;
+  u32(bin.size()), u32(0x004E4942);
+  return out + bin;
 }
 
 PolygonMesh icosphere(int levels) {

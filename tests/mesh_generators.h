@@ -106,5 +106,8 @@ PolygonMesh assembled(const std::vector<std::pair<PolygonMesh, Vec3>>& parts);
 std::string textured_glb(const PolygonMesh& mesh);
 // That texture's colour at (u, v) (nearest texel, clamped), 8-bit RGB.
 std::array<int, 3> textured_glb_color(double u, double v);
+// A GLB that draws `mesh` `count` times with EXT_mesh_gpu_instancing, the instances on a
+// square grid 3 units apart (TRANSLATION only).
+std::string instanced_glb(const PolygonMesh& mesh, size_t count);
 
 }  // namespace spheremap::testing
