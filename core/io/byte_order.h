@@ -1,4 +1,4 @@
-// Loading little- and big-endian numbers from unaligned bytes (binary STL and PLY),
+// Loading little- and big-endian numbers from unaligned bytes (binary STL and PLY, GLB),
 // whatever the host's byte order.
 #pragma once
 

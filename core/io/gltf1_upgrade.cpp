@@ -1,13 +1,13 @@
 #include "core/io/gltf1_upgrade.h"
 
 #include <algorithm>
-#include <cstring>
 #include <map>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "core/io/bounded_json.h"
+#include "core/io/byte_order.h"
 #include "core/io/gltf_document.h"
 
 namespace spheremap::gltf {
@@ -20,9 +20,7 @@ using nlohmann::json;
 }
 
 uint32_t read_u32(std::span<const uint8_t> bytes, size_t at) {
-  uint32_t v;
-  std::memcpy(&v, bytes.data() + at, 4);
-  return v;  // little-endian, as glTF and every platform we build for
+  return load_little_endian<uint32_t>(bytes.data() + at);
 }
 
 // One of 1.0's top-level dictionaries (accessors, nodes, ...): its objects in the order
@@ -64,11 +62,7 @@ Dictionary dictionary(const json& v1, const char* key, const char* noun,
 }
 
 uint64_t whole(const json& object, const char* key, const std::string& owner, uint64_t fallback) {
-  const auto it = object.find(key);
-  if (it == object.end()) return fallback;
-  if (!it->is_number_unsigned())
-    fail1(owner + "'s " + key + " " + describe_json(*it) + " is not a non-negative integer");
-  return it->get<uint64_t>();
+  return whole_field(object, key, "glTF 1.0: " + owner, "a non-negative integer").value_or(fallback);
 }
 
 void copy_fields(const json& from, json& to, std::initializer_list<const char*> keys) {

@@ -70,7 +70,7 @@ void copy_texture_info(const json& from, json& to, const char* key, const Declar
 
 }  // namespace
 
-std::optional<std::array<double, 4>> usable_rotation(const std::vector<double>& q) {
+std::optional<std::array<double, 4>> usable_rotation(std::span<const double> q) {
   if (q.size() != 4) return std::nullopt;
   const double length = std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
   if (!std::isfinite(length) || length < 1e-12) return std::nullopt;

@@ -7,6 +7,7 @@
 
 #include <array>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -17,7 +18,7 @@ namespace spheremap::gltf {
 // A node's `rotation` (4 numbers, x y z w) as the reader applies and the writers write
 // it: as given when unit to float precision, else normalized (as viewers do); nullopt
 // (no rotation) for a zero or non-finite one.
-std::optional<std::array<double, 4>> usable_rotation(const std::vector<double>& q);
+std::optional<std::array<double, 4>> usable_rotation(std::span<const double> q);
 
 // A node the reader has walked (its transform members already checked to be numbers of
 // the right count): name (a string), children, camera (an index below `cameras`), and

@@ -6,6 +6,7 @@
 #include <limits>
 
 #include "core/io/bounded_json.h"
+#include "core/io/byte_order.h"
 #include "core/io/gltf1_upgrade.h"
 #include "core/io/meshopt_view.h"
 #include "core/io/shown_bytes.h"
@@ -49,9 +50,7 @@ std::pair<const nlohmann::json*, const char*> meshopt_extension(const nlohmann::
 }
 
 uint32_t read_u32(std::span<const uint8_t> bytes, size_t at) {
-  uint32_t v;
-  std::memcpy(&v, bytes.data() + at, 4);
-  return v;  // glTF is little-endian, as every platform we build for
+  return load_little_endian<uint32_t>(bytes.data() + at);
 }
 
 std::string decode_base64(std::string_view text, StopCheck& stop) {

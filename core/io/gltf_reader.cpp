@@ -7,6 +7,7 @@
 #include <cmath>
 #include <map>
 #include <optional>
+#include <span>
 
 #include "core/io/draco_header.h"
 #include "core/io/gltf1_upgrade.h"
@@ -49,8 +50,8 @@ std::vector<double> numbers(const nlohmann::json& node, const char* key, size_t 
 
 // T * R * S of a translation (3 numbers), a rotation (a quaternion x y z w, made usable
 // as gltf_checked.h says) and a scale (3 numbers); an empty one is the identity.
-Matrix compose_trs(const std::vector<double>& translation, const std::vector<double>& rotation,
-                   const std::vector<double>& scale) {
+Matrix compose_trs(std::span<const double> translation, std::span<const double> rotation,
+                   std::span<const double> scale) {
   Matrix t = kIdentity;
   if (!translation.empty()) t[12] = translation[0], t[13] = translation[1], t[14] = translation[2];
   Matrix r = kIdentity;
@@ -229,8 +230,7 @@ class Reader {
     std::vector<double> translation, rotation, scale;  // 3, 4 and 3 per instance, or empty
     Matrix matrix(size_t i) const {
       auto slice = [i](const std::vector<double>& v, size_t n) {
-        return v.empty() ? std::vector<double>{}
-                         : std::vector<double>(v.begin() + i * n, v.begin() + (i + 1) * n);
+        return v.empty() ? std::span<const double>{} : std::span<const double>(v).subspan(i * n, n);
       };
       return compose_trs(slice(translation, 3), slice(rotation, 4), slice(scale, 3));
     }
