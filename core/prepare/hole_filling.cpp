@@ -7,6 +7,7 @@
 #include <unordered_set>
 #include <vector>
 
+#include "core/mesh/half_edge_ends.h"
 #include "core/mesh/union_find.h"
 #include "core/prepare/fill_refinement.h"
 
@@ -25,20 +26,14 @@ double triangle_area(const PolygonMesh& mesh, uint32_t a, uint32_t b, uint32_t c
 // The boundary loops: half-edges a -> b with no b -> a, chained b -> next. Loops through a
 // vertex with two boundary half-edges out of it (pinched) are not returned.
 std::vector<std::vector<uint32_t>> boundary_loops(const PolygonMesh& mesh, size_t& pinched) {
-  std::unordered_set<uint64_t> directed;
-  auto key = [](uint32_t a, uint32_t b) { return (uint64_t{a} << 32) | b; };
-  for (size_t f = 0; f < mesh.face_count(); ++f) {
-    const auto face = mesh.face(f);
-    for (size_t k = 0; k < face.size(); ++k)
-      directed.insert(key(face[k], face[(k + 1) % face.size()]));
-  }
+  const HalfEdgeEnds outgoing(mesh);
   std::unordered_map<uint32_t, uint32_t> next;
   std::unordered_set<uint32_t> ambiguous;
   for (size_t f = 0; f < mesh.face_count(); ++f) {
     const auto face = mesh.face(f);
     for (size_t k = 0; k < face.size(); ++k) {
       const uint32_t a = face[k], b = face[(k + 1) % face.size()];
-      if (directed.count(key(b, a))) continue;
+      if (outgoing.has(b, a)) continue;
       if (!next.emplace(a, b).second) ambiguous.insert(a);
     }
   }
@@ -135,11 +130,19 @@ HoleFilling fill_holes(PolygonMesh& mesh, double max_fill, const StopCheck* stop
   std::vector<double> surface(mesh.vertex_count(), 0);
   for (const Triangle& t : fan_triangulate(mesh).triangles)
     surface[parts.find(t[0])] += triangle_area(mesh, t[0], t[1], t[2]);
+  // The edges a fill must not repeat: the fills ask only for chords between corners of
+  // their own loop (and their new vertices, which have no mesh edges), so the mesh's edges
+  // between two loop corners are all they need.
+  std::vector<char> on_loop(mesh.vertex_count(), 0);
+  for (const std::vector<uint32_t>& loop : loops)
+    for (uint32_t v : loop) on_loop[v] = 1;
   std::unordered_set<uint64_t> edges;
   for (size_t f = 0; f < mesh.face_count(); ++f) {
     const auto face = mesh.face(f);
-    for (size_t k = 0; k < face.size(); ++k)
-      edges.insert(edge_key(face[k], face[(k + 1) % face.size()]));
+    for (size_t k = 0; k < face.size(); ++k) {
+      const uint32_t a = face[k], b = face[(k + 1) % face.size()];
+      if (on_loop[a] && on_loop[b]) edges.insert(edge_key(a, b));
+    }
   }
   // Each corner's neighbours in the mesh (before any fill): the fixed ring of the fairing.
   std::unordered_map<uint32_t, std::vector<uint32_t>> ring;
@@ -150,8 +153,8 @@ HoleFilling fill_holes(PolygonMesh& mesh, double max_fill, const StopCheck* stop
       const auto face = mesh.face(f);
       for (size_t k = 0; k < face.size(); ++k) {
         const uint32_t a = face[k], b = face[(k + 1) % face.size()];
-        if (const auto it = ring.find(a); it != ring.end()) it->second.push_back(b);
-        if (const auto it = ring.find(b); it != ring.end()) it->second.push_back(a);
+        if (on_loop[a]) ring[a].push_back(b);
+        if (on_loop[b]) ring[b].push_back(a);
       }
     }
   }

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <unordered_map>
 
+#include "core/mesh/half_edge_ends.h"
 #include "core/prepare/hole_filling.h"
 
 namespace spheremap {
@@ -44,20 +45,14 @@ uint64_t cell_key(int64_t x, int64_t y, int64_t z) {
 
 std::vector<EdgeSplit> find_t_junctions(const PolygonMesh& faces,
                                         const std::vector<Vec3>& positions, StopCheck* stop) {
-  // Every edge with its count; boundary edges are those of one face.
-  std::unordered_map<uint64_t, uint32_t> edge_count;
-  edge_count.reserve(faces.indices.size());
-  for (size_t f = 0; f < faces.face_count(); ++f) {
-    const auto face = faces.face(f);
-    for (size_t k = 0; k < face.size(); ++k)
-      ++edge_count[undirected_edge_key(face[k], face[(k + 1) % face.size()])];
-  }
+  // Boundary edges are those of one face.
+  const HalfEdgeEnds ends(faces);
   std::vector<BoundaryEdge> boundary;
   for (uint32_t f = 0; f < faces.face_count(); ++f) {
     const auto face = faces.face(f);
     for (uint32_t k = 0; k < face.size(); ++k) {
       const uint32_t a = face[k], b = face[(k + 1) % face.size()];
-      if (a != b && edge_count[undirected_edge_key(a, b)] == 1) boundary.push_back({f, k, a, b});
+      if (a != b && ends.faces_beside(a, b) == 1) boundary.push_back({f, k, a, b});
     }
   }
   if (stop) stop->check();
@@ -188,19 +183,28 @@ std::vector<EdgeSplit> find_t_junctions(const PolygonMesh& faces,
   bool stable = false;
   for (size_t round = 0; round < 16 && !stable; ++round) {
     if (stop) stop->check();
-    std::unordered_map<uint64_t, uint32_t> count = edge_count;
+    // Each edge's face count with the kept splits made, for the edges they touch.
+    std::unordered_map<uint64_t, uint32_t> touched;
+    auto count = [&](uint64_t key) -> uint32_t& {
+      const auto [it, added] = touched.try_emplace(key, 0);
+      if (added) {
+        const uint32_t a = static_cast<uint32_t>(key >> 32), b = static_cast<uint32_t>(key);
+        it->second = static_cast<uint32_t>(a == b ? ends.count(a, a) : ends.faces_beside(a, b));
+      }
+      return it->second;
+    };
     for (size_t s = 0; s < splits.size(); ++s) {
       if (!keep[s]) continue;
       const auto face = faces.face(splits[s].face);
-      --count[undirected_edge_key(face[splits[s].corner],
-                                  face[(splits[s].corner + 1) % face.size()])];
-      pieces(splits[s], [&](uint64_t key) { ++count[key]; });
+      --count(undirected_edge_key(face[splits[s].corner],
+                                  face[(splits[s].corner + 1) % face.size()]));
+      pieces(splits[s], [&](uint64_t key) { ++count(key); });
     }
     bool dropped = false;
     for (size_t s = 0; s < splits.size(); ++s) {
       if (!keep[s]) continue;
       bool closes = true;
-      pieces(splits[s], [&](uint64_t key) { closes = closes && count[key] == 2; });
+      pieces(splits[s], [&](uint64_t key) { closes = closes && count(key) == 2; });
       if (!closes) keep[s] = 0, dropped = true;
     }
     stable = !dropped;
