@@ -1,7 +1,6 @@
 #include "core/mesh/weld.h"
 
 #include <algorithm>
-#include <array>
 #include <cmath>
 #include <numeric>
 #include <tuple>
@@ -31,93 +30,117 @@ void unite_equal(const std::vector<Vec3>& p, UnionFind& sets) {
 // compares every pair (measured: weld_tolerance = 1 was O(n^2) on the HTTP thread); the
 // comparisons are still capped, with an error that names the option.
 //
-// The cells are the points sorted by cell, found by an open-addressing table of cell
-// starts: 62 lookups per cell, nearly all of empty cells. A std::unordered_map of cells
-// spent them walking bucket chains: 12% of a 178K-face room's whole map, whose weld trials
-// run it five times. The sets formed do not depend on the order cells are visited in.
+// The cells are the points sorted by cell (x, then y, then z), so a column of cells (one
+// x and y) is a run sorted by z. Each column looks up its 12 neighbour columns before it
+// (dx, dy within 2) in an open-addressing table of columns and walks each beside its own,
+// cells within 2 in z; within a column, the 2 cells below. Looking up each of a cell's 62
+// neighbour cells instead (nearly all empty) was most of the weld's time on a 1.3M-vertex
+// asset, and a std::unordered_map of cells before that spent it walking bucket chains. The
+// sets formed (connected components of "within radius") do not depend on the order.
 void unite_within(const std::vector<Vec3>& p, double radius, UnionFind& sets, StopCheck& stop) {
-  using Key = std::array<int64_t, 3>;
-  // Spelled out: std::array's == and < on int64_t became a call to memcmp per comparison,
-  // a fifth of the preparation of a 1.3M-triangle asset (its weld trials weld it at 1e-4).
-  auto same = [](const Key& a, const Key& b) { return a[0] == b[0] && a[1] == b[1] && a[2] == b[2]; };
-  auto before = [](const Key& a, const Key& b) {
-    if (a[0] != b[0]) return a[0] < b[0];
-    return a[1] != b[1] ? a[1] < b[1] : a[2] < b[2];
+  struct Cell {
+    int64_t x, y, z;
   };
   const double cell = radius / std::sqrt(3.0);
   auto cell_of = [&](const Vec3& q) {
-    return Key{static_cast<int64_t>(std::floor(q.x / cell)),
-               static_cast<int64_t>(std::floor(q.y / cell)),
-               static_cast<int64_t>(std::floor(q.z / cell))};
+    return Cell{static_cast<int64_t>(std::floor(q.x / cell)),
+                static_cast<int64_t>(std::floor(q.y / cell)),
+                static_cast<int64_t>(std::floor(q.z / cell))};
   };
-  std::vector<std::pair<Key, uint32_t>> points;
+  std::vector<std::pair<Cell, uint32_t>> points;
   points.reserve(p.size());
   for (uint32_t i = 0; i < p.size(); ++i) {
     stop.tick();
     if (is_finite(p[i])) points.push_back({cell_of(p[i]), i});
   }
-  std::sort(points.begin(), points.end(), [&](const auto& a, const auto& b) {
-    return same(a.first, b.first) ? a.second < b.second : before(a.first, b.first);
+  auto same_column = [](const Cell& a, const Cell& b) { return a.x == b.x && a.y == b.y; };
+  std::sort(points.begin(), points.end(), [](const auto& a, const auto& b) {
+    const Cell &u = a.first, &v = b.first;
+    if (u.x != v.x) return u.x < v.x;
+    if (u.y != v.y) return u.y < v.y;
+    return u.z != v.z ? u.z < v.z : a.second < b.second;
   });
   stop.check();
-  std::vector<uint32_t> starts;  // cell c is points[starts[c], starts[c + 1])
-  for (uint32_t k = 0; k < points.size(); ++k)
-    if (k == 0 || !same(points[k].first, points[k - 1].first)) starts.push_back(k);
-  const size_t cells = starts.size();
+  // Cell c is points[starts[c], starts[c + 1]); column k is cells [columns[k], columns[k + 1]).
+  std::vector<uint32_t> starts, columns;
+  for (uint32_t k = 0; k < points.size(); ++k) {
+    const Cell& here = points[k].first;
+    const bool new_column = k == 0 || !same_column(here, points[k - 1].first);
+    if (new_column || here.z != points[k - 1].first.z) {
+      if (new_column) columns.push_back(static_cast<uint32_t>(starts.size()));
+      starts.push_back(k);
+    }
+  }
+  const size_t cells = starts.size(), column_count = columns.size();
   starts.push_back(static_cast<uint32_t>(points.size()));
-  auto hash = [](const Key& c) {  // multiply-xorshift rounds over the three coordinates
+  columns.push_back(static_cast<uint32_t>(cells));
+  auto cell_key = [&](uint32_t c) -> const Cell& { return points[starts[c]].first; };
+  auto first_point = [&](uint32_t c) { return points[starts[c]].second; };
+  auto hash = [](int64_t x, int64_t y) {  // multiply-xorshift rounds over two coordinates
     uint64_t h = 0;
-    for (int64_t v : c) {
+    for (int64_t v : {x, y}) {
       h = (h ^ static_cast<uint64_t>(v)) * 0x9e3779b97f4a7c15ull;
       h ^= h >> 31;
     }
     return h * 0xbf58476d1ce4e5b9ull;
   };
   size_t slots = 1;
-  while (slots < 2 * cells) slots *= 2;
-  std::vector<uint32_t> table(slots, UINT32_MAX);  // cell ids, linear probing
-  for (uint32_t c = 0; c < cells; ++c) {
-    size_t s = hash(points[starts[c]].first) & (slots - 1);
+  while (slots < 2 * column_count) slots *= 2;
+  std::vector<uint32_t> table(slots, UINT32_MAX);  // column ids, linear probing
+  for (uint32_t k = 0; k < column_count; ++k) {
+    const Cell& c = cell_key(columns[k]);
+    size_t s = hash(c.x, c.y) & (slots - 1);
     while (table[s] != UINT32_MAX) s = (s + 1) & (slots - 1);
-    table[s] = c;
+    table[s] = k;
   }
-  auto find_cell = [&](const Key& key) -> uint32_t {
-    for (size_t s = hash(key) & (slots - 1);; s = (s + 1) & (slots - 1))
-      if (table[s] == UINT32_MAX || same(points[starts[table[s]]].first, key)) return table[s];
+  auto find_column = [&](int64_t x, int64_t y) -> uint32_t {
+    for (size_t s = hash(x, y) & (slots - 1);; s = (s + 1) & (slots - 1)) {
+      if (table[s] == UINT32_MAX) return UINT32_MAX;
+      const Cell& c = cell_key(columns[table[s]]);
+      if (c.x == x && c.y == y) return table[s];
+    }
   };
   for (uint32_t c = 0; c < cells; ++c)
     for (uint32_t k = starts[c] + 1; k < starts[c + 1]; ++k)
-      sets.unite(points[starts[c]].second, points[k].second);
+      sets.unite(first_point(c), points[k].second);
   const double r2 = radius * radius;
   const uint64_t budget = 200'000'000;  // pair distance tests, ~1 s
   uint64_t tests = 0;
-  for (uint32_t c = 0; c < cells; ++c) {
-    stop.tick();
-    const Key& key = points[starts[c]].first;
-    const uint32_t first = points[starts[c]].second;
-    for (int64_t dx = -2; dx <= 2; ++dx)
-      for (int64_t dy = -2; dy <= 2; ++dy)
-        for (int64_t dz = -2; dz <= 2; ++dz) {
-          const Key other_key{key[0] + dx, key[1] + dy, key[2] + dz};
-          if (!before(other_key, key)) continue;  // each pair of cells once
-          const uint32_t other = find_cell(other_key);
-          if (other == UINT32_MAX) continue;
-          if (sets.find(first) == sets.find(points[starts[other]].second)) continue;
-          bool joined = false;
-          for (uint32_t a = starts[c]; a < starts[c + 1] && !joined; ++a)
-            for (uint32_t b = starts[other]; b < starts[other + 1]; ++b)
-              if (++tests, stop.tick(),
-                  squared_norm(p[points[a].second] - p[points[b].second]) <= r2) {
-                joined = true;
-                break;
-              }
-          if (joined) sets.unite(first, points[starts[other]].second);
-          if (tests > budget)
-            throw InputError("weld", "weld tolerance " + std::to_string(radius) +
-                                         " compares too many vertex pairs (over " +
-                                         std::to_string(budget) +
-                                         "); use a smaller weld_tolerance");
+  auto compare = [&](uint32_t c, uint32_t other) {
+    if (sets.find(first_point(c)) == sets.find(first_point(other))) return;
+    bool joined = false;
+    for (uint32_t a = starts[c]; a < starts[c + 1] && !joined; ++a)
+      for (uint32_t b = starts[other]; b < starts[other + 1]; ++b)
+        if (++tests, stop.tick(), squared_norm(p[points[a].second] - p[points[b].second]) <= r2) {
+          joined = true;
+          break;
         }
+    if (joined) sets.unite(first_point(c), first_point(other));
+    if (tests > budget)
+      throw InputError("weld", "weld tolerance " + std::to_string(radius) +
+                                   " compares too many vertex pairs (over " +
+                                   std::to_string(budget) + "); use a smaller weld_tolerance");
+  };
+  for (uint32_t k = 0; k < column_count; ++k) {
+    const uint32_t begin = columns[k], end = columns[k + 1];
+    stop.tick(end - begin);
+    const Cell& column = cell_key(begin);
+    // Within the column: each cell with the (at most 2) cells up to 2 below it.
+    for (uint32_t c = begin; c < end; ++c)
+      for (uint32_t o = c; o-- > begin && cell_key(c).z - cell_key(o).z <= 2;) compare(c, o);
+    // The columns before it: dx < 0, or dx = 0 and dy < 0; their cells within 2 in z.
+    for (int64_t dx = -2; dx <= 0; ++dx)
+      for (int64_t dy = -2; dy <= 2 && !(dx == 0 && dy >= 0); ++dy) {
+        const uint32_t other = find_column(column.x + dx, column.y + dy);
+        if (other == UINT32_MAX) continue;
+        const uint32_t other_end = columns[other + 1];
+        uint32_t low = columns[other];  // the first of its cells not below z - 2
+        for (uint32_t c = begin; c < end; ++c) {
+          const int64_t z = cell_key(c).z;
+          while (low < other_end && cell_key(low).z < z - 2) ++low;
+          for (uint32_t o = low; o < other_end && cell_key(o).z <= z + 2; ++o) compare(c, o);
+        }
+      }
   }
 }
 

@@ -2,12 +2,12 @@
 
 #include <optional>
 #include <unordered_map>
-#include <unordered_set>
 #include <vector>
 
+#include "core/mesh/half_edge_ends.h"
 #include "core/mesh/topology.h"
 #include "core/prepare/connected_parts.h"
-#include "core/prepare/hole_filling.h"  // directed_edge_key, undirected_edge_key
+#include "core/prepare/hole_filling.h"  // undirected_edge_key
 
 namespace spheremap {
 namespace {
@@ -30,15 +30,9 @@ struct Back {
 
 std::optional<Back> back_of(const PolygonMesh& part, const StopCheck* stop) {
   const uint32_t n = static_cast<uint32_t>(part.vertex_count());
-  std::unordered_set<uint64_t> directed;
-  directed.reserve(part.indices.size());
-  for (size_t f = 0; f < part.face_count(); ++f) {
-    const auto c = part.face(f);
-    for (size_t i = 0; i < c.size(); ++i)
-      directed.insert(directed_edge_key(c[i], c[(i + 1) % c.size()]));
-  }
+  const HalfEdgeEnds ends(part);
   auto on_rim = [&](uint32_t a, uint32_t b) {  // a -> b a side of a face with nothing beyond
-    return directed.count(directed_edge_key(a, b)) && !directed.count(directed_edge_key(b, a));
+    return ends.has(a, b) && !ends.has(b, a);
   };
   std::vector<char> on_boundary(n, 0);
   for (size_t f = 0; f < part.face_count(); ++f) {
