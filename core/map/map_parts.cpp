@@ -3,8 +3,12 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <optional>
+#include <unordered_map>
 
 #include "core/map/certification.h"
+#include "core/map/map_check.h"
+#include "core/map/part_copies.h"
 #include "core/mesh/sphere_geometry.h"
 #include "core/prepare/connected_parts.h"
 
@@ -141,8 +145,12 @@ void leave_out_uncertified(MappedMesh& whole) {
   PolygonMesh mesh;
   std::vector<MappedPart> parts;
   std::vector<uint32_t> corners;
+  std::vector<size_t> kept_index(whole.parts.size(), 0);  // copies name their original by it
+  for (size_t k = 0, next = 0; k < whole.parts.size(); ++k)
+    if (keep[k]) kept_index[k] = next++;
   for (size_t k = 0; k < whole.parts.size(); ++k) {
     MappedPart& part = whole.parts[k];
+    if (part.copy_of) part.copy_of = kept_index[*part.copy_of];  // originals are certified: kept
     if (!keep[k]) {
       if (k < reports.size())
         reports[k]->failures = {
@@ -170,6 +178,47 @@ void leave_out_uncertified(MappedMesh& whole) {
   welded.mesh = std::move(mesh);
   whole.prepared.topology = analyze_topology(welded.mesh);
   whole.parts = std::move(parts);
+}
+
+// Tolerance of a copy's fit (part_copies.h), relative to the part's size: copies a text
+// file wrote with 6 to 7 digits are still copies.
+constexpr double kCopyTolerance = 1e-5;
+
+// The map of `part` as the map of an earlier certified part with the same faces turned onto
+// it (part_copies.h), measured and checked like any map; nullopt when no earlier part fits
+// or the turned map does not pass its own certification (then the part is mapped).
+std::optional<MappedMesh> copied_map(const PreparedMesh& part, const std::vector<MappedPart>& done,
+                                     const std::vector<size_t>& candidates,
+                                     const MapOptions& options, size_t& source) {
+  const PolygonMesh& mesh = part.welded.mesh;
+  for (size_t j : candidates) {
+    const MappedMesh& earlier = done[j].mapped;
+    const PolygonMesh& earlier_mesh = earlier.prepared.welded.mesh;
+    if (!same_faces(earlier_mesh, earlier.prepared.filled, mesh, part.filled)) continue;
+    const std::optional<Rotation> turn =
+        rotation_onto(earlier_mesh.positions, mesh.positions, kCopyTolerance);
+    if (!turn) continue;
+    MappedMesh copy;
+    copy.prepared = part;
+    MapResult& map = copy.map;
+    const MapResult& from = earlier.map;
+    map.stop_reason = from.stop_reason;
+    map.attempts = from.attempts;
+    map.optimized = from.optimized;
+    map.inward = from.inward;
+    map.sphere.reserve(from.sphere.size());
+    for (const Vec3& q : from.sphere) map.sphere.push_back(normalized_or(rotate(*turn, q), q));
+    const auto start = std::chrono::steady_clock::now();
+    const OrientedTriangles oriented = oriented_triangles(mesh);
+    map.check = verify_map(map.sphere, oriented.triangles, mesh, oriented.inward);
+    map.verify_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    if (oriented.inward != from.inward || !clean(map.check)) continue;
+    measure_map(copy, options);
+    if (!certify(copy, copy.float32_check).certified) continue;
+    source = j;
+    return copy;
+  }
+  return std::nullopt;
 }
 
 // The parts of `split` in the order of their reports (PartReport::welded_vertex), so that
@@ -212,6 +261,8 @@ MappedMesh map_parts(PreparedMesh prepared, const MapOptions& options, const Map
       for (uint32_t v = 0; v < split[k].vertex.size(); ++v)
         part_of[split[k].vertex[v]] = k, local_id[split[k].vertex[v]] = v;
   }
+  // The certified parts mapped so far, by faces_hash: where a copy finds its original.
+  std::unordered_map<uint64_t, std::vector<size_t>> by_faces;
   for (MeshPart& piece : split) {
     MappedPart part;
     part.whole_vertex = std::move(piece.vertex);
@@ -239,12 +290,24 @@ MappedMesh map_parts(PreparedMesh prepared, const MapOptions& options, const Map
     const double elapsed =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - *part_control.clock_start)
             .count();
+    const uint64_t faces = faces_hash(part.mapped.prepared.welded.mesh, part.mapped.prepared.filled);
+    const auto earlier = by_faces.find(faces);
+    size_t source = 0;
+    std::optional<MappedMesh> copy;
     if (options.time_limit_seconds > 0 && elapsed >= options.time_limit_seconds) {
       const PolygonMesh& part_mesh = part.mapped.prepared.welded.mesh;
       part.mapped.map = unmapped(part_mesh, part.center);
       part.mapped.map.check =
           check_map(part.mapped.map.sphere, oriented_triangles(part_mesh).triangles);
       part.mapped.map.stopped_in = "waiting";
+    } else if (earlier != by_faces.end() &&
+               (copy = copied_map(part.mapped.prepared, whole.parts, earlier->second, options,
+                                  source))) {
+      part.mapped = std::move(*copy);
+      part.copy_of = source;
+      // Checked, not mapped: its progress is its check's.
+      if (part_control.on_progress)
+        part_control.on_progress({.stage = "verify", .elapsed_seconds = elapsed});
     } else {
       MappedMesh mapped = map_prepared(std::move(part.mapped.prepared), options, part_control);
       if (mapped.map.sphere.empty()) {  // cancelled
@@ -252,6 +315,8 @@ MappedMesh map_parts(PreparedMesh prepared, const MapOptions& options, const Map
         return whole;
       }
       part.mapped = std::move(mapped);
+      if (certify(part.mapped, part.mapped.float32_check).certified)
+        by_faces[faces].push_back(whole.parts.size());
     }
     whole.metrics_seconds += part.mapped.metrics_seconds;
     whole.parts.push_back(std::move(part));

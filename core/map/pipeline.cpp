@@ -35,7 +35,11 @@ MappedMesh map_prepared(PreparedMesh prepared, const MapOptions& options,
   out.prepared = std::move(prepared);
   out.map = map_to_sphere(out.prepared.welded.mesh, options, control, out.prepared.filled);
   if (out.map.sphere.empty()) return out;  // cancelled
+  measure_map(out, options);
+  return out;
+}
 
+void measure_map(MappedMesh& out, const MapOptions& options) {
   const auto start = std::chrono::steady_clock::now();
   const PolygonMesh& mesh = out.prepared.welded.mesh;
   const OrientedTriangles oriented = oriented_triangles(mesh);
@@ -57,7 +61,6 @@ MappedMesh map_prepared(PreparedMesh prepared, const MapOptions& options,
   out.float32_check =
       verify_map(rounded_to_float32(out.map.sphere), oriented.triangles, mesh, oriented.inward);
   out.metrics_seconds = seconds_since(start);
-  return out;
 }
 
 namespace {

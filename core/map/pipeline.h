@@ -38,6 +38,9 @@ struct MappedPart {
   // centroid, with the part's surface area.
   Vec3 center;
   double radius = 0, surface_area = 0;
+  // A copy of an earlier part (part_copies.h): its map is that part's turned; the index
+  // is in the same list of parts.
+  std::optional<size_t> copy_of;
 };
 
 // Throws InputError when the mesh cannot be mapped (the failed check, with counts).
@@ -47,6 +50,10 @@ MappedMesh map_mesh(const PolygonMesh& input, const PrepareOptions& prepare,
 // The same from a mesh already prepared; throws InputError when it is not mappable.
 MappedMesh map_prepared(PreparedMesh prepared, const MapOptions& options,
                         const MapControl& control = {});
+
+// The quality metrics and the float32 check of out.map (a map of out.prepared.welded.mesh),
+// with metrics_seconds; map_prepared's last step.
+void measure_map(MappedMesh& out, const MapOptions& options);
 
 // The input mesh with every vertex moved to its sphere position (input order and faces;
 // unreferenced vertices that weld to nothing stay at the origin, faces of dropped

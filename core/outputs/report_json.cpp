@@ -219,6 +219,7 @@ nlohmann::json topology_json(const PreparedMesh& prepared, const GltfReadStats* 
 nlohmann::json parts_json(const PreparedMesh& prepared, const MappedMesh* mapped) {
   nlohmann::json parts = nlohmann::json::array();
   size_t mapped_index = 0;
+  std::vector<size_t> part_of_mapped;  // mapped index -> k (a copy names its original by k)
   for (size_t k = 0; k < prepared.parts.size(); ++k) {
     const PartReport& report = prepared.parts[k];
     nlohmann::json part = {{"part", k}, {"vertices", report.vertices}, {"faces", report.faces}};
@@ -253,7 +254,10 @@ nlohmann::json parts_json(const PreparedMesh& prepared, const MappedMesh* mapped
         part["area_distortion"] = summary_json(p.mapped.quality.area_log_ratio);
         part["sphere_center"] = {p.center.x, p.center.y, p.center.z};
         part["sphere_radius"] = p.radius;
+        if (p.copy_of && *p.copy_of < part_of_mapped.size())
+          part["copy_of"] = part_of_mapped[*p.copy_of];
       }
+      part_of_mapped.push_back(k);
       ++mapped_index;
     }
     parts.push_back(std::move(part));
