@@ -60,8 +60,11 @@ start_api() {
   pids+=($!)
   eval "api_pid_$1=$!"
   for _ in $(seq 200); do
-    if grep -q '"event":"listening"' "$log"; then
-      eval "api_$1=$(grep '"event":"listening"' "$log" | grep -o '"url":"[^"]*"' | cut -d'"' -f4)"
+    # The url, not the event alone: a line read while it is being written has no url yet.
+    local url
+    url=$(grep '"event":"listening"' "$log" | grep -o '"url":"[^"]*"' | cut -d'"' -f4)
+    if [ -n "$url" ]; then
+      eval "api_$1=$url"
       return
     fi
     sleep 0.05
@@ -98,7 +101,10 @@ wait_status() {
     case $now in succeeded | failed | cancelled) [ "$now" != "$3" ] && break ;; esac
     sleep 0.1
   done
-  fail "job $2 is '$now', expected '$3': $(curl -s "$1/v1/jobs/$2" | head -c 600)"
+  # What the replica answers at all (000: nothing listens at $1), to tell a lost job from
+  # a replica that is gone.
+  fail "job $2 is '$now', expected '$3': $(curl -s "$1/v1/jobs/$2" | head -c 600)" \
+    "(GET $1/healthz: $(curl -s -o /dev/null -w '%{http_code}' "$1/healthz"))"
 }
 
 start_redis
