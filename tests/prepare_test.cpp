@@ -46,6 +46,22 @@ TEST(FaceCleanup, LeavesACleanMeshAlone) {
   }
 }
 
+// A closed manifold asset of triangles is not cleaned (nothing_to_clean), except that one
+// triangle stored twice, back to back, is a closed part of its own: its copy is still dropped.
+TEST(FaceCleanup, ADoubleSidedTriangleBesideClosedPartsIsStillFound) {
+  PolygonMesh triangle;
+  triangle.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+  triangle.add_face(std::vector<uint32_t>{0, 1, 2});
+  triangle.add_face(std::vector<uint32_t>{0, 2, 1});
+  PolygonMesh input = testing::assembled(
+      {{testing::icosphere(2), {}}, {testing::icosphere(1), {5, 0, 0}}, {triangle, {0, 5, 0}}});
+  const PreparedMesh prepared = prepare_input(input, nullptr, {});
+  EXPECT_EQ(prepared.preparation.duplicate_faces, 1u);
+  PolygonMesh closed = testing::assembled(
+      {{testing::icosphere(2), {}}, {testing::icosphere(1), {5, 0, 0}}});
+  EXPECT_EQ(prepare_input(closed, nullptr, {}).preparation.duplicate_faces, 0u);
+}
+
 TEST(FaceCleanup, DropsTheBackFacesOfADoubleSidedExport) {
   const PolygonMesh sphere = testing::icosphere(2);
   const PolygonMesh back = testing::reversed(sphere);

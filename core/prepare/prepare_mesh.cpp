@@ -402,6 +402,21 @@ size_t split_shared_edges(PreparedMesh& prepared, PolygonMesh& input, GltfAppear
   return wall_faces;
 }
 
+// Whether clean_faces would change nothing, from the weld's topology alone: triangles
+// only, closed, every edge of two faces running opposite ways, no corner twice, and no part
+// of 2 faces. Then no face collapses or shortens (a corner twice), no T-junction has a
+// crack to zip (a boundary), no part is misoriented, and no two triangles share their
+// corners (they would be a part of their own, of 2 faces). A kit of 1,024 closed parts
+// (6M triangles) spent 4 of its 11 s of preparation learning that.
+bool nothing_to_clean(const PreparedMesh& as_given, const PrepareOptions& options) {
+  const TopologyReport& t = as_given.topology;
+  return !options.largest_component && t.face_sizes.size() == 1 && t.face_sizes.count(3) &&
+         t.boundary_edges == 0 && t.non_manifold_edges == 0 && t.inconsistent_edges == 0 &&
+         t.faces_with_repeated_vertices == 0 &&
+         std::all_of(t.component_faces.begin(), t.component_faces.end(),
+                     [](size_t faces) { return faces > 2; });
+}
+
 PreparedMesh prepare_once(PolygonMesh& input, GltfAppearance* look, const PrepareOptions& options) {
   PreparedMesh as_given = prepare_mesh(input, options);
   // A mesh that maps as it is has nothing to clean (a duplicate face, a collapsed one or a
@@ -412,7 +427,9 @@ PreparedMesh prepare_once(PolygonMesh& input, GltfAppearance* look, const Prepar
     return as_given;
   }
   StopCheck stop(&options.should_stop);
-  FaceCleanup cleanup = clean_faces(input, options.weld_tolerance, &stop);
+  FaceCleanup cleanup = nothing_to_clean(as_given, options)
+                            ? FaceCleanup{}
+                            : clean_faces(input, options.weld_tolerance, &stop);
   const size_t input_faces = input.face_count();
   PreparedMesh prepared;
   if (cleanup.changed()) {
