@@ -21,9 +21,8 @@ Rotation turn(Vec3 axis, double radians) {
   axis = axis * (1 / norm(axis));
   const double c = std::cos(radians), s = std::sin(radians), t = 1 - c;
   const double x = axis.x, y = axis.y, z = axis.z;
-  return {t * x * x + c,     t * x * y - s * z, t * x * z + s * y,
-          t * x * y + s * z, t * y * y + c,     t * y * z - s * x,
-          t * x * z - s * y, t * y * z + s * x, t * z * z + c};
+  return {t * x * x + c,     t * x * y - s * z, t * x * z + s * y, t * x * y + s * z, t * y * y + c,
+          t * y * z - s * x, t * x * z - s * y, t * y * z + s * x, t * z * z + c};
 }
 
 // An asymmetric closed genus-0 part: a sphere with three limbs of different lengths.
@@ -61,9 +60,8 @@ TEST(PartCopies, ACopyReusesItsOriginalsMapTurnedAndIsCertifiedWithTheSameDistor
   PolygonMesh mirror = part;
   for (Vec3& p : mirror.positions) p.x = -p.x;
   mirror = testing::reversed(mirror);  // a mirror image, kept outward: not a copy
-  PolygonMesh input = testing::assembled({{part, {0, 0, 0}},
-                                          {moved(part, r, 0.5, {}), {8, 0, 0}},
-                                          {mirror, {0, 8, 0}}});
+  PolygonMesh input = testing::assembled(
+      {{part, {0, 0, 0}}, {moved(part, r, 0.5, {}), {8, 0, 0}}, {mirror, {0, 8, 0}}});
   PreparedMesh prepared = prepare_input(input, nullptr, {});
   ASSERT_EQ(prepared.parts.size(), 3u);
   const MappedMesh mapped = map_prepared(prepared, {});

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -57,9 +58,28 @@ TEST(FaceCleanup, ADoubleSidedTriangleBesideClosedPartsIsStillFound) {
       {{testing::icosphere(2), {}}, {testing::icosphere(1), {5, 0, 0}}, {triangle, {0, 5, 0}}});
   const PreparedMesh prepared = prepare_input(input, nullptr, {});
   EXPECT_EQ(prepared.preparation.duplicate_faces, 1u);
-  PolygonMesh closed = testing::assembled(
-      {{testing::icosphere(2), {}}, {testing::icosphere(1), {5, 0, 0}}});
+  PolygonMesh closed =
+      testing::assembled({{testing::icosphere(2), {}}, {testing::icosphere(1), {5, 0, 0}}});
   EXPECT_EQ(prepare_input(closed, nullptr, {}).preparation.duplicate_faces, 0u);
+}
+
+// Each of the cleanup's passes over the faces asks whether to stop as it goes (a 7.6M-triangle
+// asset's cleanup asked seconds apart), not only between passes.
+TEST(FaceCleanup, AsksWhetherToStopWithinEachPass) {
+  const PolygonMesh sphere = testing::icosphere(6);  // 81,920 faces
+  PolygonMesh double_sided = sphere;
+  const PolygonMesh back = testing::reversed(sphere);
+  for (size_t f = 0; f < back.face_count(); ++f) double_sided.add_face(back.face(f));
+  size_t questions = 0;
+  const std::function<bool()> should_stop = [&] { return ++questions, false; };
+  StopCheck stop(&should_stop);
+  EXPECT_EQ(clean_faces(double_sided, 0, &stop).duplicate_faces, sphere.face_count());
+  // Four passes over every face at least (collapsed, duplicates, orientation, the result).
+  EXPECT_GE(questions, 4 * double_sided.face_count() / StopCheck::kInterval);
+
+  const std::function<bool()> stop_now = [] { return true; };
+  StopCheck stopped(&stop_now);
+  EXPECT_THROW(clean_faces(double_sided, 0, &stopped), InputError);
 }
 
 TEST(FaceCleanup, DropsTheBackFacesOfADoubleSidedExport) {

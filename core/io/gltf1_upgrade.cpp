@@ -62,7 +62,8 @@ Dictionary dictionary(const json& v1, const char* key, const char* noun,
 }
 
 uint64_t whole(const json& object, const char* key, const std::string& owner, uint64_t fallback) {
-  return whole_field(object, key, "glTF 1.0: " + owner, "a non-negative integer").value_or(fallback);
+  return whole_field(object, key, "glTF 1.0: " + owner, "a non-negative integer")
+      .value_or(fallback);
 }
 
 void copy_fields(const json& from, json& to, std::initializer_list<const char*> keys) {

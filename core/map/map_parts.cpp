@@ -211,7 +211,8 @@ std::optional<MappedMesh> copied_map(const PreparedMesh& part, const std::vector
     const auto start = std::chrono::steady_clock::now();
     const OrientedTriangles oriented = oriented_triangles(mesh);
     map.check = verify_map(map.sphere, oriented.triangles, mesh, oriented.inward);
-    map.verify_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    map.verify_seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     if (oriented.inward != from.inward || !clean(map.check)) continue;
     measure_map(copy, options);
     if (!certify(copy, copy.float32_check).certified) continue;
@@ -290,7 +291,8 @@ MappedMesh map_parts(PreparedMesh prepared, const MapOptions& options, const Map
     const double elapsed =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - *part_control.clock_start)
             .count();
-    const uint64_t faces = faces_hash(part.mapped.prepared.welded.mesh, part.mapped.prepared.filled);
+    const uint64_t faces =
+        faces_hash(part.mapped.prepared.welded.mesh, part.mapped.prepared.filled);
     const auto earlier = by_faces.find(faces);
     size_t source = 0;
     std::optional<MappedMesh> copy;
@@ -300,9 +302,8 @@ MappedMesh map_parts(PreparedMesh prepared, const MapOptions& options, const Map
       part.mapped.map.check =
           check_map(part.mapped.map.sphere, oriented_triangles(part_mesh).triangles);
       part.mapped.map.stopped_in = "waiting";
-    } else if (earlier != by_faces.end() &&
-               (copy = copied_map(part.mapped.prepared, whole.parts, earlier->second, options,
-                                  source))) {
+    } else if (earlier != by_faces.end() && (copy = copied_map(part.mapped.prepared, whole.parts,
+                                                               earlier->second, options, source))) {
       part.mapped = std::move(*copy);
       part.copy_of = source;
       // Checked, not mapped: its progress is its check's.

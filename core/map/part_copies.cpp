@@ -28,8 +28,7 @@ uint64_t faces_hash(const PolygonMesh& mesh, std::span<const Triangle> filled) {
 
 bool same_faces(const PolygonMesh& a, std::span<const Triangle> a_filled, const PolygonMesh& b,
                 std::span<const Triangle> b_filled) {
-  return a.vertex_count() == b.vertex_count() && a.offsets == b.offsets &&
-         a.indices == b.indices &&
+  return a.vertex_count() == b.vertex_count() && a.offsets == b.offsets && a.indices == b.indices &&
          std::equal(a_filled.begin(), a_filled.end(), b_filled.begin(), b_filled.end());
 }
 

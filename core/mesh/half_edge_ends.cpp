@@ -7,9 +7,8 @@ namespace spheremap {
 HalfEdgeEnds::HalfEdgeEnds(const PolygonMesh& mesh) {
   // The faces' own largest index, not vertex_count(): face lists without positions (a
   // renumbering's faces) are asked too.
-  const uint32_t top = mesh.indices.empty()
-                           ? 0
-                           : *std::max_element(mesh.indices.begin(), mesh.indices.end()) + 1;
+  const uint32_t top =
+      mesh.indices.empty() ? 0 : *std::max_element(mesh.indices.begin(), mesh.indices.end()) + 1;
   start_.assign(std::max<size_t>(mesh.vertex_count(), top) + 1, 0);
   for (uint32_t v : mesh.indices) ++start_[v + 1];
   for (size_t v = 0; v + 1 < start_.size(); ++v) start_[v + 1] += start_[v];

@@ -20,11 +20,12 @@ struct WorkingFaces {
 // a face left with fewer than 3 corners is dropped. A pinched polygon (a vertex twice, not
 // in a row) is kept as it is: the topology check names it.
 WorkingFaces drop_collapsed(const PolygonMesh& input, const std::vector<uint32_t>& to_welded,
-                            FaceCleanup& report) {
+                            FaceCleanup& report, StopCheck& stop) {
   WorkingFaces out;
   out.input_ids.positions = input.positions;
   std::vector<uint32_t> corners, welded, sorted;
   for (uint32_t f = 0; f < input.face_count(); ++f) {
+    stop.tick();
     const auto face = input.face(f);
     const size_t d = face.size();
     corners.clear(), welded.clear();
@@ -55,10 +56,10 @@ WorkingFaces drop_collapsed(const PolygonMesh& input, const std::vector<uint32_t
 
 // Step 2: faces with the same welded corners as an earlier face (in either orientation:
 // double-sided exports store every face twice) are marked; the first one stays.
-std::vector<char> duplicate_faces(const PolygonMesh& welded) {
+std::vector<char> duplicate_faces(const PolygonMesh& welded, StopCheck& stop) {
   const size_t n = welded.face_count();
   std::vector<uint32_t> sorted_corners(welded.indices);
-  for (size_t f = 0; f < n; ++f)
+  for (size_t f = 0; f < n; ++f, stop.tick())
     std::sort(sorted_corners.begin() + welded.offsets[f],
               sorted_corners.begin() + welded.offsets[f + 1]);
   auto corners_of = [&](size_t f) {
@@ -73,6 +74,7 @@ std::vector<char> duplicate_faces(const PolygonMesh& welded) {
   }
   std::vector<uint32_t> order(n);
   std::iota(order.begin(), order.end(), 0u);
+  stop.check();  // the sort is not ticked: asked before and after it
   std::sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) {
     if (hash[a] != hash[b]) return hash[a] < hash[b];
     const auto ca = corners_of(a), cb = corners_of(b);
@@ -145,7 +147,7 @@ WorkingFaces zip_t_junctions(const WorkingFaces& faces, const std::vector<Vec3>&
 // reverse so that every such edge is walked once each way. Parts already consistent, and
 // parts that cannot be oriented, get none.
 std::vector<char> faces_to_flip(const PolygonMesh& welded, const std::vector<Vec3>& positions,
-                                FaceCleanup& report) {
+                                FaceCleanup& report, StopCheck& stop) {
   const size_t n = welded.face_count();
   struct Side {
     uint64_t edge;
@@ -161,6 +163,7 @@ std::vector<char> faces_to_flip(const PolygonMesh& welded, const std::vector<Vec
       sides.push_back({(uint64_t{std::min(a, b)} << 32) | std::max(a, b), f, a < b});
     }
   }
+  stop.check();
   std::sort(sides.begin(), sides.end(), [](const Side& x, const Side& y) {
     return x.edge != y.edge ? x.edge < y.edge : x.face < y.face;
   });
@@ -199,7 +202,8 @@ std::vector<char> faces_to_flip(const PolygonMesh& welded, const std::vector<Vec
   std::vector<char> flip(n, 0);
   std::vector<int8_t> parity(n, -1);
   std::vector<uint32_t> part, queue;
-  for (uint32_t root = 0; root < n; ++root) {
+  stop.check();
+  for (uint32_t root = 0; root < n; ++root, stop.tick()) {
     if (parity[root] >= 0) continue;
     part.clear(), queue.assign(1, root);
     parity[root] = 0;
@@ -252,19 +256,23 @@ std::vector<char> faces_to_flip(const PolygonMesh& welded, const std::vector<Vec
 
 FaceCleanup clean_faces(const PolygonMesh& input, double weld_tolerance, StopCheck* stop) {
   FaceCleanup report;
-  const WeldResult welded = weld(input, weld_tolerance, stop);
-  if (stop) stop->check();
-  WorkingFaces faces = drop_collapsed(input, welded.input_to_welded, report);
-  if (stop) stop->check();
-  const std::vector<char> duplicate = duplicate_faces(faces.welded_ids);
-  if (stop) stop->check();
+  StopCheck never(nullptr);
+  StopCheck& check = stop ? *stop : never;
+  const WeldResult welded = weld(input, weld_tolerance, &check);
+  check.check();
+  WorkingFaces faces = drop_collapsed(input, welded.input_to_welded, report, check);
+  check.check();
+  const std::vector<char> duplicate = duplicate_faces(faces.welded_ids, check);
+  check.check();
   report.duplicate_faces = static_cast<size_t>(std::count(duplicate.begin(), duplicate.end(), 1));
   if (report.duplicate_faces) faces = without(faces, duplicate);
-  faces = zip_t_junctions(faces, welded.mesh.positions, welded.input_to_welded, report, stop);
-  const std::vector<char> flip = faces_to_flip(faces.welded_ids, welded.mesh.positions, report);
+  faces = zip_t_junctions(faces, welded.mesh.positions, welded.input_to_welded, report, &check);
+  const std::vector<char> flip =
+      faces_to_flip(faces.welded_ids, welded.mesh.positions, report, check);
   report.mesh.positions = input.positions;
   std::vector<uint32_t> corners;
   for (size_t f = 0; f < faces.source.size(); ++f) {
+    check.tick();
     const auto face = faces.input_ids.face(f);
     corners.assign(face.begin(), face.end());
     if (flip[f]) std::reverse(corners.begin() + 1, corners.end());  // keeps its first corner

@@ -450,8 +450,7 @@ HandleClosing close_handles(PolygonMesh& mesh, double max_cycle, const StopCheck
   // its corners) is skipped: most of the preparation of a kit of 1,024 closed parts.
   std::vector<int64_t> twice_euler(parts.size(), 0);
   for (size_t k = 0; k < parts.size(); ++k)
-    for (uint32_t f : parts[k])
-      twice_euler[k] += 2 - static_cast<int64_t>(mesh.face_size(f));
+    for (uint32_t f : parts[k]) twice_euler[k] += 2 - static_cast<int64_t>(mesh.face_size(f));
   std::vector<char> counted(original_vertices, 0);
   for (size_t k = 0; k < parts.size(); ++k)
     for (uint32_t f : parts[k])

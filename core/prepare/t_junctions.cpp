@@ -196,8 +196,8 @@ std::vector<EdgeSplit> find_t_junctions(const PolygonMesh& faces,
     for (size_t s = 0; s < splits.size(); ++s) {
       if (!keep[s]) continue;
       const auto face = faces.face(splits[s].face);
-      --count(undirected_edge_key(face[splits[s].corner],
-                                  face[(splits[s].corner + 1) % face.size()]));
+      --count(
+          undirected_edge_key(face[splits[s].corner], face[(splits[s].corner + 1) % face.size()]));
       pieces(splits[s], [&](uint64_t key) { ++count(key); });
     }
     bool dropped = false;
