@@ -99,6 +99,19 @@ TEST(Weld, ToleranceGroupsAreTheComponentsOfNearPairs) {
   EXPECT_GT(apart, 100u);
 }
 
+// A tolerance whose grid would have more cells across the mesh than an int64_t counts is
+// refused by name; the cells count from the mesh's corner, so far from the origin is fine.
+TEST(Weld, ATinyToleranceIsRefusedAndAFarMeshWeldsAsNearTheOrigin) {
+  PolygonMesh m = testing::icosphere(1);
+  EXPECT_THROW(weld(m, 1e-300), InputError);
+  m.positions.push_back(m.positions[0] + Vec3{1e-7, 0, 0});  // a copy of vertex 0, nudged
+  m.add_face(std::array<uint32_t, 3>{uint32_t(m.positions.size() - 1), 1, 2});
+  const size_t near_origin = weld(m, 1e-6).mesh.vertex_count();
+  for (Vec3& p : m.positions) p += Vec3{3e5, -2e5, 1e5};  // the nudge still 1e-7 there
+  EXPECT_EQ(weld(m, 1e-6).mesh.vertex_count(), near_origin);
+  EXPECT_EQ(near_origin, m.positions.size() - 1);
+}
+
 TEST(Weld, NeverMergesNonFinitePositions) {
   PolygonMesh m = split_cube();
   m.positions[0] = {NAN, 0, 0};

@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <numeric>
+#include <string>
 #include <tuple>
 
 #include "core/mesh/input_error.h"
@@ -37,15 +39,35 @@ void unite_equal(const std::vector<Vec3>& p, UnionFind& sets) {
 // neighbour cells instead (nearly all empty) was most of the weld's time on a 1.3M-vertex
 // asset, and a std::unordered_map of cells before that spent it walking bucket chains. The
 // sets formed (connected components of "within radius") do not depend on the order.
+std::string shown(double x) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.3g", x);
+  return text;
+}
+
 void unite_within(const std::vector<Vec3>& p, double radius, UnionFind& sets, StopCheck& stop) {
   struct Cell {
     int64_t x, y, z;
   };
   const double cell = radius / std::sqrt(3.0);
+  // Counted from the box's low corner, so an asset far from the origin has small cell
+  // numbers; a radius so small that the box spans more cells than an int64_t counts is
+  // refused rather than overflowed.
+  Vec3 lo{INFINITY, INFINITY, INFINITY}, hi{-INFINITY, -INFINITY, -INFINITY};
+  for (const Vec3& q : p) {
+    if (!is_finite(q)) continue;
+    lo = {std::min(lo.x, q.x), std::min(lo.y, q.y), std::min(lo.z, q.z)};
+    hi = {std::max(hi.x, q.x), std::max(hi.y, q.y), std::max(hi.z, q.z)};
+  }
+  const double widest = std::max({hi.x - lo.x, hi.y - lo.y, hi.z - lo.z});
+  if (!(widest / cell < 0x1p60))
+    throw InputError("weld", "weld radius " + shown(radius) +
+                                 " is too small for the mesh's extent (" + shown(widest) +
+                                 "); use 0 (exact positions) or a larger weld_tolerance");
   auto cell_of = [&](const Vec3& q) {
-    return Cell{static_cast<int64_t>(std::floor(q.x / cell)),
-                static_cast<int64_t>(std::floor(q.y / cell)),
-                static_cast<int64_t>(std::floor(q.z / cell))};
+    return Cell{static_cast<int64_t>(std::floor((q.x - lo.x) / cell)),
+                static_cast<int64_t>(std::floor((q.y - lo.y) / cell)),
+                static_cast<int64_t>(std::floor((q.z - lo.z) / cell))};
   };
   std::vector<std::pair<Cell, uint32_t>> points;
   points.reserve(p.size());
