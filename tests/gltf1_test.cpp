@@ -150,6 +150,26 @@ TEST(Gltf1, KeepsTheDiffuseColourOrTextureAsBaseColour) {
   EXPECT_EQ(textured.samplers[0]["magFilter"], 9729);
 }
 
+// A material that gives no diffuse of its own has its technique's default (COLLADA2GLTF
+// writes constant colours there); a malformed technique is ignored, as techniques are.
+TEST(Gltf1, AMaterialWithoutADiffuseTakesItsTechniquesDefault) {
+  Gltf1Sphere sphere;
+  sphere.document["materials"]["red"] = {{"technique", "lambert"}, {"values", json::object()}};
+  sphere.document["techniques"] = {
+      {"lambert",
+       {{"parameters", {{"diffuse", {{"type", 35666}, {"value", {0.0, 0.5, 1.0, 1.0}}}}}}}}};
+  GltfAppearance look;
+  read_gltf(as_bytes(sphere.text()), {}, nullptr, nullptr, &look);
+  ASSERT_EQ(look.materials.size(), 1u);
+  EXPECT_EQ(look.materials[0]["pbrMetallicRoughness"]["baseColorFactor"],
+            json::array({0.0, 0.5, 1.0, 1.0}));
+  sphere.document["techniques"]["lambert"]["parameters"] = "not an object";
+  GltfAppearance plain;
+  read_gltf(as_bytes(sphere.text()), {}, nullptr, nullptr, &plain);
+  ASSERT_EQ(plain.materials.size(), 1u);
+  EXPECT_FALSE(plain.materials[0]["pbrMetallicRoughness"].contains("baseColorFactor"));
+}
+
 TEST(Gltf1, NamesTheIdsAndContainersItCannotRead) {
   Gltf1Sphere missing;
   missing.document["meshes"]["sphere"]["primitives"][0]["attributes"]["POSITION"] = "nowhere";

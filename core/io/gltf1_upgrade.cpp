@@ -200,9 +200,30 @@ json upgraded_nodes(const Dictionaries& d) {
   return out;
 }
 
+// The default value of the technique's parameter `parameter` (techniques.T.parameters.P.value),
+// what a material that names the technique and gives no value of its own gets; null when
+// anything on the way is missing or malformed (techniques are otherwise dropped, unchecked).
+const json* technique_default(const json& v1, const json& material, const char* parameter) {
+  const auto technique = material.find("technique");
+  const auto techniques = v1.find("techniques");
+  if (technique == material.end() || !technique->is_string() || techniques == v1.end() ||
+      !techniques->is_object())
+    return nullptr;
+  const auto t = techniques->find(technique->get_ref<const std::string&>());
+  if (t == techniques->end() || !t->is_object()) return nullptr;
+  const auto parameters = t->find("parameters");
+  if (parameters == t->end() || !parameters->is_object()) return nullptr;
+  const auto p = parameters->find(parameter);
+  if (p == parameters->end() || !p->is_object()) return nullptr;
+  const auto value = p->find("value");
+  return value == p->end() ? nullptr : &*value;
+}
+
 // A 1.0 material's diffuse colour or texture as 2.0's base colour; 1.0 materials are
 // shader parameters, and "diffuse" is what its common techniques and exporters name it.
-json upgraded_material(const Dictionaries& d, size_t i) {
+// Without a value of its own, its technique's default (COLLADA2GLTF writes a material's
+// constant colour there).
+json upgraded_material(const json& v1, const Dictionaries& d, size_t i) {
   const json& m = *d.materials.entries[i].second;
   const std::string name = d.materials.name(i);
   json m2 = {{"pbrMetallicRoughness", {{"metallicFactor", 0.0}, {"roughnessFactor", 1.0}}}};
@@ -217,9 +238,11 @@ json upgraded_material(const Dictionaries& d, size_t i) {
     }
   if (!values)
     if (const auto it = m.find("values"); it != m.end()) values = &*it;
-  if (!values || !values->is_object()) return m2;
-  const auto diffuse = values->find("diffuse");
-  if (diffuse == values->end()) return m2;
+  const json* diffuse = nullptr;
+  if (values && values->is_object())
+    if (const auto it = values->find("diffuse"); it != values->end()) diffuse = &*it;
+  if (!diffuse) diffuse = technique_default(v1, m, "diffuse");
+  if (!diffuse) return m2;
   if (diffuse->is_string()) {
     m2["pbrMetallicRoughness"]["baseColorTexture"] = {
         {"index", d.textures(*diffuse, name + "'s diffuse")}};
@@ -369,7 +392,7 @@ json upgrade_gltf1(const json& v1, bool has_body) {
 
   json materials = json::array();
   for (size_t i = 0; i < d.materials.entries.size(); ++i)
-    materials.push_back(upgraded_material(d, i));
+    materials.push_back(upgraded_material(v1, d, i));
   v2["materials"] = std::move(materials);
   v2["textures"] = upgraded_textures(d);
   v2["images"] = upgraded_images(d);
