@@ -384,16 +384,16 @@ TEST(GltfRealWorld, GpuInstancesAreReadAsCopiesInWorldSpace) {
   EXPECT_EQ(e.check(), "too_large");
   EXPECT_NE(std::string(e.what()).find("draws mesh 0 3 times, 42 vertices each"), std::string::npos)
       << e.what();
-  // More than 256 instances in all (here 257, of zeros: an accessor without a bufferView)
+  // More than 2,048 instances in all (here 2,049, of zeros: an accessor without a bufferView)
   // are refused, with the fix of mapping the mesh once.
   Glb many(sphere_glb());
-  many.json["accessors"].push_back({{"componentType", 5126}, {"count", 257}, {"type", "VEC3"}});
+  many.json["accessors"].push_back({{"componentType", 5126}, {"count", 2049}, {"type", "VEC3"}});
   many.json["nodes"][0]["extensions"] = {
       {"EXT_mesh_gpu_instancing",
        {{"attributes", {{"TRANSLATION", many.json["accessors"].size() - 1}}}}}};
   const InputError refused = read_failure(many.bytes());
   EXPECT_EQ(refused.check(), "instancing");
-  EXPECT_NE(std::string(refused.what()).find("as 257 instances; spheremap reads at most 256"),
+  EXPECT_NE(std::string(refused.what()).find("as 2049 instances; spheremap reads at most 2048"),
             std::string::npos)
       << refused.what();
   EXPECT_EQ(refused.fix().option, "mesh");
