@@ -39,13 +39,30 @@ void unite_equal(const std::vector<Vec3>& p, UnionFind& sets) {
 // neighbour cells instead (nearly all empty) was most of the weld's time on a 1.3M-vertex
 // asset, and a std::unordered_map of cells before that spent it walking bucket chains. The
 // sets formed (connected components of "within radius") do not depend on the order.
+// The box of the finite positions (lo > hi when there is none).
+struct FiniteBox {
+  Vec3 lo{INFINITY, INFINITY, INFINITY}, hi{-INFINITY, -INFINITY, -INFINITY};
+  double diagonal() const { return lo.x <= hi.x ? norm(hi - lo) : 0.0; }
+};
+
+FiniteBox finite_box(const std::vector<Vec3>& p) {
+  FiniteBox box;
+  for (const Vec3& q : p) {
+    if (!is_finite(q)) continue;
+    box.lo = {std::min(box.lo.x, q.x), std::min(box.lo.y, q.y), std::min(box.lo.z, q.z)};
+    box.hi = {std::max(box.hi.x, q.x), std::max(box.hi.y, q.y), std::max(box.hi.z, q.z)};
+  }
+  return box;
+}
+
 std::string shown(double x) {
   char text[32];
   std::snprintf(text, sizeof text, "%.3g", x);
   return text;
 }
 
-void unite_within(const std::vector<Vec3>& p, double radius, UnionFind& sets, StopCheck& stop) {
+void unite_within(const std::vector<Vec3>& p, const FiniteBox& box, double radius, UnionFind& sets,
+                  StopCheck& stop) {
   struct Cell {
     int64_t x, y, z;
   };
@@ -53,12 +70,7 @@ void unite_within(const std::vector<Vec3>& p, double radius, UnionFind& sets, St
   // Counted from the box's low corner, so an asset far from the origin has small cell
   // numbers; a radius so small that the box spans more cells than an int64_t counts is
   // refused rather than overflowed.
-  Vec3 lo{INFINITY, INFINITY, INFINITY}, hi{-INFINITY, -INFINITY, -INFINITY};
-  for (const Vec3& q : p) {
-    if (!is_finite(q)) continue;
-    lo = {std::min(lo.x, q.x), std::min(lo.y, q.y), std::min(lo.z, q.z)};
-    hi = {std::max(hi.x, q.x), std::max(hi.y, q.y), std::max(hi.z, q.z)};
-  }
+  const Vec3 &lo = box.lo, &hi = box.hi;
   const double widest = std::max({hi.x - lo.x, hi.y - lo.y, hi.z - lo.z});
   if (!(widest / cell < 0x1p60))
     throw InputError("weld", "weld radius " + shown(radius) +
@@ -166,16 +178,6 @@ void unite_within(const std::vector<Vec3>& p, double radius, UnionFind& sets, St
   }
 }
 
-double bounding_box_diagonal(const std::vector<Vec3>& p) {
-  Vec3 lo{INFINITY, INFINITY, INFINITY}, hi{-INFINITY, -INFINITY, -INFINITY};
-  for (const Vec3& q : p) {
-    if (!is_finite(q)) continue;
-    lo = {std::min(lo.x, q.x), std::min(lo.y, q.y), std::min(lo.z, q.z)};
-    hi = {std::max(hi.x, q.x), std::max(hi.y, q.y), std::max(hi.z, q.z)};
-  }
-  return lo.x <= hi.x ? norm(hi - lo) : 0.0;
-}
-
 }  // namespace
 
 WeldResult weld(const PolygonMesh& input, double relative_tolerance, StopCheck* stop) {
@@ -186,8 +188,9 @@ WeldResult weld(const PolygonMesh& input, double relative_tolerance, StopCheck* 
   check.check();
   unite_equal(input.positions, sets);
   check.check();  // the sort is not ticked: asked before and after it (~1 s at the caps)
-  const double radius = relative_tolerance * bounding_box_diagonal(input.positions);
-  if (radius > 0) unite_within(input.positions, radius, sets, check);
+  const FiniteBox box = finite_box(input.positions);
+  const double radius = relative_tolerance * box.diagonal();
+  if (radius > 0) unite_within(input.positions, box, radius, sets, check);
 
   std::vector<char> referenced(n, 0);
   for (uint32_t v : input.indices) referenced[v] = 1;
