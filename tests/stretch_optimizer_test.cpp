@@ -83,6 +83,9 @@ TEST(StretchOptimizer, OpensASqueezedVertex) {
 
 // The same squeeze on a finer sphere: relieving the hot spot first opens it with a
 // fraction of the vertex updates of whole-mesh sweeps, to the same end, still fold-free.
+// Plain Newton steps (no over-relaxation): over-relaxed sweeps open this lone squeeze
+// about as fast without the relief (2,590 updates against 2,566 with it), while on
+// inserted levels, with many squeezes, the relief still saves 6% of the updates.
 TEST(StretchOptimizer, RelievesAHotSpotWithFewUpdates) {
   PolygonMesh mesh = testing::icosphere(4);
   const std::vector<Triangle> triangles = triangles_of(mesh);
@@ -95,7 +98,8 @@ TEST(StretchOptimizer, RelievesAHotSpotWithFewUpdates) {
     std::vector<Vec3> q = squeezed;
     stats[relieve] =
         optimize_stretch(mesh.positions, triangles, q,
-                         {.max_sweeps = 100, .relieve_hot_spots = relieve}, [] { return false; });
+                         {.max_sweeps = 100, .over_relaxation = 1, .relieve_hot_spots = relieve},
+                         [] { return false; });
     const MapCheck check = check_map(q, triangles);
     EXPECT_TRUE(check.bijective);
     min_area[relieve] = check.min_signed_area;
@@ -104,6 +108,36 @@ TEST(StretchOptimizer, RelievesAHotSpotWithFewUpdates) {
       << stats[1].vertex_updates << " against " << stats[0].vertex_updates;
   EXPECT_LT(stats[1].final_energy, 1.01 * stats[0].final_energy);
   EXPECT_GT(min_area[1], 0.5 * min_area[0]);
+}
+
+// A smooth error, the kind Gauss-Seidel sweeps remove slowly: the identity map of a
+// sphere twisted about its axis by an angle growing with the height. Over-relaxed steps
+// take it back with far fewer vertex updates than plain Newton steps, to no higher an
+// energy, fold-free.
+TEST(StretchOptimizer, OverRelaxedStepsUndoASmoothTwistWithFewerUpdates) {
+  const PolygonMesh mesh = testing::icosphere(4);
+  const std::vector<Triangle> triangles = triangles_of(mesh);
+  std::vector<Vec3> twisted = mesh.positions;
+  for (Vec3& p : twisted) {
+    const double angle = 0.8 * p.z, c = std::cos(angle), s = std::sin(angle);
+    p = {c * p.x - s * p.y, s * p.x + c * p.y, p.z};
+  }
+  ASSERT_TRUE(check_map(twisted, triangles).bijective);
+  StretchStats stats[2];
+  const double omega[2] = {1.0, 1.5};
+  for (int k = 0; k < 2; ++k) {
+    std::vector<Vec3> q = twisted;
+    stats[k] = optimize_stretch(
+        mesh.positions, triangles, q,
+        {.max_sweeps = 500, .relative_decrease = 1e-4, .over_relaxation = omega[k]},
+        [] { return false; });
+    EXPECT_TRUE(check_map(q, triangles).bijective);
+    EXPECT_LT(stats[k].final_energy, 0.99 * stats[k].initial_energy);
+  }
+  EXPECT_LT(stats[1].vertex_updates, 0.7 * stats[0].vertex_updates)
+      << stats[1].vertex_updates << " against " << stats[0].vertex_updates;
+  EXPECT_LE(stats[1].final_energy, 1.001 * stats[0].final_energy)
+      << stats[1].final_energy << " against " << stats[0].final_energy;
 }
 
 }  // namespace

@@ -250,13 +250,17 @@ class StretchProblem {
       energy = energy_at(candidate);
       return std::isfinite(energy);
     };
-    // Armijo backtracking from the Newton step; steps below 1e-6 of the smallest height
-    // move nothing measurable.
-    double step = std::min(1.0, limit), energy = e0;
-    bool accepted = false;
+    // Over-relaxed first (StretchOptions::over_relaxation), then Armijo backtracking from
+    // the Newton step; steps below 1e-6 of the smallest height move nothing measurable.
+    auto armijo = [&](double t, double& energy) {
+      return try_step(t, energy) && energy <= e0 + 1e-4 * t * slope;
+    };
+    double step = std::min(options_.over_relaxation, limit), energy = e0;
+    bool accepted = step > 1 && armijo(step, energy);
+    if (!accepted) step = std::min(1.0, limit);
     for (int halving = 0; halving < 16 && !accepted; ++halving, step *= 0.5) {
       if (step * norm(direction) < 1e-6 * min_height) return 0;
-      accepted = try_step(step, energy) && energy <= e0 + 1e-4 * step * slope;
+      accepted = armijo(step, energy);
       if (accepted) break;
     }
     if (!accepted) return 0;

@@ -41,6 +41,14 @@ struct StretchOptions {
   double relative_decrease = 1e-3;  // stop when a sweep lowers the energy by less than this
   double active_tolerance = 1e-3;   // a vertex stays active while it moves > this x its edges
   int threads = 0;                  // 0 = all cores
+  // A vertex first tries this multiple of its Newton step (when its triangles allow it and
+  // the energy drops enough), then the Newton step: nonlinear successive over-relaxation.
+  // Gauss-Seidel sweeps shrink smooth errors slowly (each vertex moves against a ring that
+  // has not moved yet); overshooting each step carries a change further per sweep.
+  // Measured at 1.5 against 1 (BENCHMARKS.md, session 52; 55 meshes: corpus, stress,
+  // random shapes): 16% fewer vertex updates at standard, 19% at fast, stretch and area
+  // distortion lower on average.
+  double over_relaxation = 1.5;
   // Before the sweeps, move only the vertices of triangles far above the median energy
   // until none is left (a whole-mesh optimization only, `start` empty).
   bool relieve_hot_spots = true;
