@@ -2,6 +2,7 @@
 // of queries, each figure bit for bit that of its own surface_distance call.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <vector>
@@ -52,6 +53,47 @@ TEST(SurfaceDistances, RefusesALeftOutListOfAnotherLength) {
   const std::vector<char> short_list(triangles.size() - 1, 0);
   EXPECT_THROW(surface_distances(a.positions, triangles, short_list, a.positions, triangles),
                std::invalid_argument);
+}
+
+// A large triangle over a surface that touches it only at its corners and its centroid
+// (a remesh triangle across a hole's opening): every sample of the triangle lies on the
+// surface, but its edge midpoints are a quarter of an edge from it. The maximum is found
+// over the whole triangle: at least the midpoints' distance, at most what 20,301 points
+// spread over the triangle see, plus the tolerance.
+TEST(SurfaceDistance, TheMaximumIsOverTheWholeTriangleNotOnlyItsSamples) {
+  const Vec3 a{0, 0, 0}, b{1, 0, 0}, c{0.5, std::sqrt(0.75), 0};
+  const Vec3 centre = (a + b + c) * (1.0 / 3);
+  const std::vector<Vec3> big = {a, b, c};
+  const std::vector<Triangle> one = {{0, 1, 2}};
+  // Small triangles of the same plane at the corners and the centre.
+  std::vector<Vec3> patches;
+  std::vector<Triangle> patch_triangles;
+  for (const Vec3& p : {a, b, c, centre}) {
+    const auto base = static_cast<uint32_t>(patches.size());
+    patches.insert(patches.end(),
+                   {p + Vec3{-0.01, -0.01, 0}, p + Vec3{0.01, -0.01, 0}, p + Vec3{0, 0.01, 0}});
+    patch_triangles.push_back({base, base + 1, base + 2});
+  }
+  const SurfaceDistance d = surface_distance(big, one, patches, patch_triangles, 1);
+  const std::vector<Vec3> midpoints = {0.5 * (a + b), 0.5 * (b + c), 0.5 * (c + a)};
+  double midpoint_max = 0;
+  for (double r : point_distances(patches, patch_triangles, midpoints, 1).relative)
+    midpoint_max = std::max(midpoint_max, r);
+  std::vector<Vec3> spread;
+  const int steps = 200;
+  for (int i = 0; i <= steps; ++i)
+    for (int j = 0; i + j <= steps; ++j)
+      spread.push_back(a + (static_cast<double>(i) / steps) * (b - a) +
+                       (static_cast<double>(j) / steps) * (c - a));
+  double spread_max = 0;
+  for (double r : point_distances(patches, patch_triangles, spread, 1).relative)
+    spread_max = std::max(spread_max, r);
+  // point_distances is relative to the patches' diagonal, surface_distance to the big one's.
+  const double scale = point_distances(patches, patch_triangles, {}, 1).diagonal / d.diagonal;
+  ASSERT_GT(midpoint_max * scale, 0.2);
+  EXPECT_GE(d.max_a_to_b, midpoint_max * scale - 1e-12);
+  EXPECT_LE(d.max_a_to_b, spread_max * scale * 1.06);
+  EXPECT_LT(d.max_b_to_a, 0.02);  // the patches stick out of the big triangle by 0.01
 }
 
 }  // namespace

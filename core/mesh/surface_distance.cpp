@@ -9,6 +9,7 @@
 
 #include "core/mesh/parallel.h"
 #include "core/mesh/parallel_stop.h"
+#include "core/mesh/refined_maximum.h"
 #include "core/mesh/spatial_order.h"
 #include "core/mesh/stop_check.h"
 #include "core/mesh/submesh.h"
@@ -28,6 +29,48 @@ std::vector<Vec3> samples_of(std::span<const Vec3> positions, std::span<const Tr
   for (size_t v = 0; v < positions.size(); ++v)
     if (used[v]) out.push_back(positions[v]);
   return out;
+}
+
+// Per position, the index of its sample in samples_of(positions, triangles) (unused
+// positions: none, never read).
+std::vector<uint32_t> vertex_samples(size_t vertex_count, std::span<const Triangle> triangles) {
+  std::vector<uint32_t> index(vertex_count, UINT32_MAX);
+  for (const Triangle& t : triangles)
+    for (uint32_t v : t) index[v] = 0;
+  auto next = static_cast<uint32_t>(triangles.size());
+  for (uint32_t& k : index)
+    if (k == 0) k = next++;
+  return index;
+}
+
+// The maxima are found to within this share of themselves, or of the diagonal when more
+// (refined_maximum.h): a remesh judged against 2% is judged on 2% +- 0.1%.
+constexpr double kRelativeTolerance = 0.05, kDiagonalTolerance = 1e-3;
+
+// The largest distance over every point of `triangles`, not only at their samples:
+// refined_maximum with the samples' squared distances (one or two figures: d2[k] for
+// figure k, the second may be the first) and their maxima `reached`, relative tolerances
+// to the figures' diagonals `diagonal`.
+DistancePair maximum_over_triangles(std::span<const Vec3> positions,
+                                    std::span<const Triangle> triangles,
+                                    std::array<const std::vector<double>*, 2> d2,
+                                    DistancePair reached, DistancePair diagonal,
+                                    const std::function<bool(size_t, int)>& counts,
+                                    const std::function<DistancePair(const Vec3&)>& distance,
+                                    int threads, const std::function<bool()>* should_stop) {
+  const std::vector<uint32_t> sample = vertex_samples(positions.size(), triangles);
+  auto pair_at = [&](size_t k) {
+    return DistancePair{std::sqrt((*d2[0])[k]), std::sqrt((*d2[1])[k])};
+  };
+  std::vector<DistancePair> at_vertex(positions.size(), {0, 0}), at_centroid(triangles.size());
+  for (size_t v = 0; v < positions.size(); ++v)
+    if (sample[v] != UINT32_MAX) at_vertex[v] = pair_at(sample[v]);
+  for (size_t t = 0; t < triangles.size(); ++t) at_centroid[t] = pair_at(t);
+  DistancePair tolerance;
+  for (int k = 0; k < 2; ++k)
+    tolerance[k] = std::max(kRelativeTolerance * reached[k], kDiagonalTolerance * diagonal[k]);
+  return refined_maximum(positions, triangles, at_vertex, at_centroid, reached, tolerance, counts,
+                         distance, threads, should_stop);
 }
 
 // query(k) for each sample k, in parallel. Queried in Morton order (each query writes its
@@ -79,10 +122,23 @@ std::pair<double, double> sum_and_max(const std::vector<double>& d2,
   return {sum, std::sqrt(max)};
 }
 
-// {sum of squared distances, max distance} of the samples to the tree.
-std::pair<double, double> one_way(const std::vector<Vec3>& samples, const TriangleTree& tree,
-                                  int threads, const std::function<bool()>* should_stop) {
-  return sum_and_max(squared_distances(samples, tree, threads, should_stop));
+// {sum of squared distances of the samples of `triangles` to the tree, max distance over
+// every point of them}; tolerances relative to `diagonal`.
+std::pair<double, double> one_way(std::span<const Vec3> positions,
+                                  std::span<const Triangle> triangles,
+                                  const std::vector<Vec3>& samples, const TriangleTree& tree,
+                                  double diagonal, int threads,
+                                  const std::function<bool()>* should_stop) {
+  const std::vector<double> d2 = squared_distances(samples, tree, threads, should_stop);
+  const auto [sum, max] = sum_and_max(d2);
+  const DistancePair refined = maximum_over_triangles(
+      positions, triangles, {&d2, &d2}, {max, max}, {diagonal, diagonal},
+      [](size_t, int figure) { return figure == 0; },
+      [&](const Vec3& p) {
+        return DistancePair{std::sqrt(tree.squared_distance(p)), 0};
+      },
+      threads, should_stop);
+  return {sum, refined[0]};
 }
 
 // `positions` moved into `frame`.
@@ -137,12 +193,12 @@ SurfaceDistance surface_distance(std::span<const Vec3> a_positions,
   // Asked before each tree too: building one over a million triangles takes a while.
   const StopCheck stop(should_stop);
   stop.check();
-  const auto [a_sum, a_max] =
-      one_way(a_samples, TriangleTree(b_unit, b_triangles), threads, should_stop);
+  const auto a_to_b = one_way(a_unit, a_triangles, a_samples, TriangleTree(b_unit, b_triangles), d,
+                              threads, should_stop);
   stop.check();
-  const auto [b_sum, b_max] =
-      one_way(b_samples, TriangleTree(a_unit, a_triangles), threads, should_stop);
-  finish(out, {a_sum, a_max}, a_samples.size(), {b_sum, b_max}, b_samples.size(), d);
+  const auto b_to_a = one_way(b_unit, b_triangles, b_samples, TriangleTree(a_unit, a_triangles), d,
+                              threads, should_stop);
+  finish(out, a_to_b, a_samples.size(), b_to_a, b_samples.size(), d);
   return out;
 }
 
@@ -170,8 +226,8 @@ SurfaceDistances surface_distances(std::span<const Vec3> a_positions,
   const std::vector<Vec3> b_samples = samples_of(b_unit, b_triangles);
   const StopCheck stop(should_stop);
   stop.check();
-  const std::vector<double> a_d2 =
-      squared_distances(a_samples, TriangleTree(b_unit, b_triangles), threads, should_stop);
+  const TriangleTree b_tree(b_unit, b_triangles);
+  const std::vector<double> a_d2 = squared_distances(a_samples, b_tree, threads, should_stop);
   stop.check();
   // Per b sample: its squared distance to all of a, and to the kept triangles alone (the
   // same answer when the nearest triangle is kept; else a second search, skipping the rest).
@@ -184,11 +240,34 @@ SurfaceDistances surface_distances(std::span<const Vec3> a_positions,
                        ? a_tree.closest(b_samples[k], left_out).squared_distance
                        : nearest.squared_distance;
   });
-  finish(out.all, sum_and_max(a_d2), a_samples.size(), sum_and_max(b_d2_all), b_samples.size(),
-         d_all);
-  if (d_kept > 0)
-    finish(out.kept, sum_and_max(a_d2, kept_sample), a_kept_samples, sum_and_max(b_d2_kept),
-           b_samples.size(), d_kept);
+  // The maxima over every point (refined_maximum.h): a's kept triangles count for both
+  // figures, the others for `all` alone; b's for both, measured to all of a and to its kept
+  // triangles.
+  auto a_all = sum_and_max(a_d2), a_kept = sum_and_max(a_d2, kept_sample);
+  auto b_all = sum_and_max(b_d2_all), b_kept = sum_and_max(b_d2_kept);
+  const DistancePair a_max = maximum_over_triangles(
+      a_unit, a_triangles, {&a_d2, &a_d2}, {a_all.second, a_kept.second}, {d_all, d_kept},
+      [&](size_t t, int figure) { return figure == 0 || !left_out[t]; },
+      [&](const Vec3& p) {
+        const double d = std::sqrt(b_tree.squared_distance(p));
+        return DistancePair{d, d};
+      },
+      threads, should_stop);
+  const DistancePair b_max = maximum_over_triangles(
+      b_unit, b_triangles, {&b_d2_all, &b_d2_kept}, {b_all.second, b_kept.second}, {d_all, d_kept},
+      [](size_t, int) { return true; },
+      [&](const Vec3& p) {
+        const TriangleTree::Closest nearest = a_tree.closest(p);
+        const double kept = left_out[nearest.triangle]
+                                ? a_tree.closest(p, left_out).squared_distance
+                                : nearest.squared_distance;
+        return DistancePair{std::sqrt(nearest.squared_distance), std::sqrt(kept)};
+      },
+      threads, should_stop);
+  a_all.second = a_max[0], a_kept.second = a_max[1];
+  b_all.second = b_max[0], b_kept.second = b_max[1];
+  finish(out.all, a_all, a_samples.size(), b_all, b_samples.size(), d_all);
+  if (d_kept > 0) finish(out.kept, a_kept, a_kept_samples, b_kept, b_samples.size(), d_kept);
   return out;
 }
 

@@ -1,7 +1,9 @@
 // Distance between two triangle surfaces: RMS and maximum (Hausdorff) in both directions,
-// each sampled at one surface's vertices and triangle centroids and measured to the
-// closest point of the other (an AABB tree over its triangles), relative to the first
-// surface's bounding-box diagonal.
+// relative to the first surface's bounding-box diagonal, measured to the closest point of
+// the other (an AABB tree over its triangles). The RMS is over one surface's vertices and
+// triangle centroids; the maximum over every point of its triangles (refined_maximum.h:
+// pieces cut where a bound says the maximum could be, to within 5% of it or 0.1% of the
+// diagonal when more), so a long triangle over a gap is not judged by its corners.
 #pragma once
 
 #include <functional>

@@ -1,0 +1,150 @@
+#include "core/mesh/refined_maximum.h"
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "core/mesh/parallel.h"
+#include "core/mesh/stop_check.h"
+
+namespace spheremap {
+namespace {
+
+// A triangle or one of its pieces, with the distances measured at its corners and centroid.
+struct Piece {
+  std::array<Vec3, 3> corner;
+  std::array<DistancePair, 3> at;
+  DistancePair centre;
+  int depth = 0;
+};
+
+Vec3 centroid(const std::array<Vec3, 3>& c) {
+  return (c[0] + c[1] + c[2]) * (1.0 / 3);
+}
+
+// The largest distance figure k can take on the piece: from each measured point, its
+// distance plus how far the piece reaches from it.
+double bound(const Piece& piece, int k) {
+  const std::array<Vec3, 3>& c = piece.corner;
+  const Vec3 middle = centroid(c);
+  double reach = 0;
+  for (const Vec3& p : c) reach = std::max(reach, norm(p - middle));
+  double out = piece.centre[k] + reach;
+  for (int i = 0; i < 3; ++i) {
+    const double from_corner = std::max(norm(c[(i + 1) % 3] - c[i]), norm(c[(i + 2) % 3] - c[i]));
+    out = std::min(out, piece.at[i][k] + from_corner);
+  }
+  return out;
+}
+
+// How far the piece's bound is above what would settle it, over the figures it counts for
+// (positive: worth cutting).
+double excess(const Piece& piece, const DistancePair& best, const DistancePair& tolerance,
+              const std::array<bool, 2>& counted) {
+  double out = -INFINITY;
+  for (int k = 0; k < 2; ++k)
+    if (counted[k]) out = std::max(out, bound(piece, k) - (best[k] + tolerance[k]));
+  return out;
+}
+
+struct Queued {
+  double over;  // excess() when queued: an upper bound of it later (best only grows)
+  uint32_t piece;
+  bool operator<(const Queued& other) const { return over < other.over; }
+};
+
+// The four pieces of a piece cut at its edge midpoints, each with its measures.
+struct Cut {
+  std::array<Piece, 4> children;
+  std::array<DistancePair, 7> measured;  // the 3 midpoints, then the 4 centroids
+};
+
+Cut cut(const Piece& piece, const std::function<DistancePair(const Vec3&)>& distance) {
+  const std::array<Vec3, 3>& c = piece.corner;
+  const std::array<DistancePair, 3>& a = piece.at;
+  const std::array<Vec3, 3> middle = {0.5 * (c[0] + c[1]), 0.5 * (c[1] + c[2]),
+                                      0.5 * (c[2] + c[0])};
+  Cut out;
+  for (int i = 0; i < 3; ++i) out.measured[i] = distance(middle[i]);
+  const std::array<DistancePair, 3> m = {out.measured[0], out.measured[1], out.measured[2]};
+  out.children = {Piece{{c[0], middle[0], middle[2]}, {a[0], m[0], m[2]}, {}, piece.depth + 1},
+                  Piece{{middle[0], c[1], middle[1]}, {m[0], a[1], m[1]}, {}, piece.depth + 1},
+                  Piece{{middle[2], middle[1], c[2]}, {m[2], m[1], a[2]}, {}, piece.depth + 1},
+                  Piece{middle, m, {}, piece.depth + 1}};
+  for (int i = 0; i < 4; ++i)
+    out.children[i].centre = out.measured[3 + i] = distance(centroid(out.children[i].corner));
+  return out;
+}
+
+}  // namespace
+
+DistancePair refined_maximum(std::span<const Vec3> positions, std::span<const Triangle> triangles,
+                             std::span<const DistancePair> vertex_distance,
+                             std::span<const DistancePair> centroid_distance, DistancePair reached,
+                             DistancePair tolerance, const std::function<bool(size_t, int)>& counts,
+                             const std::function<DistancePair(const Vec3&)>& distance, int threads,
+                             const std::function<bool()>* should_stop) {
+  DistancePair best = reached;
+  // Every piece ever made (a piece's children point back to its triangle's counts).
+  std::vector<Piece> pieces;
+  std::vector<uint32_t> triangle_of;
+  std::vector<std::array<bool, 2>> counted(triangles.size());
+  std::vector<Queued> queue;
+  for (size_t t = 0; t < triangles.size(); ++t) {
+    counted[t] = {counts(t, 0), counts(t, 1)};
+    const Triangle& tri = triangles[t];
+    const Piece root{{positions[tri[0]], positions[tri[1]], positions[tri[2]]},
+                     {vertex_distance[tri[0]], vertex_distance[tri[1]], vertex_distance[tri[2]]},
+                     centroid_distance[t],
+                     0};
+    const double over = excess(root, best, tolerance, counted[t]);
+    if (!(over > 0)) continue;
+    queue.push_back({over, static_cast<uint32_t>(pieces.size())});
+    pieces.push_back(root);
+    triangle_of.push_back(static_cast<uint32_t>(t));
+  }
+  std::make_heap(queue.begin(), queue.end());
+  const size_t budget = kRefinementQueriesPerTriangle * triangles.size() + 4096;
+  size_t queries = 0;
+  const StopCheck stop(should_stop);
+  std::vector<uint32_t> batch;
+  std::vector<Cut> cuts;
+  while (!queue.empty() && queries < budget) {
+    stop.check();
+    // The most promising pieces still open, cut in parallel; the best figures and the queue
+    // are then updated in the batch's order (the same for any thread count).
+    batch.clear();
+    while (!queue.empty() && batch.size() < kRefinementBatch) {
+      std::pop_heap(queue.begin(), queue.end());
+      const uint32_t k = queue.back().piece;
+      queue.pop_back();
+      const std::array<bool, 2>& c = counted[triangle_of[k]];
+      if (pieces[k].depth < kMaxRefinementDepth && excess(pieces[k], best, tolerance, c) > 0)
+        batch.push_back(k);
+    }
+    cuts.resize(batch.size());
+    parallel_for(batch.size(), resolve_threads(threads),
+                 [&](size_t i) { cuts[i] = cut(pieces[batch[i]], distance); });
+    queries += 7 * batch.size();
+    for (size_t i = 0; i < batch.size(); ++i) {
+      const std::array<bool, 2>& c = counted[triangle_of[batch[i]]];
+      for (const DistancePair& d : cuts[i].measured)
+        for (int k = 0; k < 2; ++k)
+          if (c[k]) best[k] = std::max(best[k], d[k]);
+    }
+    for (size_t i = 0; i < batch.size(); ++i) {
+      const uint32_t triangle = triangle_of[batch[i]];
+      for (const Piece& child : cuts[i].children) {
+        const double over = excess(child, best, tolerance, counted[triangle]);
+        if (!(over > 0)) continue;
+        queue.push_back({over, static_cast<uint32_t>(pieces.size())});
+        std::push_heap(queue.begin(), queue.end());
+        pieces.push_back(child);
+        triangle_of.push_back(triangle);
+      }
+    }
+  }
+  return best;
+}
+
+}  // namespace spheremap

@@ -1,0 +1,47 @@
+// The largest distance to a surface over every point of some triangles, not only at their
+// corners and centroids.
+//
+// A distance to a surface is 1-Lipschitz: within r of a point measured at d it is at most
+// d + r. So a triangle measured at its corners and centroid is bounded by the smallest of
+// those distances plus how far the triangle reaches from that point. Branch and bound: the
+// piece whose bound is farthest above the largest distance found so far (plus a tolerance)
+// is cut into four at its edge midpoints and the pieces measured, until no bound is above
+// it, within a budget of queries. A long triangle over a gap of the other surface (a remesh
+// across a hole's opening) has its corners on that surface and its middle far from it:
+// measured at corners and centroid alone, one such remesh read 3.1% from its original where
+// an edge midpoint is 4.4% away.
+#pragma once
+
+#include <array>
+#include <functional>
+#include <span>
+
+#include "core/mesh/mesh.h"
+
+namespace spheremap {
+
+// Two figures measured at once (e.g. to all of a surface and to part of it); a caller with
+// one measures it twice in the same entry.
+using DistancePair = std::array<double, 2>;
+
+constexpr int kMaxRefinementDepth = 8;  // a piece's edges down to 1/256 of its triangle's
+// At most this many queries per triangle given (plus 4,096): two surfaces that nearly
+// coincide have every bound above a maximum near 0, and would be cut to the depth limit.
+constexpr size_t kRefinementQueriesPerTriangle = 2;
+constexpr size_t kRefinementBatch = 256;  // pieces cut in parallel between updates
+
+// The largest distance over the points of `triangles` (each figure over the triangles that
+// count for it, counts(t, figure)), at least `reached`, to within `tolerance` (per figure)
+// of the true maximum where the depth and the budget allow. vertex_distance (per position)
+// and centroid_distance (per triangle) are the distances already measured there;
+// distance(p) measures one more point, safe to call from several threads. The result does
+// not depend on `threads`. `should_stop` (may be null) is asked before each batch; true
+// throws InputError("stopped").
+DistancePair refined_maximum(std::span<const Vec3> positions, std::span<const Triangle> triangles,
+                             std::span<const DistancePair> vertex_distance,
+                             std::span<const DistancePair> centroid_distance, DistancePair reached,
+                             DistancePair tolerance, const std::function<bool(size_t, int)>& counts,
+                             const std::function<DistancePair(const Vec3&)>& distance, int threads,
+                             const std::function<bool()>* should_stop);
+
+}  // namespace spheremap
