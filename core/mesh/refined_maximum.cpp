@@ -85,59 +85,63 @@ DistancePair refined_maximum(std::span<const Vec3> positions, std::span<const Tr
                              const std::function<DistancePair(const Vec3&)>& distance, int threads,
                              const std::function<bool()>* should_stop) {
   DistancePair best = reached;
-  // Every piece ever made (a piece's children point back to its triangle's counts).
+  const size_t n = triangles.size();
+  std::vector<std::array<bool, 2>> counted(n);
+  auto root = [&](size_t t) {
+    const Triangle& tri = triangles[t];
+    return Piece{{positions[tri[0]], positions[tri[1]], positions[tri[2]]},
+                 {vertex_distance[tri[0]], vertex_distance[tri[1]], vertex_distance[tri[2]]},
+                 centroid_distance[t],
+                 0};
+  };
+  // Queued ids below n are triangles (their piece made again when taken); the others are
+  // n + the index of a piece cut from one, kept with its triangle (for its counts).
   std::vector<Piece> pieces;
   std::vector<uint32_t> triangle_of;
-  std::vector<std::array<bool, 2>> counted(triangles.size());
   std::vector<Queued> queue;
-  for (size_t t = 0; t < triangles.size(); ++t) {
+  for (size_t t = 0; t < n; ++t) {
     counted[t] = {counts(t, 0), counts(t, 1)};
-    const Triangle& tri = triangles[t];
-    const Piece root{{positions[tri[0]], positions[tri[1]], positions[tri[2]]},
-                     {vertex_distance[tri[0]], vertex_distance[tri[1]], vertex_distance[tri[2]]},
-                     centroid_distance[t],
-                     0};
-    const double over = excess(root, best, tolerance, counted[t]);
-    if (!(over > 0)) continue;
-    queue.push_back({over, static_cast<uint32_t>(pieces.size())});
-    pieces.push_back(root);
-    triangle_of.push_back(static_cast<uint32_t>(t));
+    const double over = excess(root(t), best, tolerance, counted[t]);
+    if (over > 0) queue.push_back({over, static_cast<uint32_t>(t)});
   }
   std::make_heap(queue.begin(), queue.end());
-  const size_t budget = kRefinementQueriesPerTriangle * triangles.size() + 4096;
+  const size_t budget = std::min(kRefinementQueriesPerTriangle * n, kMaxRefinementQueries) + 4096;
   size_t queries = 0;
   const StopCheck stop(should_stop);
-  std::vector<uint32_t> batch;
+  std::vector<Piece> batch;
+  std::vector<uint32_t> batch_triangle;
   std::vector<Cut> cuts;
   while (!queue.empty() && queries < budget) {
     stop.check();
     // The most promising pieces still open, cut in parallel; the best figures and the queue
     // are then updated in the batch's order (the same for any thread count).
-    batch.clear();
+    batch.clear(), batch_triangle.clear();
     while (!queue.empty() && batch.size() < kRefinementBatch) {
       std::pop_heap(queue.begin(), queue.end());
-      const uint32_t k = queue.back().piece;
+      const uint32_t id = queue.back().piece;
       queue.pop_back();
-      const std::array<bool, 2>& c = counted[triangle_of[k]];
-      if (pieces[k].depth < kMaxRefinementDepth && excess(pieces[k], best, tolerance, c) > 0)
-        batch.push_back(k);
+      const uint32_t triangle = id < n ? id : triangle_of[id - n];
+      const Piece piece = id < n ? root(id) : pieces[id - n];
+      if (piece.depth < kMaxRefinementDepth &&
+          excess(piece, best, tolerance, counted[triangle]) > 0)
+        batch.push_back(piece), batch_triangle.push_back(triangle);
     }
     cuts.resize(batch.size());
     parallel_for(batch.size(), resolve_threads(threads),
-                 [&](size_t i) { cuts[i] = cut(pieces[batch[i]], distance); });
+                 [&](size_t i) { cuts[i] = cut(batch[i], distance); });
     queries += 7 * batch.size();
     for (size_t i = 0; i < batch.size(); ++i) {
-      const std::array<bool, 2>& c = counted[triangle_of[batch[i]]];
+      const std::array<bool, 2>& c = counted[batch_triangle[i]];
       for (const DistancePair& d : cuts[i].measured)
         for (int k = 0; k < 2; ++k)
           if (c[k]) best[k] = std::max(best[k], d[k]);
     }
     for (size_t i = 0; i < batch.size(); ++i) {
-      const uint32_t triangle = triangle_of[batch[i]];
+      const uint32_t triangle = batch_triangle[i];
       for (const Piece& child : cuts[i].children) {
         const double over = excess(child, best, tolerance, counted[triangle]);
         if (!(over > 0)) continue;
-        queue.push_back({over, static_cast<uint32_t>(pieces.size())});
+        queue.push_back({over, static_cast<uint32_t>(n + pieces.size())});
         std::push_heap(queue.begin(), queue.end());
         pieces.push_back(child);
         triangle_of.push_back(triangle);

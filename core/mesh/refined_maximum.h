@@ -25,9 +25,11 @@ namespace spheremap {
 using DistancePair = std::array<double, 2>;
 
 constexpr int kMaxRefinementDepth = 8;  // a piece's edges down to 1/256 of its triangle's
-// At most this many queries per triangle given (plus 4,096): two surfaces that nearly
-// coincide have every bound above a maximum near 0, and would be cut to the depth limit.
+// The budget: this many queries per triangle given, at most kMaxRefinementQueries, plus
+// 4,096. Two surfaces that nearly coincide have every bound above a maximum near 0 and
+// would be cut to the depth limit; the pieces waiting are kept (144 bytes each).
 constexpr size_t kRefinementQueriesPerTriangle = 2;
+constexpr size_t kMaxRefinementQueries = size_t{1} << 19;
 constexpr size_t kRefinementBatch = 256;  // pieces cut in parallel between updates
 
 // The largest distance over the points of `triangles` (each figure over the triangles that
