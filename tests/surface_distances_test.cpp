@@ -14,12 +14,19 @@
 namespace spheremap {
 namespace {
 
+// The RMS figures bit for bit; each maximum within the tolerance of the separate call's
+// (both are within it of the true maximum, found through other pieces: a piece cut for
+// one figure measures both; refined_maximum.h).
+void expect_max_near(double got, double expected) {
+  EXPECT_NEAR(got, expected, std::max(0.05 * expected, 1e-3));
+}
+
 void expect_same(const SurfaceDistance& got, const SurfaceDistance& expected) {
   EXPECT_EQ(got.rms_a_to_b, expected.rms_a_to_b);
-  EXPECT_EQ(got.max_a_to_b, expected.max_a_to_b);
+  expect_max_near(got.max_a_to_b, expected.max_a_to_b);
   EXPECT_EQ(got.rms_b_to_a, expected.rms_b_to_a);
-  EXPECT_EQ(got.max_b_to_a, expected.max_b_to_a);
-  EXPECT_EQ(got.hausdorff, expected.hausdorff);
+  expect_max_near(got.max_b_to_a, expected.max_b_to_a);
+  expect_max_near(got.hausdorff, expected.hausdorff);
   EXPECT_EQ(got.rms, expected.rms);
   EXPECT_EQ(got.diagonal, expected.diagonal);
   EXPECT_EQ(got.samples, expected.samples);
@@ -27,7 +34,7 @@ void expect_same(const SurfaceDistance& got, const SurfaceDistance& expected) {
 
 // A twisted torus against a wavy copy of it, with scattered triangles and whole patches left
 // out (so that some vertices are used by left-out triangles alone).
-TEST(SurfaceDistances, EachEqualsItsOwnSurfaceDistanceBitForBit) {
+TEST(SurfaceDistances, EachEqualsItsOwnSurfaceDistance) {
   const PolygonMesh a = testing::twisted(testing::torus(32, 16), 0.7);
   const std::vector<Triangle> triangles = fan_triangulate(a).triangles;
   std::vector<char> left_out(triangles.size(), 0);

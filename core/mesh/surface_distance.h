@@ -31,10 +31,12 @@ SurfaceDistance surface_distance(std::span<const Vec3> a_positions,
 
 // surface_distance(a, b) twice from the same queries: to all of a's triangles, and to those
 // whose `left_out` entry (one per triangle of a) is 0 (`kept`, as if they were a's only
-// triangles, its figures relative to their own diagonal). Each figure equals that of the
+// triangles, its figures relative to their own diagonal). Each RMS equals that of the
 // separate call: the same samples and distances, summed in the same order; b's samples
 // find the nearest kept triangle in the one tree over all (TriangleTree::closest with
-// left_out). E.g. a remesh against the input's own faces and against them with the fills.
+// left_out). Each maximum is within the same tolerance of the true one, but may be larger
+// than the separate call's (a piece cut for one figure measures both). E.g. a remesh
+// against the input's own faces and against them with the fills.
 struct SurfaceDistances {
   SurfaceDistance kept, all;
 };
