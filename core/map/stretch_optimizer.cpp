@@ -32,10 +32,13 @@ struct StarFace {
 };
 
 // is_valid_triangle(p, f.b, f.c) with b x c already known: the common case (a clear
-// margin) decided from it, the rest by the robust test itself.
+// margin) decided from it, the rest by the robust test itself. Corners on the unit sphere
+// are at most 2 apart, so a determinant above 1e-10 x 4.01 clears the margin of any of
+// its edges without their lengths (the same answers, a third of the test's work).
 inline bool valid_with(const Vec3& p, const StarFace& f) {
-  const double longest = std::max({squared_norm(f.b - p), squared_norm(f.c - p), f.bc_length2});
   const double det = dot(p, f.bc);
+  if (det > 4.01e-10 + 1e-14) return true;
+  const double longest = std::max({squared_norm(f.b - p), squared_norm(f.c - p), f.bc_length2});
   if (det > 1e-10 * longest + 1e-14) return true;
   return is_valid_triangle(p, f.b, f.c);
 }
