@@ -47,10 +47,19 @@ double excess(const Piece& piece, const DistancePair& best, const DistancePair& 
   return out;
 }
 
-struct Queued {
+// A triangle waiting to be cut (its piece is made again when taken).
+struct QueuedTriangle {
   double over;  // excess() when queued: an upper bound of it later (best only grows)
-  uint32_t piece;
-  bool operator<(const Queued& other) const { return over < other.over; }
+  uint32_t triangle;
+  bool operator<(const QueuedTriangle& other) const { return over < other.over; }
+};
+
+// A piece cut from a triangle, waiting to be cut in turn.
+struct QueuedPiece {
+  double over;
+  uint32_t triangle;
+  Piece piece;
+  bool operator<(const QueuedPiece& other) const { return over < other.over; }
 };
 
 // The four pieces of a piece cut at its edge midpoints, each with its measures.
@@ -94,34 +103,45 @@ DistancePair refined_maximum(std::span<const Vec3> positions, std::span<const Tr
                  centroid_distance[t],
                  0};
   };
-  // Queued ids below n are triangles (their piece made again when taken); the others are
-  // n + the index of a piece cut from one, kept with its triangle (for its counts).
-  std::vector<Piece> pieces;
-  std::vector<uint32_t> triangle_of;
-  std::vector<Queued> queue;
+  // Two heaps, the most promising first: whole triangles (16 bytes each, however many are
+  // open) and the pieces cut from them (bounded by kMaxWaitingPieces).
+  std::vector<QueuedTriangle> triangles_open;
+  std::vector<QueuedPiece> pieces_open;
   for (size_t t = 0; t < n; ++t) {
     counted[t] = {counts(t, 0), counts(t, 1)};
     const double over = excess(root(t), best, tolerance, counted[t]);
-    if (over > 0) queue.push_back({over, static_cast<uint32_t>(t)});
+    if (over > 0) triangles_open.push_back({over, static_cast<uint32_t>(t)});
   }
-  std::make_heap(queue.begin(), queue.end());
+  std::make_heap(triangles_open.begin(), triangles_open.end());
   const size_t budget = std::min(kRefinementQueriesPerTriangle * n, kMaxRefinementQueries) + 4096;
   size_t queries = 0;
   const StopCheck stop(should_stop);
   std::vector<Piece> batch;
   std::vector<uint32_t> batch_triangle;
   std::vector<Cut> cuts;
-  while (!queue.empty() && queries < budget) {
+  while ((!triangles_open.empty() || !pieces_open.empty()) && queries < budget &&
+         pieces_open.size() + 4 * kRefinementBatch <= kMaxWaitingPieces) {
     stop.check();
-    // The most promising pieces still open, cut in parallel; the best figures and the queue
+    // The most promising pieces still open, cut in parallel; the best figures and the heaps
     // are then updated in the batch's order (the same for any thread count).
     batch.clear(), batch_triangle.clear();
-    while (!queue.empty() && batch.size() < kRefinementBatch) {
-      std::pop_heap(queue.begin(), queue.end());
-      const uint32_t id = queue.back().piece;
-      queue.pop_back();
-      const uint32_t triangle = id < n ? id : triangle_of[id - n];
-      const Piece piece = id < n ? root(id) : pieces[id - n];
+    while (batch.size() < kRefinementBatch && (!triangles_open.empty() || !pieces_open.empty())) {
+      const bool whole =
+          pieces_open.empty() ||
+          (!triangles_open.empty() && pieces_open.front().over < triangles_open.front().over);
+      Piece piece;
+      uint32_t triangle;
+      if (whole) {
+        std::pop_heap(triangles_open.begin(), triangles_open.end());
+        triangle = triangles_open.back().triangle;
+        piece = root(triangle);
+        triangles_open.pop_back();
+      } else {
+        std::pop_heap(pieces_open.begin(), pieces_open.end());
+        triangle = pieces_open.back().triangle;
+        piece = pieces_open.back().piece;
+        pieces_open.pop_back();
+      }
       if (piece.depth < kMaxRefinementDepth &&
           excess(piece, best, tolerance, counted[triangle]) > 0)
         batch.push_back(piece), batch_triangle.push_back(triangle);
@@ -141,10 +161,8 @@ DistancePair refined_maximum(std::span<const Vec3> positions, std::span<const Tr
       for (const Piece& child : cuts[i].children) {
         const double over = excess(child, best, tolerance, counted[triangle]);
         if (!(over > 0)) continue;
-        queue.push_back({over, static_cast<uint32_t>(n + pieces.size())});
-        std::push_heap(queue.begin(), queue.end());
-        pieces.push_back(child);
-        triangle_of.push_back(triangle);
+        pieces_open.push_back({over, triangle, child});
+        std::push_heap(pieces_open.begin(), pieces_open.end());
       }
     }
   }
