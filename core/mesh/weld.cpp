@@ -8,6 +8,7 @@
 #include <tuple>
 
 #include "core/mesh/input_error.h"
+#include "core/mesh/triangle_tree.h"
 #include "core/mesh/union_find.h"
 
 namespace spheremap {
@@ -25,6 +26,20 @@ void unite_equal(const std::vector<Vec3>& p, UnionFind& sets) {
     if (p[order[k]] == p[order[k - 1]]) sets.unite(order[k], order[k - 1]);
 }
 
+// The box of the finite positions (lo > hi when there is none).
+AxisBox finite_box(const std::vector<Vec3>& p) {
+  AxisBox box;
+  for (const Vec3& q : p)
+    if (is_finite(q)) box.add(q);
+  return box;
+}
+
+std::string shown(double x) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.3g", x);
+  return text;
+}
+
 // Union of finite positions within `radius`. A uniform grid of cell size radius / sqrt(3),
 // so every two points of one cell are within radius and a cell is united in one pass;
 // then each cell is compared with the cells up to two steps away, stopping at the first
@@ -39,29 +54,8 @@ void unite_equal(const std::vector<Vec3>& p, UnionFind& sets) {
 // neighbour cells instead (nearly all empty) was most of the weld's time on a 1.3M-vertex
 // asset, and a std::unordered_map of cells before that spent it walking bucket chains. The
 // sets formed (connected components of "within radius") do not depend on the order.
-// The box of the finite positions (lo > hi when there is none).
-struct FiniteBox {
-  Vec3 lo{INFINITY, INFINITY, INFINITY}, hi{-INFINITY, -INFINITY, -INFINITY};
-  double diagonal() const { return lo.x <= hi.x ? norm(hi - lo) : 0.0; }
-};
-
-FiniteBox finite_box(const std::vector<Vec3>& p) {
-  FiniteBox box;
-  for (const Vec3& q : p) {
-    if (!is_finite(q)) continue;
-    box.lo = {std::min(box.lo.x, q.x), std::min(box.lo.y, q.y), std::min(box.lo.z, q.z)};
-    box.hi = {std::max(box.hi.x, q.x), std::max(box.hi.y, q.y), std::max(box.hi.z, q.z)};
-  }
-  return box;
-}
-
-std::string shown(double x) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%.3g", x);
-  return text;
-}
-
-void unite_within(const std::vector<Vec3>& p, const FiniteBox& box, double radius, UnionFind& sets,
+// `box`: the finite positions' (finite_box).
+void unite_within(const std::vector<Vec3>& p, const AxisBox& box, double radius, UnionFind& sets,
                   StopCheck& stop) {
   struct Cell {
     int64_t x, y, z;
@@ -188,8 +182,8 @@ WeldResult weld(const PolygonMesh& input, double relative_tolerance, StopCheck* 
   check.check();
   unite_equal(input.positions, sets);
   check.check();  // the sort is not ticked: asked before and after it (~1 s at the caps)
-  const FiniteBox box = finite_box(input.positions);
-  const double radius = relative_tolerance * box.diagonal();
+  const AxisBox box = finite_box(input.positions);
+  const double radius = relative_tolerance * (box.lo.x <= box.hi.x ? norm(box.hi - box.lo) : 0.0);
   if (radius > 0) unite_within(input.positions, box, radius, sets, check);
 
   std::vector<char> referenced(n, 0);
