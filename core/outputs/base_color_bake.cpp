@@ -264,8 +264,9 @@ bool coloured(const GltfAppearance& look) {
 // The square's texels, each located on the map's sphere and coloured by `color_of(hit)`
 // (false: no colour, grey); a miss of the locator is counted as unlocated.
 template <typename ColorOf>
-void bake_texels(BakedBaseColor& baked, const SphereLocator& locator, int size, int threads,
-                 const std::function<bool()>* should_stop, ColorOf color_of) {
+void bake_texels(BakedBaseColor& baked, const SphereLocator& locator, const OctahedralFrame& frame,
+                 int size, int threads, const std::function<bool()>* should_stop,
+                 ColorOf color_of) {
   std::vector<uint16_t> rgb(static_cast<size_t>(size) * size * 3, 128);
   std::vector<char> missed(static_cast<size_t>(size) * size, 0);
   // Over texels, not rows (a few thousand rows stay under parallel_for's threshold, so a
@@ -276,7 +277,7 @@ void bake_texels(BakedBaseColor& baked, const SphereLocator& locator, int size, 
     const size_t row = texel / static_cast<size_t>(size);
     const size_t column = texel % static_cast<size_t>(size);
     const double u = (column + 0.5) / size, v = (row + 0.5) / size;
-    const SphereHit hit = locator.locate(octahedral_decode({2 * u - 1, 1 - 2 * v}));
+    const SphereHit hit = locator.locate(octahedral_decode({2 * u - 1, 1 - 2 * v}, frame));
     Rgba color;
     if (hit.triangle == UINT32_MAX || !color_of(hit, color)) {
       missed[texel] = hit.triangle == UINT32_MAX;
@@ -298,7 +299,8 @@ std::optional<BakedBaseColor> bake_base_color(const PolygonMesh& input, const Gl
                                               std::span<const Triangle> oriented, int size,
                                               int threads, const std::function<bool()>* should_stop,
                                               DecodedImages* images,
-                                              const std::vector<uint32_t>* input_faces) {
+                                              const std::vector<uint32_t>* input_faces,
+                                              const OctahedralFrame& frame) {
   const StopCheck stop(should_stop);
   if (!coloured(look) || size <= 0) return std::nullopt;
   BakedBaseColor baked;
@@ -317,7 +319,7 @@ std::optional<BakedBaseColor> bake_base_color(const PolygonMesh& input, const Gl
     return std::nullopt;
   const SphereLocator locator(mapped.map.sphere, oriented);
   const FaceColors face_colors(look, colors);
-  bake_texels(baked, locator, size, threads, should_stop, [&](const SphereHit& hit, Rgba& color) {
+  const auto color_at = [&](const SphereHit& hit, Rgba& color) {
     const uint32_t face = input_face[hit.triangle];
     // The input corner of each map corner (same welded vertex).
     std::array<uint32_t, 3> vertex{};
@@ -326,13 +328,15 @@ std::optional<BakedBaseColor> bake_base_color(const PolygonMesh& input, const Gl
         if (to_welded[c] == oriented[hit.triangle][k]) vertex[k] = c;
     color = face_colors.at(face, vertex, hit.barycentric);
     return true;
-  });
+  };
+  bake_texels(baked, locator, frame, size, threads, should_stop, color_at);
   return baked;
 }
 
 std::optional<BakedBaseColor> bake_base_color_closest(
     const OriginalSurface& original, const MappedMesh& mapped, std::span<const Triangle> oriented,
-    int size, int threads, const std::function<bool()>* should_stop, DecodedImages* images) {
+    int size, int threads, const std::function<bool()>* should_stop, DecodedImages* images,
+    const OctahedralFrame& frame) {
   const StopCheck stop(should_stop);
   if (!original.mesh || !original.look || !coloured(*original.look) || size <= 0 ||
       original.triangles.empty())
@@ -354,7 +358,7 @@ std::optional<BakedBaseColor> bake_base_color_closest(
   stop.check();
   const SphereLocator locator(mapped.map.sphere, oriented);
   const FaceColors face_colors(look, colors);
-  bake_texels(baked, locator, size, threads, should_stop, [&](const SphereHit& hit, Rgba& color) {
+  const auto color_at = [&](const SphereHit& hit, Rgba& color) {
     const Triangle& t = oriented[hit.triangle];
     Vec3 point;  // the envelope's point at the texel
     for (int k = 0; k < 3; ++k) point += envelope.positions[t[k]] * hit.barycentric[k];
@@ -365,7 +369,8 @@ std::optional<BakedBaseColor> bake_base_color_closest(
     color = face_colors.at(original.face[closest.triangle], o,
                            barycentric(closest.point, p[o[0]], p[o[1]], p[o[2]]));
     return true;
-  });
+  };
+  bake_texels(baked, locator, frame, size, threads, should_stop, color_at);
   return baked;
 }
 

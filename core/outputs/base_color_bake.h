@@ -12,6 +12,7 @@
 #include "core/io/image_reader.h"
 #include "core/io/jpeg_scans.h"
 #include "core/map/pipeline.h"
+#include "core/outputs/octahedral.h"
 #include "core/outputs/original_surface.h"
 
 namespace spheremap {
@@ -44,6 +45,7 @@ struct BakedBaseColor {
 // instead of going on: a bake of a large texture keeps to a job's time limit.
 // `input_faces` (may be null): the input face of each welded face, as welded_input_faces
 // gives (a part's own list, so an asset of many parts is not scanned whole per part).
+// `frame`: the remesh's (OctahedralRemesh::frame), so texel and sample share a sphere point.
 // The most pixels bake_base_color decodes in all (4 bytes each); over it, it throws
 // InputError("too_large").
 inline constexpr size_t kMaxBaseColorPixels = size_t{1} << 26;
@@ -55,13 +57,11 @@ size_t base_color_pixels(const GltfAppearance& look);
 // kMaxJpegScans + 1): over kMaxJpegScans, bake_base_color would refuse it.
 size_t base_color_jpeg_scans(const GltfAppearance& look);
 
-std::optional<BakedBaseColor> bake_base_color(const PolygonMesh& input, const GltfAppearance& look,
-                                              const MappedMesh& mapped,
-                                              std::span<const Triangle> oriented, int size,
-                                              int threads,
-                                              const std::function<bool()>* should_stop = nullptr,
-                                              DecodedImages* images = nullptr,
-                                              const std::vector<uint32_t>* input_faces = nullptr);
+std::optional<BakedBaseColor> bake_base_color(
+    const PolygonMesh& input, const GltfAppearance& look, const MappedMesh& mapped,
+    std::span<const Triangle> oriented, int size, int threads,
+    const std::function<bool()>* should_stop = nullptr, DecodedImages* images = nullptr,
+    const std::vector<uint32_t>* input_faces = nullptr, const OctahedralFrame& frame = {});
 
 // The same for the map of an envelope (prepare wrap, or auto wrapping the whole or a part)
 // that stands for `original`: each texel's sphere point is located on the envelope, and
@@ -69,12 +69,10 @@ std::optional<BakedBaseColor> bake_base_color(const PolygonMesh& input, const Gl
 // triangles (its face's material, TEXCOORD_n and COLOR_0 as above). Nothing when the
 // original's look has no material and no vertex colour. `oriented`: the envelope's
 // oriented_triangles().
-std::optional<BakedBaseColor> bake_base_color_closest(const OriginalSurface& original,
-                                                      const MappedMesh& mapped,
-                                                      std::span<const Triangle> oriented, int size,
-                                                      int threads,
-                                                      const std::function<bool()>* should_stop,
-                                                      DecodedImages* images = nullptr);
+std::optional<BakedBaseColor> bake_base_color_closest(
+    const OriginalSurface& original, const MappedMesh& mapped, std::span<const Triangle> oriented,
+    int size, int threads, const std::function<bool()>* should_stop,
+    DecodedImages* images = nullptr, const OctahedralFrame& frame = {});
 
 // The same colour per point (COLOR_0 of a wrapped sphere or UV mesh): the original's base
 // colour, linear RGB clamped to [0, 1], at the closest point of its triangles to each of

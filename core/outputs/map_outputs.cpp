@@ -17,6 +17,7 @@
 #include "core/outputs/asset_builders.h"
 #include "core/outputs/base_color_bake.h"
 #include "core/outputs/normal_bake.h"
+#include "core/outputs/octahedral_frame_choice.h"
 #include "core/outputs/part_grids.h"
 #include "core/outputs/remesh.h"
 #include "core/outputs/sphere_alignment.h"
@@ -44,6 +45,49 @@ std::vector<Vec3> vertex_normals(std::span<const Vec3> positions,
     n = length > 0 ? n * (1 / length) : Vec3{0, 0, 1};
   }
   return normals;
+}
+
+// A remesh over one frame and its distance to the surface it samples: to the input's faces,
+// and with fills (hole fills, handle caps: `filled`, may be empty) also to the surface
+// that was mapped.
+struct MeasuredRemesh {
+  OctahedralRemesh remesh;
+  SurfaceDistance distance;
+  std::optional<SurfaceDistance> to_prepared;
+  double sample_seconds = 0, distance_seconds = 0;
+};
+
+MeasuredRemesh measured_remesh(const PolygonMesh& mesh, std::span<const Vec3> sphere,
+                               std::span<const Triangle> oriented, const std::vector<char>& filled,
+                               int resolution, int threads,
+                               const std::function<bool()>* should_stop,
+                               const OctahedralFrame& frame) {
+  const StopCheck stop(should_stop);
+  MeasuredRemesh out;
+  const auto start = std::chrono::steady_clock::now();
+  out.remesh =
+      octahedral_remesh(mesh.positions, sphere, oriented, resolution, threads, should_stop, frame);
+  out.sample_seconds = seconds_since(start);
+  stop.check();
+  const auto distance_start = std::chrono::steady_clock::now();
+  // Against the input's own faces: the faces preparation added (hole fills, handle caps)
+  // are not the original, and a remesh over a cap is as far from the original as the cap
+  // is (a torus with its handle capped: 1% from the capped surface, 10% from the torus).
+  // With fills, also against the surface that was mapped: what the sampling alone costs
+  // (from the same queries: a second distance cost 40% of a torus's remesh).
+  if (filled.empty()) {
+    out.distance = surface_distance(mesh.positions, oriented, out.remesh.positions,
+                                    out.remesh.triangles, threads, should_stop);
+  } else {
+    SurfaceDistances both =
+        surface_distances(mesh.positions, oriented, filled, out.remesh.positions,
+                          out.remesh.triangles, threads, should_stop);
+    out.distance = both.kept;
+    out.to_prepared = both.all;
+  }
+  out.distance_seconds = seconds_since(distance_start);
+  stop.check();
+  return out;
 }
 
 }  // namespace
@@ -117,35 +161,32 @@ BuiltRemesh build_remesh(const MappedMesh& mapped, int resolution, int threads,
   const auto start = std::chrono::steady_clock::now();
   const PolygonMesh& mesh = mapped.prepared.welded.mesh;
   const OrientedTriangles oriented = oriented_triangles(mesh);
-  const OctahedralRemesh remesh = octahedral_remesh(
-      mesh.positions, mapped.map.sphere, oriented.triangles, resolution, threads, should_stop);
-  const double sample_seconds = seconds_since(start);
+  // The remesh over the unturned square and over the frame predicted to sample best
+  // (octahedral_frame_choice.h), each measured; the nearer is kept.
+  const FrameChoice choice =
+      choose_octahedral_frame(mesh.positions, mapped.map.sphere, oriented.triangles);
+  const std::vector<char> filled = filled_mask(oriented.triangles, mapped.prepared.filled);
+  MeasuredRemesh measured = measured_remesh(mesh, mapped.map.sphere, oriented.triangles, filled,
+                                            resolution, threads, should_stop, OctahedralFrame{});
+  const double unturned_hausdorff = measured.distance.hausdorff;
+  double sample_seconds = measured.sample_seconds, distance_seconds = measured.distance_seconds;
+  size_t frames_measured = 1;
+  if (!choice.frame.identity()) {
+    MeasuredRemesh turned = measured_remesh(mesh, mapped.map.sphere, oriented.triangles, filled,
+                                            resolution, threads, should_stop, choice.frame);
+    sample_seconds += turned.sample_seconds, distance_seconds += turned.distance_seconds;
+    ++frames_measured;
+    if (turned.distance.hausdorff < measured.distance.hausdorff) measured = std::move(turned);
+  }
+  const OctahedralRemesh& remesh = measured.remesh;
+  const SurfaceDistance& distance = measured.distance;
+  const std::optional<SurfaceDistance>& to_prepared = measured.to_prepared;
   stop.check();
 
   // Our own validator on the stitched surface: closed, manifold, genus 0.
   const PolygonMesh stitched = stitched_mesh(remesh);
   const TopologyReport topology = analyze_topology(stitched);
   const auto failures = mapping_failures(topology);
-  stop.check();
-  const auto distance_start = std::chrono::steady_clock::now();
-  // Against the input's own faces: the faces preparation added (hole fills, handle caps)
-  // are not the original, and a remesh over a cap is as far from the original as the cap
-  // is (a torus with its handle capped: 1% from the capped surface, 10% from the torus).
-  // With fills, also against the surface that was mapped: what the sampling alone costs
-  // (from the same queries: a second distance cost 40% of a torus's remesh).
-  const std::vector<char> filled = filled_mask(oriented.triangles, mapped.prepared.filled);
-  SurfaceDistance distance;
-  std::optional<SurfaceDistance> to_prepared;
-  if (filled.empty()) {
-    distance = surface_distance(mesh.positions, oriented.triangles, remesh.positions,
-                                remesh.triangles, threads, should_stop);
-  } else {
-    SurfaceDistances both =
-        surface_distances(mesh.positions, oriented.triangles, filled, remesh.positions,
-                          remesh.triangles, threads, should_stop);
-    distance = both.kept;
-    to_prepared = both.all;
-  }
   stop.check();
   BuiltRemesh asset;
   asset.image = geometry_image(remesh);
@@ -176,9 +217,17 @@ BuiltRemesh build_remesh(const MappedMesh& mapped, int resolution, int threads,
         {"remesh_to_original", {{"rms", distance.rms_b_to_a}, {"max", distance.max_b_to_a}}},
         {"samples", distance.samples}}},
       {"geometry_image", image},
+      {"octahedral_frame",
+       {{"rotation",
+         {{remesh.frame.rotation[0][0], remesh.frame.rotation[0][1], remesh.frame.rotation[0][2]},
+          {remesh.frame.rotation[1][0], remesh.frame.rotation[1][1], remesh.frame.rotation[1][2]},
+          {remesh.frame.rotation[2][0], remesh.frame.rotation[2][1], remesh.frame.rotation[2][2]}}},
+        {"sphere_point", "rotation * octahedral_decode(u, v), (u, v) = 2 TEXCOORD_0 - 1 with v up"},
+        {"frames_measured", frames_measured},
+        {"unturned_hausdorff", unturned_hausdorff}}},
       {"seconds",
        {{"sample", sample_seconds},
-        {"distance", seconds_since(distance_start)},
+        {"distance", distance_seconds},
         {"total", seconds_since(start)}}},
   };
   if (to_prepared)
@@ -216,7 +265,7 @@ BuiltRemesh build_remesh(const MappedMesh& mapped, int resolution, int threads,
     glb.extras["spheremap_remesh"]["distance_to_original"] = asset.metrics["distance_to_original"];
     const auto bake_start = std::chrono::steady_clock::now();
     if (auto baked = bake_base_color_closest(*original, mapped, oriented.triangles, size, threads,
-                                             should_stop, images)) {
+                                             should_stop, images, remesh.frame)) {
       attach(*baked, "base colour of the original");
       asset.metrics["original_look"] =
           baked->factors_only ? "material factors baked by closest point on the original (it has "
@@ -250,7 +299,7 @@ BuiltRemesh build_remesh(const MappedMesh& mapped, int resolution, int threads,
     }
   } else if (input && appearance) {
     if (auto baked = bake_base_color(*input, *appearance, mapped, oriented.triangles, size, threads,
-                                     should_stop, images, input_faces)) {
+                                     should_stop, images, input_faces, remesh.frame)) {
       attach(*baked, "base colour of the input");
     }
   }

@@ -204,7 +204,7 @@ std::optional<BakedNormals> bake_normals_closest(
     px[0] = px[1] = 128, px[2] = 255;  // flat until a normal is found
     const Vec2 s{(2.0 * column + 1) / size - 1, 1 - (2.0 * row + 1) / size};
     const Frame frame = remesh_frame(n, s, normals, tangents);
-    const SphereHit hit = locator.locate(octahedral_decode(s));
+    const SphereHit hit = locator.locate(octahedral_decode(s, remesh.frame));
     if (hit.triangle == UINT32_MAX) {
       missed[texel] = 1;
       return;

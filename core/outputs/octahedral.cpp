@@ -30,4 +30,30 @@ Vec3 octahedral_decode(const Vec2& s) {
   return {x / n, y / n, z / n};
 }
 
+Vec3 OctahedralFrame::to_sphere(const Vec3& d) const {
+  const auto& r = rotation;
+  return {r[0][0] * d.x + r[0][1] * d.y + r[0][2] * d.z,
+          r[1][0] * d.x + r[1][1] * d.y + r[1][2] * d.z,
+          r[2][0] * d.x + r[2][1] * d.y + r[2][2] * d.z};
+}
+
+Vec3 OctahedralFrame::from_sphere(const Vec3& d) const {
+  const auto& r = rotation;
+  return {r[0][0] * d.x + r[1][0] * d.y + r[2][0] * d.z,
+          r[0][1] * d.x + r[1][1] * d.y + r[2][1] * d.z,
+          r[0][2] * d.x + r[1][2] * d.y + r[2][2] * d.z};
+}
+
+bool OctahedralFrame::identity() const {
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+      if (rotation[i][j] != (i == j ? 1.0 : 0.0)) return false;
+  return true;
+}
+
+Vec3 octahedral_decode(const Vec2& square, const OctahedralFrame& frame) {
+  const Vec3 d = octahedral_decode(square);
+  return frame.identity() ? d : frame.to_sphere(d);
+}
+
 }  // namespace spheremap

@@ -75,7 +75,7 @@ std::vector<uint8_t> quad_splits(const OctahedralRemesh& out, const SphereLocato
     const Vec2 centre{-1 + (2.0 * i + 1) / n, -1 + (2.0 * j + 1) / n};
     bool located = false;
     const std::optional<Vec3> at =
-        surface_at(locator, surface, triangles, octahedral_decode(centre), &located);
+        surface_at(locator, surface, triangles, octahedral_decode(centre, out.frame), &located);
     if (!located) return;
     const size_t a = static_cast<size_t>(j) * side + i, b = a + 1, c = a + side + 1, d = a + side;
     const double off_ac = squared_norm((out.positions[a] + out.positions[c]) * 0.5 - *at);
@@ -90,10 +90,12 @@ std::vector<uint8_t> quad_splits(const OctahedralRemesh& out, const SphereLocato
 
 OctahedralRemesh octahedral_remesh(std::span<const Vec3> surface, std::span<const Vec3> sphere,
                                    std::span<const Triangle> triangles, int resolution, int threads,
-                                   const std::function<bool()>* should_stop) {
+                                   const std::function<bool()>* should_stop,
+                                   const OctahedralFrame& frame) {
   if (resolution < 2 || resolution % 2)
     throw std::invalid_argument("octahedral remesh: the resolution must be even and >= 2");
   OctahedralRemesh out;
+  out.frame = frame;
   const int n = out.resolution = resolution;
   const int side = n + 1;
   const size_t samples = static_cast<size_t>(side) * side;
@@ -116,8 +118,9 @@ OctahedralRemesh octahedral_remesh(std::span<const Vec3> surface, std::span<cons
     // An unlocated sample is counted, and put on the triangle next to the gap rather than
     // at the origin (a sample at (0,0,0) of a model far from it is a spike across the scene).
     bool located = false;
-    const std::optional<Vec3> at = surface_at(
-        locator, surface, triangles, octahedral_decode(out.square[representative[v]]), &located);
+    const std::optional<Vec3> at =
+        surface_at(locator, surface, triangles,
+                   octahedral_decode(out.square[representative[v]], frame), &located);
     if (!located) unlocated.fetch_add(1, std::memory_order_relaxed);
     if (at) at_vertex[v] = *at;
   });

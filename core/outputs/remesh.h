@@ -26,6 +26,7 @@ struct OctahedralRemesh {
   // quad along the octahedron's edge direction in its quadrant (remesh.cpp, quad_splits).
   std::vector<Triangle> triangles;
   size_t unlocated = 0;  // samples no map triangle held (0 for a bijective map): put on the nearest
+  OctahedralFrame frame;  // sample s is the surface at the map's sphere point frame(square[s])
 };
 
 // `surface` and `sphere`: positions of the same vertices on the original surface and on
@@ -34,10 +35,12 @@ struct OctahedralRemesh {
 // lines and diagonals). `threads`: 0 = all cores. `should_stop` (may be null), asked every
 // few thousand samples from any thread: true throws InputError("stopped") (a 4096² grid
 // locates 16M samples: seconds, which a time limit or a cancel must not wait for).
+// `frame`: how the square lies on the sphere (octahedral_frame_choice.h picks one).
 OctahedralRemesh octahedral_remesh(std::span<const Vec3> surface, std::span<const Vec3> sphere,
                                    std::span<const Triangle> triangles, int resolution,
                                    int threads = 0,
-                                   const std::function<bool()>* should_stop = nullptr);
+                                   const std::function<bool()>* should_stop = nullptr,
+                                   const OctahedralFrame& frame = {});
 
 // The remesh as a polygon mesh over its stitched vertices (for the topology checks).
 PolygonMesh stitched_mesh(const OctahedralRemesh& remesh);

@@ -1,0 +1,82 @@
+#include "core/outputs/octahedral_frame_choice.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <vector>
+
+namespace spheremap {
+namespace {
+
+// The radical inverse of k in `base`: the Halton sequence's k-th coordinate, in [0, 1).
+double radical_inverse(int k, int base) {
+  double inverse = 0, digit_weight = 1.0 / base;
+  for (; k > 0; k /= base, digit_weight /= base) inverse += (k % base) * digit_weight;
+  return inverse;
+}
+
+// The largest, over vertices, of (A_v / S_v) |R^T q_v|_1^3 (the spacing squared).
+double largest_spacing_squared(std::span<const Vec3> sphere,
+                               const std::vector<double>& area_per_chord,
+                               const OctahedralFrame& frame) {
+  double largest = 0;
+  for (size_t v = 0; v < sphere.size(); ++v) {
+    if (area_per_chord[v] <= 0) continue;
+    const Vec3 d = frame.from_sphere(sphere[v]);
+    const double l1 = std::abs(d.x) + std::abs(d.y) + std::abs(d.z);
+    largest = std::max(largest, area_per_chord[v] * l1 * l1 * l1);
+  }
+  return largest;
+}
+
+}  // namespace
+
+OctahedralFrame frame_candidate(int k) {
+  // Shoemake's uniform rotation from three numbers in [0, 1) (offset by one so the first
+  // candidate is not the Halton origin).
+  const double u1 = radical_inverse(k + 1, 2), u2 = radical_inverse(k + 1, 3),
+               u3 = radical_inverse(k + 1, 5);
+  const double a = std::sqrt(1 - u1), b = std::sqrt(u1);
+  const double t2 = 2 * std::numbers::pi * u2, t3 = 2 * std::numbers::pi * u3;
+  const double w = b * std::cos(t3), x = a * std::sin(t2), y = a * std::cos(t2),
+               z = b * std::sin(t3);
+  OctahedralFrame f;
+  auto& r = f.rotation;
+  r[0][0] = 1 - 2 * (y * y + z * z), r[0][1] = 2 * (x * y - z * w), r[0][2] = 2 * (x * z + y * w);
+  r[1][0] = 2 * (x * y + z * w), r[1][1] = 1 - 2 * (x * x + z * z), r[1][2] = 2 * (y * z - x * w);
+  r[2][0] = 2 * (x * z - y * w), r[2][1] = 2 * (y * z + x * w), r[2][2] = 1 - 2 * (x * x + y * y);
+  return f;
+}
+
+FrameChoice choose_octahedral_frame(std::span<const Vec3> surface, std::span<const Vec3> sphere,
+                                    std::span<const Triangle> triangles) {
+  // Per vertex, the surface area and the chord area of its triangles (the ring smooths a
+  // single sliver's ratio, which says little about the sampling around it).
+  std::vector<double> area(sphere.size(), 0), chord(sphere.size(), 0);
+  double total_area = 0, total_chord = 0;
+  for (const Triangle& t : triangles) {
+    const double a =
+        0.5 * norm(cross(surface[t[1]] - surface[t[0]], surface[t[2]] - surface[t[0]]));
+    const double c = 0.5 * norm(cross(sphere[t[1]] - sphere[t[0]], sphere[t[2]] - sphere[t[0]]));
+    if (!(c > 0) || !std::isfinite(a)) continue;
+    total_area += a, total_chord += c;
+    for (uint32_t v : t) area[v] += a, chord[v] += c;
+  }
+  std::vector<double> area_per_chord(sphere.size(), 0);
+  if (total_area > 0 && total_chord > 0)
+    for (size_t v = 0; v < sphere.size(); ++v)
+      if (chord[v] > 0) area_per_chord[v] = (area[v] / total_area) / (chord[v] / total_chord);
+  FrameChoice choice;
+  double best = largest_spacing_squared(sphere, area_per_chord, OctahedralFrame{});
+  choice.unturned_spacing = std::sqrt(best);
+  bool found = false;
+  for (int k = 0; k < kFrameCandidates; ++k) {
+    const OctahedralFrame candidate = frame_candidate(k);
+    const double spacing = largest_spacing_squared(sphere, area_per_chord, candidate);
+    if (!found || spacing < best) best = spacing, choice.frame = candidate, found = true;
+  }
+  choice.predicted_spacing = std::sqrt(best);
+  return choice;
+}
+
+}  // namespace spheremap

@@ -1,0 +1,114 @@
+// The octahedral frame of a remesh: candidates are proper rotations, the decoded point turns
+// with the frame, and the choice puts the square's dense sampling where the map squeezed
+// the surface, which brings the remesh nearer to it.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <vector>
+
+#include "core/mesh/surface_distance.h"
+#include "core/outputs/map_outputs.h"
+#include "core/outputs/octahedral.h"
+#include "core/outputs/octahedral_frame_choice.h"
+#include "core/outputs/remesh.h"
+#include "tests/mesh_generators.h"
+
+namespace spheremap {
+namespace {
+
+double l1(const Vec3& d) {
+  return std::abs(d.x) + std::abs(d.y) + std::abs(d.z);
+}
+
+TEST(OctahedralFrame, CandidatesAreDistinctProperRotations) {
+  for (int k = 0; k < kFrameCandidates; ++k) {
+    const OctahedralFrame f = frame_candidate(k);
+    const auto& r = f.rotation;
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) {
+        double dot = 0;
+        for (int m = 0; m < 3; ++m) dot += r[i][m] * r[j][m];
+        EXPECT_NEAR(dot, i == j ? 1.0 : 0.0, 1e-12) << k;
+      }
+    const double det = r[0][0] * (r[1][1] * r[2][2] - r[1][2] * r[2][1]) -
+                       r[0][1] * (r[1][0] * r[2][2] - r[1][2] * r[2][0]) +
+                       r[0][2] * (r[1][0] * r[2][1] - r[1][1] * r[2][0]);
+    EXPECT_NEAR(det, 1.0, 1e-12) << k;
+    EXPECT_FALSE(f.identity()) << k;
+    // The decoded point turns with the frame, and back.
+    const Vec2 s{0.3, -0.55};
+    const Vec3 turned = octahedral_decode(s, f);
+    EXPECT_NEAR(norm(turned - f.to_sphere(octahedral_decode(s))), 0, 1e-15);
+    EXPECT_NEAR(norm(f.from_sphere(turned) - octahedral_decode(s)), 0, 1e-14);
+    for (int other = 0; other < k; ++other) {
+      const OctahedralFrame g = frame_candidate(other);
+      double difference = 0;
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) difference += std::abs(r[i][j] - g.rotation[i][j]);
+      EXPECT_GT(difference, 0.1) << k << " " << other;
+    }
+  }
+  EXPECT_TRUE(OctahedralFrame{}.identity());
+}
+
+// A sphere whose surface rises into a narrow spike over a face centre of the octahedron
+// (where the unturned square samples the sphere most sparsely): the map gives the spike
+// little of the sphere, so a coarse remesh cuts across it.
+struct SpikedSphere {
+  PolygonMesh sphere = testing::icosphere(5);
+  std::vector<Triangle> triangles = fan_triangulate(sphere).triangles;
+  Vec3 spike = Vec3{1, 1, 1} * (1 / std::sqrt(3.0));
+  std::vector<Vec3> surface;
+  SpikedSphere() {
+    for (const Vec3& q : sphere.positions)
+      surface.push_back(q * (1 + 2 * std::exp(-squared_norm(q - spike) / 0.02)));
+  }
+};
+
+TEST(OctahedralFrameChoice, TurnsTheDenseSamplingOntoWhatTheMapSqueezed) {
+  const SpikedSphere s;
+  const FrameChoice choice = choose_octahedral_frame(s.surface, s.sphere.positions, s.triangles);
+  EXPECT_LT(choice.predicted_spacing, 0.8 * choice.unturned_spacing);
+  // The spike's direction in the square's frame is near one of the octahedron's vertices
+  // (|d|_1 = 1 there, sqrt 3 at a face centre).
+  EXPECT_LT(l1(choice.frame.from_sphere(s.spike)), 1.25);
+  EXPECT_NEAR(l1(OctahedralFrame{}.from_sphere(s.spike)), std::sqrt(3.0), 1e-12);
+
+  // Measured: the remesh over the chosen frame is nearer the spiked surface.
+  const auto hausdorff = [&](const OctahedralFrame& frame) {
+    const OctahedralRemesh remesh =
+        octahedral_remesh(s.surface, s.sphere.positions, s.triangles, 16, 1, nullptr, frame);
+    EXPECT_EQ(remesh.unlocated, 0u);
+    return surface_distance(s.surface, s.triangles, remesh.positions, remesh.triangles, 1)
+        .hausdorff;
+  };
+  const double unturned = hausdorff(OctahedralFrame{}), turned = hausdorff(choice.frame);
+  EXPECT_LT(turned, 0.8 * unturned) << turned << " " << unturned;
+}
+
+// Each sample of a turned remesh is the surface at the frame's sphere point of its square
+// point; the asset keeps whichever frame measured nearer and says which.
+TEST(OctahedralFrameChoice, TheRemeshAssetKeepsTheNearerFrameAndReportsIt) {
+  const MappedMesh mapped = map_mesh(testing::horseshoe(), {}, {});
+  ASSERT_TRUE(mapped.map.check.bijective);
+  const RemeshAsset asset = remesh_asset(mapped, 16);
+  const nlohmann::json& frame = asset.metrics["octahedral_frame"];
+  EXPECT_EQ(frame["frames_measured"], 2);
+  EXPECT_LE(asset.metrics["distance"]["hausdorff"].get<double>(),
+            frame["unturned_hausdorff"].get<double>());
+  ASSERT_EQ(frame["rotation"].size(), 3u);
+
+  const SpikedSphere s;
+  const FrameChoice choice = choose_octahedral_frame(s.surface, s.sphere.positions, s.triangles);
+  const OctahedralRemesh remesh =
+      octahedral_remesh(s.surface, s.sphere.positions, s.triangles, 8, 1, nullptr, choice.frame);
+  for (size_t k = 0; k < remesh.positions.size(); ++k) {
+    const Vec3 q = choice.frame.to_sphere(octahedral_decode(remesh.square[k]));
+    // The spiked surface is radial: the sample lies along its sphere point's ray.
+    const Vec3 p = remesh.positions[k];
+    EXPECT_GT(dot(p * (1 / norm(p)), q), 0.999) << k;
+  }
+}
+
+}  // namespace
+}  // namespace spheremap
