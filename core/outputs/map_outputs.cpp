@@ -47,28 +47,22 @@ std::vector<Vec3> vertex_normals(std::span<const Vec3> positions,
   return normals;
 }
 
-// A remesh over one frame and its distance to the surface it samples: to the input's faces,
+// A remesh and its distance to the surface it samples: to the input's faces,
 // and with fills (hole fills, handle caps: `filled`, may be empty) also to the surface
 // that was mapped.
 struct MeasuredRemesh {
   OctahedralRemesh remesh;
   SurfaceDistance distance;
   std::optional<SurfaceDistance> to_prepared;
-  double sample_seconds = 0, distance_seconds = 0;
+  double distance_seconds = 0;
 };
 
-MeasuredRemesh measured_remesh(const PolygonMesh& mesh, std::span<const Vec3> sphere,
+MeasuredRemesh measured_remesh(OctahedralRemesh remesh, const PolygonMesh& mesh,
                                std::span<const Triangle> oriented, const std::vector<char>& filled,
-                               int resolution, int threads,
-                               const std::function<bool()>* should_stop,
-                               const OctahedralFrame& frame) {
+                               int threads, const std::function<bool()>* should_stop) {
   const StopCheck stop(should_stop);
   MeasuredRemesh out;
-  const auto start = std::chrono::steady_clock::now();
-  out.remesh =
-      octahedral_remesh(mesh.positions, sphere, oriented, resolution, threads, should_stop, frame);
-  out.sample_seconds = seconds_since(start);
-  stop.check();
+  out.remesh = std::move(remesh);
   const auto distance_start = std::chrono::steady_clock::now();
   // Against the input's own faces: the faces preparation added (hole fills, handle caps)
   // are not the original, and a remesh over a cap is as far from the original as the cap
@@ -87,6 +81,67 @@ MeasuredRemesh measured_remesh(const PolygonMesh& mesh, std::span<const Vec3> sp
   }
   out.distance_seconds = seconds_since(distance_start);
   stop.check();
+  return out;
+}
+
+// The remesh over the unturned square, measured; then over a turned square
+// (octahedral_frame_choice.h), measured too, and the nearer is kept. Two predictions of
+// the turned frame: from where the map squeezed the surface, and from where the unturned
+// remesh is off; each is sampled and screened by its own sampled errors (point queries, a
+// fraction of a full distance), and the better one is measured in full.
+struct FramedRemesh {
+  MeasuredRemesh measured;
+  double unturned_hausdorff = 0;
+  const char* kept_by = "unturned";  // or "area", "errors": the prediction kept
+  double sample_seconds = 0, screen_seconds = 0, distance_seconds = 0;
+};
+
+FramedRemesh framed_remesh(const PolygonMesh& mesh, std::span<const Vec3> sphere,
+                           std::span<const Triangle> oriented, const std::vector<char>& filled,
+                           int resolution, int threads, const std::function<bool()>* should_stop) {
+  const StopCheck stop(should_stop);
+  FramedRemesh out;
+  const auto sample = [&](const OctahedralFrame& frame) {
+    const auto sample_start = std::chrono::steady_clock::now();
+    OctahedralRemesh made = octahedral_remesh(mesh.positions, sphere, oriented, resolution, threads,
+                                              should_stop, frame);
+    out.sample_seconds += seconds_since(sample_start);
+    stop.check();
+    return made;
+  };
+  out.measured =
+      measured_remesh(sample(OctahedralFrame{}), mesh, oriented, filled, threads, should_stop);
+  out.unturned_hausdorff = out.measured.distance.hausdorff;
+  out.distance_seconds = out.measured.distance_seconds;
+  const auto screen_start = std::chrono::steady_clock::now();
+  const auto largest_error = [&](const OctahedralRemesh& made) {
+    double largest = 0;
+    for (const SampledError& e :
+         sampled_errors(mesh.positions, sphere, oriented, made, threads, should_stop))
+      largest = std::max(largest, e.error);
+    return largest;
+  };
+  const FrameChoice by_area = choose_octahedral_frame(mesh.positions, sphere, oriented);
+  const FrameChoice by_errors = choose_octahedral_frame(
+      sampled_errors(mesh.positions, sphere, oriented, out.measured.remesh, threads, should_stop),
+      out.measured.remesh.frame);
+  std::optional<OctahedralRemesh> turned;
+  double turned_error = INFINITY;
+  const char* turned_by = "";
+  for (const auto& [choice, by] : {std::pair{&by_area, "area"}, std::pair{&by_errors, "errors"}}) {
+    if (turned && turned->frame == choice->frame) continue;
+    OctahedralRemesh made = sample(choice->frame);
+    const double error = largest_error(made);
+    if (error < turned_error) turned_error = error, turned = std::move(made), turned_by = by;
+  }
+  out.screen_seconds = seconds_since(screen_start);
+  if (turned) {
+    MeasuredRemesh other =
+        measured_remesh(std::move(*turned), mesh, oriented, filled, threads, should_stop);
+    out.distance_seconds += other.distance_seconds;
+    if (other.distance.hausdorff < out.measured.distance.hausdorff)
+      out.measured = std::move(other), out.kept_by = turned_by;
+  }
   return out;
 }
 
@@ -161,23 +216,10 @@ BuiltRemesh build_remesh(const MappedMesh& mapped, int resolution, int threads,
   const auto start = std::chrono::steady_clock::now();
   const PolygonMesh& mesh = mapped.prepared.welded.mesh;
   const OrientedTriangles oriented = oriented_triangles(mesh);
-  // The remesh over the unturned square and over the frame predicted to sample best
-  // (octahedral_frame_choice.h), each measured; the nearer is kept.
-  const FrameChoice choice =
-      choose_octahedral_frame(mesh.positions, mapped.map.sphere, oriented.triangles);
   const std::vector<char> filled = filled_mask(oriented.triangles, mapped.prepared.filled);
-  MeasuredRemesh measured = measured_remesh(mesh, mapped.map.sphere, oriented.triangles, filled,
-                                            resolution, threads, should_stop, OctahedralFrame{});
-  const double unturned_hausdorff = measured.distance.hausdorff;
-  double sample_seconds = measured.sample_seconds, distance_seconds = measured.distance_seconds;
-  size_t frames_measured = 1;
-  if (!choice.frame.identity()) {
-    MeasuredRemesh turned = measured_remesh(mesh, mapped.map.sphere, oriented.triangles, filled,
-                                            resolution, threads, should_stop, choice.frame);
-    sample_seconds += turned.sample_seconds, distance_seconds += turned.distance_seconds;
-    ++frames_measured;
-    if (turned.distance.hausdorff < measured.distance.hausdorff) measured = std::move(turned);
-  }
+  const FramedRemesh framed = framed_remesh(mesh, mapped.map.sphere, oriented.triangles, filled,
+                                            resolution, threads, should_stop);
+  const MeasuredRemesh& measured = framed.measured;
   const OctahedralRemesh& remesh = measured.remesh;
   const SurfaceDistance& distance = measured.distance;
   const std::optional<SurfaceDistance>& to_prepared = measured.to_prepared;
@@ -223,11 +265,12 @@ BuiltRemesh build_remesh(const MappedMesh& mapped, int resolution, int threads,
           {remesh.frame.rotation[1][0], remesh.frame.rotation[1][1], remesh.frame.rotation[1][2]},
           {remesh.frame.rotation[2][0], remesh.frame.rotation[2][1], remesh.frame.rotation[2][2]}}},
         {"sphere_point", "rotation * octahedral_decode(u, v), (u, v) = 2 TEXCOORD_0 - 1 with v up"},
-        {"frames_measured", frames_measured},
-        {"unturned_hausdorff", unturned_hausdorff}}},
+        {"kept", framed.kept_by},
+        {"unturned_hausdorff", framed.unturned_hausdorff}}},
       {"seconds",
-       {{"sample", sample_seconds},
-        {"distance", distance_seconds},
+       {{"sample", framed.sample_seconds},
+        {"frame_screen", framed.screen_seconds},
+        {"distance", framed.distance_seconds},
         {"total", seconds_since(start)}}},
   };
   if (to_prepared)

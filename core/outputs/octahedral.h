@@ -29,6 +29,7 @@ struct OctahedralFrame {
   Vec3 to_sphere(const Vec3& d) const;                        // rotation * d
   Vec3 from_sphere(const Vec3& d) const;                      // rotation^T * d
   bool identity() const;
+  bool operator==(const OctahedralFrame&) const = default;
 };
 
 // octahedral_decode turned by the frame: the map's sphere point of square point s.

@@ -5,8 +5,15 @@
 #include <numbers>
 #include <vector>
 
+#include "core/mesh/surface_distance.h"
+#include "core/outputs/remesh.h"
+
 namespace spheremap {
 namespace {
+
+double l1_norm(const Vec3& d) {
+  return std::abs(d.x) + std::abs(d.y) + std::abs(d.z);
+}
 
 // The radical inverse of k in `base`: the Halton sequence's k-th coordinate, in [0, 1).
 double radical_inverse(int k, int base) {
@@ -76,6 +83,69 @@ FrameChoice choose_octahedral_frame(std::span<const Vec3> surface, std::span<con
     if (!found || spacing < best) best = spacing, choice.frame = candidate, found = true;
   }
   choice.predicted_spacing = std::sqrt(best);
+  return choice;
+}
+
+std::vector<SampledError> sampled_errors(std::span<const Vec3> surface,
+                                         std::span<const Vec3> sphere,
+                                         std::span<const Triangle> triangles,
+                                         const OctahedralRemesh& remesh, int threads,
+                                         const std::function<bool()>* should_stop) {
+  std::vector<SampledError> errors;
+  // The remesh's triangles, at their centroids (a triangle bridging a gap is off the
+  // surface there), each at the sphere point of its centroid in the square.
+  std::vector<Vec3> centroids;
+  centroids.reserve(remesh.triangles.size());
+  for (const Triangle& t : remesh.triangles)
+    centroids.push_back((remesh.positions[t[0]] + remesh.positions[t[1]] + remesh.positions[t[2]]) *
+                        (1.0 / 3));
+  const PointDistances off = point_distances(surface, triangles, centroids, threads, should_stop);
+  for (size_t k = 0; k < remesh.triangles.size(); ++k) {
+    const Triangle& t = remesh.triangles[k];
+    const Vec2 centre{
+        (remesh.square[t[0]][0] + remesh.square[t[1]][0] + remesh.square[t[2]][0]) / 3,
+        (remesh.square[t[0]][1] + remesh.square[t[1]][1] + remesh.square[t[2]][1]) / 3};
+    errors.push_back({octahedral_decode(centre, remesh.frame), off.relative[k]});
+  }
+  // The surface's vertices, at their sphere points (a feature the samples missed).
+  const PointDistances missed =
+      point_distances(remesh.positions, remesh.triangles, surface, threads, should_stop);
+  for (size_t v = 0; v < surface.size(); ++v) errors.push_back({sphere[v], missed.relative[v]});
+  return errors;
+}
+
+FrameChoice choose_octahedral_frame(std::span<const SampledError> errors,
+                                    const OctahedralFrame& measured) {
+  // Only errors that some frame could make the largest: a spacing changes by at most
+  // sqrt(5.2) either way, so one under 1/5.2 of the largest stays under it.
+  double largest = 0;
+  for (const SampledError& e : errors) largest = std::max(largest, e.error);
+  struct Spot {
+    Vec3 direction;
+    double error_per_spacing;
+  };
+  std::vector<Spot> spots;
+  for (const SampledError& e : errors)
+    if (e.error >= largest / 5.2 && e.error > 0) {
+      const double l1 = l1_norm(measured.from_sphere(e.direction));
+      spots.push_back({e.direction, e.error / std::pow(l1, 1.5)});
+    }
+  const auto predicted = [&](const OctahedralFrame& frame) {
+    double worst = 0;
+    for (const Spot& s : spots)
+      worst = std::max(
+          worst, s.error_per_spacing * std::pow(l1_norm(frame.from_sphere(s.direction)), 1.5));
+    return worst;
+  };
+  FrameChoice choice;
+  choice.unturned_spacing = predicted(OctahedralFrame{});
+  double best = INFINITY;
+  for (int k = 0; k < kFrameCandidates; ++k) {
+    const OctahedralFrame candidate = frame_candidate(k);
+    const double error = predicted(candidate);
+    if (error < best) best = error, choice.frame = candidate;
+  }
+  choice.predicted_spacing = best;
   return choice;
 }
 

@@ -9,19 +9,27 @@
 // that is where the remesh's Hausdorff distance comes from. Turning the square moves its
 // dense spots onto the parts the map squeezed.
 //
-// The prediction: at a vertex v of the map, the surface area one sample stands for is
-// proportional to (A_v / S_v) |R^T q_v|_1^3, with A_v the surface area of v's triangles, S_v
-// their chord area on the sphere, q_v its sphere point and R the frame's rotation (the
-// square's area per solid angle at direction d is sqrt(3) / |d|_1^3); its square root is the
-// spacing of the samples there. The frame chosen is the one among fixed candidates (spread
-// evenly over the rotations) whose largest predicted spacing is smallest. It is a
-// prediction only (bridging needs a feature under the sparse spot), so the remesh keeps
-// whichever of this frame and the unturned one measures nearer (map_outputs.cpp): on 15
-// set-8 CAD parts whose remesh stood over 2% of the diagonal, the two together
-// measured as well as the best of four random frames.
+// Two predictions of a better frame, each over 48 fixed candidate rotations (Halton points
+// through Shoemake's formula: the same on every platform):
+// - from the map alone: at a vertex v, the surface area one sample stands for is
+//   proportional to (A_v / S_v) |R^T q_v|_1^3, with A_v the surface area of v's triangles,
+//   S_v their chord area on the sphere, q_v its sphere point and R the frame's rotation (the
+//   square's area per solid angle at direction d is sqrt(3) / |d|_1^3); its square root is
+//   the spacing of the samples there, and the candidate whose largest is least is chosen;
+// - from a remesh's own errors (sampled_errors: at its triangles' centroids and at the
+//   surface's vertices): each error scaled by how the spacing at its sphere point changes,
+//   and the candidate whose largest predicted error is least is chosen.
+// Neither can be trusted alone (bridging needs a feature under a sparse spot, and an error
+// need not shrink with the spacing): on 15 set-8 CAD parts whose remesh stood over 2% of
+// the diagonal, a rotation chosen by the first alone made some files worse (3.2% -> 5.2%),
+// and each of the two was the better on about half of the files and of the corpus. So the
+// remesh (map_outputs.cpp) samples both, screens them by their sampled errors, measures the
+// better in full beside the unturned remesh, and keeps the nearer.
 #pragma once
 
+#include <functional>
 #include <span>
+#include <vector>
 
 #include "core/mesh/mesh.h"
 #include "core/outputs/octahedral.h"
@@ -33,8 +41,8 @@ inline constexpr int kFrameCandidates = 48;
 
 struct FrameChoice {
   OctahedralFrame frame;  // the candidate of smallest largest predicted spacing
-  // Largest predicted spacing (relative: sqrt of surface area share per steradian share)
-  // of the chosen frame and of the unturned one.
+  // The prediction's figure (the largest predicted spacing, or error) for the chosen frame
+  // and for the unturned one.
   double predicted_spacing = 0, unturned_spacing = 0;
 };
 
@@ -44,6 +52,28 @@ struct FrameChoice {
 // (the candidates are Halton points taken to rotations by Shoemake's formula).
 FrameChoice choose_octahedral_frame(std::span<const Vec3> surface, std::span<const Vec3> sphere,
                                     std::span<const Triangle> triangles);
+
+// An error measured on a remesh, and the sphere point where it was measured.
+struct SampledError {
+  Vec3 direction;  // on the map's sphere
+  double error = 0;
+};
+struct OctahedralRemesh;
+
+// The errors of `remesh` (made over some frame): at each of its triangles' centroids, the
+// distance to the surface (`surface`, `triangles`), and at each surface vertex the distance
+// to the remesh, relative to the measured surface's diagonal.
+std::vector<SampledError> sampled_errors(std::span<const Vec3> surface,
+                                         std::span<const Vec3> sphere,
+                                         std::span<const Triangle> triangles,
+                                         const OctahedralRemesh& remesh, int threads,
+                                         const std::function<bool()>* should_stop);
+
+// The candidate whose predicted largest error is least, each error scaled by the sample
+// spacing there in the candidate's frame over that in `measured` (the frame the errors
+// were measured in): (|R^T d|_1 / |M^T d|_1)^(3/2).
+FrameChoice choose_octahedral_frame(std::span<const SampledError> errors,
+                                    const OctahedralFrame& measured);
 
 // Candidate k (0-based, k < kFrameCandidates) of that list, for tests and benches.
 OctahedralFrame frame_candidate(int k);
