@@ -41,7 +41,7 @@ size_t estimated_job_bytes(const api::JobSpec& spec) {
     const size_t side = static_cast<size_t>(std::max(spec.remesh_resolution, 1));
     // Several parts' grids hold up to 4 grids' samples together (part_grids.h): 500 parts
     // at 1024 peaked 1.5x one part's remesh (1,042 MB against 702).
-    bytes += (96u << 20) + 400 * side * side * (parts > 1 ? 2 : 1);
+    bytes += (96u << 20) + kRemeshBytesPerSample * side * side * (parts > 1 ? 2 : 1);
     // The colour bake holds each distinct base-colour image decoded, 4 bytes a pixel.
     bytes += 4 * base_color_pixels(look);
   }

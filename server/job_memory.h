@@ -21,6 +21,14 @@
 
 namespace spheremap::server {
 
+// A remesh's bytes per sample of its grid, over a fixed 96 MB. Measured 2026-12-07 (peak
+// RSS of `spheremap remesh --resolution 1024`, 2 threads): horse 646 MB, igea 672 MB,
+// Voron z_drive_main_a_x2 (47K triangles, turned frames tried) 739 MB; with the map's own
+// estimate about 560-600 bytes per sample. 400 was fitted before the Hausdorff distance
+// over every point (2026-12-07) and the turned frames' second distance: horse had grown
+// from 455 to 646 MB.
+inline constexpr size_t kRemeshBytesPerSample = 700;
+
 size_t estimated_job_bytes(const api::JobSpec& spec);
 
 // Charges `job` its estimate against `budget`, waiting while it does not fit (the job's

@@ -97,7 +97,8 @@ TEST(JobMemory, EstimatesGrowWithTrianglesAndTheRemesh) {
   EXPECT_EQ(small, (16u << 20) + 400 * 4);
   spec.outputs = {"sphere", "remesh"};
   spec.remesh_resolution = 1024;
-  EXPECT_EQ(server::estimated_job_bytes(spec), small + (96u << 20) + 400 * 1024 * 1024);
+  EXPECT_EQ(server::estimated_job_bytes(spec),
+            small + (96u << 20) + server::kRemeshBytesPerSample * 1024 * 1024);
 }
 
 // A part costs its own map and file whatever its size, and several parts' remesh grids
@@ -114,7 +115,8 @@ TEST(JobMemory, EstimatesCountThePartsAndTheirRemeshGrids) {
   const size_t one_part = server::estimated_job_bytes(spec);
   EXPECT_EQ(one_part, whole + 20000);
   spec.prepared.parts.resize(500);
-  EXPECT_EQ(server::estimated_job_bytes(spec), whole + 500 * 20000 + 400 * 256 * 256);
+  EXPECT_EQ(server::estimated_job_bytes(spec),
+            whole + 500 * 20000 + server::kRemeshBytesPerSample * 256 * 256);
 }
 
 TEST(JobMemory, TheRemeshCountsItsDecodedBaseColourPixels) {

@@ -119,12 +119,20 @@ TEST(OctahedralFrameChoice, TheRemeshAssetKeepsTheNearerFrameAndReportsIt) {
   ASSERT_TRUE(mapped.map.check.bijective);
   const RemeshAsset asset = remesh_asset(mapped, 16);
   const nlohmann::json& frame = asset.metrics["octahedral_frame"];
+  EXPECT_TRUE(frame["turned_frames_tried"]);  // a 16 x 16 grid stands far off a horseshoe
   const std::string kept = frame["kept"];
   EXPECT_TRUE(kept == "unturned" || kept == "area" || kept == "errors") << kept;
   EXPECT_EQ(kept == "unturned", frame["rotation"][0][0] == 1.0 && frame["rotation"][1][1] == 1.0);
   EXPECT_LE(asset.metrics["distance"]["hausdorff"].get<double>(),
             frame["unturned_hausdorff"].get<double>());
   ASSERT_EQ(frame["rotation"].size(), 3u);
+  // A remesh already near its surface is kept unturned without trying (kFrameTrialDistance).
+  const MappedMesh ball = map_mesh(testing::icosphere(3), {}, {});
+  ASSERT_TRUE(ball.map.check.bijective);
+  const RemeshAsset fine = remesh_asset(ball, 128);
+  ASSERT_LE(fine.metrics["distance"]["hausdorff"].get<double>(), kFrameTrialDistance);
+  EXPECT_FALSE(fine.metrics["octahedral_frame"]["turned_frames_tried"]);
+  EXPECT_EQ(fine.metrics["octahedral_frame"]["kept"], "unturned");
 
   const SpikedSphere s;
   const FrameChoice choice = choose_octahedral_frame(s.surface, s.sphere.positions, s.triangles);

@@ -84,14 +84,16 @@ MeasuredRemesh measured_remesh(OctahedralRemesh remesh, const PolygonMesh& mesh,
   return out;
 }
 
-// The remesh over the unturned square, measured; then over a turned square
-// (octahedral_frame_choice.h), measured too, and the nearer is kept. Two predictions of
+// The remesh over the unturned square, measured; then, when it stands farther than
+// kFrameTrialDistance, over a turned square (octahedral_frame_choice.h), measured too, and
+// the nearer is kept. Two predictions of
 // the turned frame: from where the map squeezed the surface, and from where the unturned
 // remesh is off; each is sampled and screened by its own sampled errors (point queries, a
 // fraction of a full distance), and the better one is measured in full.
 struct FramedRemesh {
   MeasuredRemesh measured;
   double unturned_hausdorff = 0;
+  bool tried = false;                // turned frames tried (kFrameTrialDistance)
   const char* kept_by = "unturned";  // or "area", "errors": the prediction kept
   double sample_seconds = 0, screen_seconds = 0, distance_seconds = 0;
 };
@@ -113,6 +115,8 @@ FramedRemesh framed_remesh(const PolygonMesh& mesh, std::span<const Vec3> sphere
       measured_remesh(sample(OctahedralFrame{}), mesh, oriented, filled, threads, should_stop);
   out.unturned_hausdorff = out.measured.distance.hausdorff;
   out.distance_seconds = out.measured.distance_seconds;
+  if (!(out.unturned_hausdorff > kFrameTrialDistance)) return out;
+  out.tried = true;
   const auto screen_start = std::chrono::steady_clock::now();
   const auto largest_error = [&](const OctahedralRemesh& made) {
     double largest = 0;
@@ -265,6 +269,7 @@ BuiltRemesh build_remesh(const MappedMesh& mapped, int resolution, int threads,
           {remesh.frame.rotation[1][0], remesh.frame.rotation[1][1], remesh.frame.rotation[1][2]},
           {remesh.frame.rotation[2][0], remesh.frame.rotation[2][1], remesh.frame.rotation[2][2]}}},
         {"sphere_point", "rotation * octahedral_decode(u, v), (u, v) = 2 TEXCOORD_0 - 1 with v up"},
+        {"turned_frames_tried", framed.tried},
         {"kept", framed.kept_by},
         {"unturned_hausdorff", framed.unturned_hausdorff}}},
       {"seconds",
