@@ -103,10 +103,13 @@ FramedRemesh framed_remesh(const PolygonMesh& mesh, std::span<const Vec3> sphere
                            int resolution, int threads, const std::function<bool()>* should_stop) {
   const StopCheck stop(should_stop);
   FramedRemesh out;
+  const auto locator_start = std::chrono::steady_clock::now();
+  const SphereLocator locator(sphere, oriented);  // one for every frame
+  out.sample_seconds = seconds_since(locator_start);
   const auto sample = [&](const OctahedralFrame& frame) {
     const auto sample_start = std::chrono::steady_clock::now();
     OctahedralRemesh made = octahedral_remesh(mesh.positions, sphere, oriented, resolution, threads,
-                                              should_stop, frame);
+                                              should_stop, frame, &locator);
     out.sample_seconds += seconds_since(sample_start);
     stop.check();
     return made;

@@ -91,7 +91,8 @@ std::vector<uint8_t> quad_splits(const OctahedralRemesh& out, const SphereLocato
 OctahedralRemesh octahedral_remesh(std::span<const Vec3> surface, std::span<const Vec3> sphere,
                                    std::span<const Triangle> triangles, int resolution, int threads,
                                    const std::function<bool()>* should_stop,
-                                   const OctahedralFrame& frame) {
+                                   const OctahedralFrame& frame,
+                                   const SphereLocator* shared_locator) {
   if (resolution < 2 || resolution % 2)
     throw std::invalid_argument("octahedral remesh: the resolution must be even and >= 2");
   OctahedralRemesh out;
@@ -109,7 +110,9 @@ OctahedralRemesh octahedral_remesh(std::span<const Vec3> surface, std::span<cons
     out.square[s] = {-1 + 2.0 * (s % side) / n, -1 + 2.0 * (s / side) / n};
     if (representative[out.vertex[s]] == UINT32_MAX) representative[out.vertex[s]] = s;
   }
-  const SphereLocator locator(sphere, triangles);
+  std::optional<SphereLocator> own_locator;
+  if (!shared_locator) own_locator.emplace(sphere, triangles);
+  const SphereLocator& locator = shared_locator ? *shared_locator : *own_locator;
   std::vector<Vec3> at_vertex(out.vertex_count);
   std::atomic<size_t> unlocated{0};
   ParallelStop stop(should_stop, 4096);

@@ -11,6 +11,7 @@
 
 #include "core/mesh/mesh.h"
 #include "core/outputs/octahedral.h"
+#include "core/outputs/sphere_locator.h"
 
 namespace spheremap {
 
@@ -36,11 +37,15 @@ struct OctahedralRemesh {
 // few thousand samples from any thread: true throws InputError("stopped") (a 4096² grid
 // locates 16M samples: seconds, which a time limit or a cancel must not wait for).
 // `frame`: how the square lies on the sphere (octahedral_frame_choice.h picks one).
+// `locator` (may be null: one is built): a SphereLocator of `sphere` and `triangles`, so
+// remeshes over several frames share it (its grid takes longer than the sampling: scorpion
+// 1.1 s, against 0.1 s to locate 16K samples).
 OctahedralRemesh octahedral_remesh(std::span<const Vec3> surface, std::span<const Vec3> sphere,
                                    std::span<const Triangle> triangles, int resolution,
                                    int threads = 0,
                                    const std::function<bool()>* should_stop = nullptr,
-                                   const OctahedralFrame& frame = {});
+                                   const OctahedralFrame& frame = {},
+                                   const SphereLocator* locator = nullptr);
 
 // The remesh as a polygon mesh over its stitched vertices (for the topology checks).
 PolygonMesh stitched_mesh(const OctahedralRemesh& remesh);
