@@ -29,8 +29,7 @@ double largest_spacing_squared(std::span<const Vec3> sphere,
   double largest = 0;
   for (size_t v = 0; v < sphere.size(); ++v) {
     if (area_per_chord[v] <= 0) continue;
-    const Vec3 d = frame.from_sphere(sphere[v]);
-    const double l1 = std::abs(d.x) + std::abs(d.y) + std::abs(d.z);
+    const double l1 = l1_norm(frame.from_sphere(sphere[v]));
     largest = std::max(largest, area_per_chord[v] * l1 * l1 * l1);
   }
   return largest;
