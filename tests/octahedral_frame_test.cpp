@@ -70,7 +70,7 @@ struct SpikedSphere {
 TEST(OctahedralFrameChoice, TurnsTheDenseSamplingOntoWhatTheMapSqueezed) {
   const SpikedSphere s;
   const FrameChoice choice = choose_octahedral_frame(s.surface, s.sphere.positions, s.triangles);
-  EXPECT_LT(choice.predicted_spacing, 0.8 * choice.unturned_spacing);
+  EXPECT_LT(choice.predicted_largest, 0.8 * choice.unturned_largest);
   // The spike's direction in the square's frame is near one of the octahedron's vertices
   // (|d|_1 = 1 there, sqrt 3 at a face centre).
   EXPECT_LT(l1(choice.frame.from_sphere(s.spike)), 1.25);
@@ -95,14 +95,14 @@ TEST(OctahedralFrameChoice, FromARemeshsErrorsTurnsTheDenseSamplingOntoTheWorstS
   const SpikedSphere s;
   const OctahedralRemesh unturned =
       octahedral_remesh(s.surface, s.sphere.positions, s.triangles, 16, 1, nullptr, {});
-  const std::vector<SampledError> errors =
-      sampled_errors(s.surface, s.sphere.positions, s.triangles, unturned, 1, nullptr);
+  const std::vector<SampledError> errors = sampled_errors(
+      SurfaceMeasure(s.surface, s.triangles), s.surface, s.sphere.positions, unturned, 1, nullptr);
   ASSERT_EQ(errors.size(), unturned.triangles.size() + s.surface.size());
   const SampledError worst = *std::max_element(errors.begin(), errors.end(),
                                                [](auto& a, auto& b) { return a.error < b.error; });
   EXPECT_GT(dot(worst.direction, s.spike), 0.95);
   const FrameChoice choice = choose_octahedral_frame(errors, unturned.frame);
-  EXPECT_LT(choice.predicted_spacing, 0.8 * choice.unturned_spacing);
+  EXPECT_LT(choice.predicted_largest, 0.8 * choice.unturned_largest);
   EXPECT_LT(l1(choice.frame.from_sphere(s.spike)), 1.25);
   const OctahedralRemesh turned =
       octahedral_remesh(s.surface, s.sphere.positions, s.triangles, 16, 1, nullptr, choice.frame);

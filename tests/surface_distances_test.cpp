@@ -21,12 +21,19 @@ void expect_max_near(double got, double expected) {
   EXPECT_NEAR(got, expected, std::max(0.05 * expected, 1e-3));
 }
 
-void expect_same(const SurfaceDistance& got, const SurfaceDistance& expected) {
+// `exact`: the maxima bit for bit too (the same queries in the same order).
+void expect_same(const SurfaceDistance& got, const SurfaceDistance& expected, bool exact = false) {
+  const auto expect_max = [exact](double got_max, double expected_max) {
+    if (exact)
+      EXPECT_EQ(got_max, expected_max);
+    else
+      expect_max_near(got_max, expected_max);
+  };
   EXPECT_EQ(got.rms_a_to_b, expected.rms_a_to_b);
-  expect_max_near(got.max_a_to_b, expected.max_a_to_b);
+  expect_max(got.max_a_to_b, expected.max_a_to_b);
   EXPECT_EQ(got.rms_b_to_a, expected.rms_b_to_a);
-  expect_max_near(got.max_b_to_a, expected.max_b_to_a);
-  expect_max_near(got.hausdorff, expected.hausdorff);
+  expect_max(got.max_b_to_a, expected.max_b_to_a);
+  expect_max(got.hausdorff, expected.hausdorff);
   EXPECT_EQ(got.rms, expected.rms);
   EXPECT_EQ(got.diagonal, expected.diagonal);
   EXPECT_EQ(got.samples, expected.samples);
@@ -59,6 +66,34 @@ TEST(SurfaceDistances, RefusesALeftOutListOfAnotherLength) {
   const std::vector<Triangle> triangles = fan_triangulate(a).triangles;
   const std::vector<char> short_list(triangles.size() - 1, 0);
   EXPECT_THROW(surface_distances(a.positions, triangles, short_list, a.positions, triangles),
+               std::invalid_argument);
+}
+
+// One measure of a surface (its tree built once, its triangles copied: the caller's list
+// is gone) answers a sequence of other surfaces and points as each fresh call does, bit for
+// bit: what a remesh trying several frames relies on.
+TEST(SurfaceMeasure, AnswersEachQueryOfASequenceAsAFreshCallDoes) {
+  const PolygonMesh a = testing::twisted(testing::torus(32, 16), 0.7);
+  const std::vector<Triangle> triangles = fan_triangulate(a).triangles;
+  const SurfaceMeasure measure(a.positions, std::vector<Triangle>(triangles));
+  std::vector<char> left_out(triangles.size(), 0);
+  for (size_t k = 0; k < triangles.size(); k += 5) left_out[k] = 1;
+  for (double wave : {0.01, 0.05, 0.2}) {
+    PolygonMesh b = testing::icosphere(3);
+    for (Vec3& p : b.positions) p = p * (1 + wave * std::sin(9 * p.z));
+    const std::vector<Triangle> b_triangles = fan_triangulate(b).triangles;
+    const SurfaceDistance one = measure.distance_to(b.positions, b_triangles, 2);
+    expect_same(one, surface_distance(a.positions, triangles, b.positions, b_triangles, 2), true);
+    EXPECT_GT(one.hausdorff, 0);
+    const SurfaceDistances both = measure.distances_to(left_out, b.positions, b_triangles, 2);
+    const SurfaceDistances fresh =
+        surface_distances(a.positions, triangles, left_out, b.positions, b_triangles, 2);
+    expect_same(both.all, fresh.all, true);
+    expect_same(both.kept, fresh.kept, true);
+    const PointDistances points = measure.point_distances(b.positions, 2);
+    EXPECT_EQ(points.relative, point_distances(a.positions, triangles, b.positions, 2).relative);
+  }
+  EXPECT_THROW(measure.distances_to(std::vector<char>(3, 0), a.positions, triangles),
                std::invalid_argument);
 }
 

@@ -173,55 +173,54 @@ void finish(SurfaceDistance& out, std::pair<double, double> a_to_b, size_t a_sam
 
 }  // namespace
 
-SurfaceDistance surface_distance(std::span<const Vec3> a_positions,
-                                 std::span<const Triangle> a_triangles,
-                                 std::span<const Vec3> b_positions,
-                                 std::span<const Triangle> b_triangles, int threads,
-                                 const std::function<bool()>* should_stop) {
+SurfaceMeasure::SurfaceMeasure(std::span<const Vec3> a_positions,
+                               std::span<const Triangle> a_triangles)
+    : triangles_(a_triangles.begin(), a_triangles.end()),
+      frame_(unit_frame(a_positions)),
+      unit_(in_frame(frame_, a_positions)),
+      diagonal_(corner_diagonal(unit_, triangles_)),
+      tree_(unit_, triangles_) {}
+
+SurfaceDistance SurfaceMeasure::distance_to(std::span<const Vec3> b_positions,
+                                            std::span<const Triangle> b_triangles, int threads,
+                                            const std::function<bool()>* should_stop) const {
   SurfaceDistance out;
   // Both surfaces in a's unit frame: the figures are relative to a's diagonal, so a
   // similarity does not change them, and a mesh at 1e-300 units no longer underflows to
   // distance 0 (nor one at 1e200 overflows).
-  const UnitFrame frame = unit_frame(a_positions);
-  const std::vector<Vec3> a_unit = in_frame(frame, a_positions);
-  const std::vector<Vec3> b_unit = in_frame(frame, b_positions);
-  const double d = corner_diagonal(a_unit, a_triangles);
-  out.diagonal = frame.length_in_input_units(d);
+  const std::vector<Vec3> b_unit = in_frame(frame_, b_positions);
+  const double d = diagonal_;
+  out.diagonal = frame_.length_in_input_units(d);
   if (!(d > 0) || b_triangles.empty()) return out;
-  const std::vector<Vec3> a_samples = samples_of(a_unit, a_triangles);
+  const std::vector<Vec3> a_samples = samples_of(unit_, triangles_);
   const std::vector<Vec3> b_samples = samples_of(b_unit, b_triangles);
-  // Asked before each tree too: building one over a million triangles takes a while.
+  // Asked before the tree too: building one over a million triangles takes a while.
   const StopCheck stop(should_stop);
   stop.check();
-  const auto a_to_b = one_way(a_unit, a_triangles, a_samples, TriangleTree(b_unit, b_triangles), d,
+  const auto a_to_b = one_way(unit_, triangles_, a_samples, TriangleTree(b_unit, b_triangles), d,
                               threads, should_stop);
   stop.check();
-  const auto b_to_a = one_way(b_unit, b_triangles, b_samples, TriangleTree(a_unit, a_triangles), d,
-                              threads, should_stop);
+  const auto b_to_a = one_way(b_unit, b_triangles, b_samples, tree_, d, threads, should_stop);
   finish(out, a_to_b, a_samples.size(), b_to_a, b_samples.size(), d);
   return out;
 }
 
-SurfaceDistances surface_distances(std::span<const Vec3> a_positions,
-                                   std::span<const Triangle> a_triangles,
-                                   std::span<const char> left_out,
-                                   std::span<const Vec3> b_positions,
-                                   std::span<const Triangle> b_triangles, int threads,
-                                   const std::function<bool()>* should_stop) {
-  if (left_out.size() != a_triangles.size())
+SurfaceDistances SurfaceMeasure::distances_to(std::span<const char> left_out,
+                                              std::span<const Vec3> b_positions,
+                                              std::span<const Triangle> b_triangles, int threads,
+                                              const std::function<bool()>* should_stop) const {
+  if (left_out.size() != triangles_.size())
     throw std::invalid_argument("surface_distances: one left_out entry per triangle of a");
   SurfaceDistances out;
-  const UnitFrame frame = unit_frame(a_positions);  // as surface_distance: a's unit frame
-  const std::vector<Vec3> a_unit = in_frame(frame, a_positions);
-  const std::vector<Vec3> b_unit = in_frame(frame, b_positions);
-  const std::vector<Triangle> kept = kept_triangles(a_triangles, left_out);
-  const double d_all = corner_diagonal(a_unit, a_triangles);
-  const double d_kept = corner_diagonal(a_unit, kept);
-  out.all.diagonal = frame.length_in_input_units(d_all);
-  out.kept.diagonal = frame.length_in_input_units(d_kept);
+  const std::vector<Vec3> b_unit = in_frame(frame_, b_positions);  // as distance_to
+  const std::vector<Triangle> kept = kept_triangles(triangles_, left_out);
+  const double d_all = diagonal_;
+  const double d_kept = corner_diagonal(unit_, kept);
+  out.all.diagonal = frame_.length_in_input_units(d_all);
+  out.kept.diagonal = frame_.length_in_input_units(d_kept);
   if (!(d_all > 0) || b_triangles.empty()) return out;
-  const std::vector<Vec3> a_samples = samples_of(a_unit, a_triangles);
-  const std::vector<char> kept_sample = kept_samples(a_unit.size(), a_triangles, left_out);
+  const std::vector<Vec3> a_samples = samples_of(unit_, triangles_);
+  const std::vector<char> kept_sample = kept_samples(unit_.size(), triangles_, left_out);
   const size_t a_kept_samples = std::count(kept_sample.begin(), kept_sample.end(), 1);
   const std::vector<Vec3> b_samples = samples_of(b_unit, b_triangles);
   const StopCheck stop(should_stop);
@@ -232,7 +231,7 @@ SurfaceDistances surface_distances(std::span<const Vec3> a_positions,
   // Per b sample: its squared distance to all of a, and to the kept triangles alone (the
   // same answer when the nearest triangle is kept; else a second search, skipping the rest).
   std::vector<double> b_d2_all(b_samples.size()), b_d2_kept(b_samples.size());
-  const TriangleTree a_tree(a_unit, a_triangles);
+  const TriangleTree& a_tree = tree_;
   query_samples(b_samples, threads, should_stop, [&](size_t k) {
     const TriangleTree::Closest nearest = a_tree.closest(b_samples[k]);
     b_d2_all[k] = nearest.squared_distance;
@@ -246,7 +245,7 @@ SurfaceDistances surface_distances(std::span<const Vec3> a_positions,
   auto a_all = sum_and_max(a_d2), a_kept = sum_and_max(a_d2, kept_sample);
   auto b_all = sum_and_max(b_d2_all), b_kept = sum_and_max(b_d2_kept);
   const DistancePair a_max = maximum_over_triangles(
-      a_unit, a_triangles, {&a_d2, &a_d2}, {a_all.second, a_kept.second}, {d_all, d_kept},
+      unit_, triangles_, {&a_d2, &a_d2}, {a_all.second, a_kept.second}, {d_all, d_kept},
       [&](size_t t, int figure) { return figure == 0 || !left_out[t]; },
       [&](const Vec3& p) {
         const double d = std::sqrt(b_tree.squared_distance(p));
@@ -271,23 +270,48 @@ SurfaceDistances surface_distances(std::span<const Vec3> a_positions,
   return out;
 }
 
+PointDistances SurfaceMeasure::point_distances(std::span<const Vec3> points, int threads,
+                                               const std::function<bool()>* should_stop) const {
+  PointDistances out;
+  const std::vector<Vec3> p_unit = in_frame(frame_, points);  // as distance_to measures
+  const double d = diagonal_;
+  out.diagonal = frame_.length_in_input_units(d);
+  out.relative.assign(points.size(), 0.0);
+  if (!(d > 0)) return out;
+  const std::vector<double> d2 = squared_distances(p_unit, tree_, threads, should_stop);
+  for (size_t k = 0; k < d2.size(); ++k) out.relative[k] = std::sqrt(d2[k]) / d;
+  return out;
+}
+
+// Each one measure; asked before its tree (a million triangles take a while).
+SurfaceDistance surface_distance(std::span<const Vec3> a_positions,
+                                 std::span<const Triangle> a_triangles,
+                                 std::span<const Vec3> b_positions,
+                                 std::span<const Triangle> b_triangles, int threads,
+                                 const std::function<bool()>* should_stop) {
+  StopCheck(should_stop).check();
+  return SurfaceMeasure(a_positions, a_triangles)
+      .distance_to(b_positions, b_triangles, threads, should_stop);
+}
+
+SurfaceDistances surface_distances(std::span<const Vec3> a_positions,
+                                   std::span<const Triangle> a_triangles,
+                                   std::span<const char> left_out,
+                                   std::span<const Vec3> b_positions,
+                                   std::span<const Triangle> b_triangles, int threads,
+                                   const std::function<bool()>* should_stop) {
+  if (left_out.size() != a_triangles.size())
+    throw std::invalid_argument("surface_distances: one left_out entry per triangle of a");
+  StopCheck(should_stop).check();
+  return SurfaceMeasure(a_positions, a_triangles)
+      .distances_to(left_out, b_positions, b_triangles, threads, should_stop);
+}
+
 PointDistances point_distances(std::span<const Vec3> a_positions,
                                std::span<const Triangle> a_triangles, std::span<const Vec3> points,
                                int threads, const std::function<bool()>* should_stop) {
-  PointDistances out;
-  // In a's unit frame, as surface_distance measures.
-  const UnitFrame frame = unit_frame(a_positions);
-  const std::vector<Vec3> a_unit = in_frame(frame, a_positions);
-  const std::vector<Vec3> p_unit = in_frame(frame, points);
-  const double d = corner_diagonal(a_unit, a_triangles);
-  out.diagonal = frame.length_in_input_units(d);
-  out.relative.assign(points.size(), 0.0);
-  if (!(d > 0)) return out;
-  StopCheck(should_stop).check();  // before the tree: a million triangles take a while
-  const std::vector<double> d2 =
-      squared_distances(p_unit, TriangleTree(a_unit, a_triangles), threads, should_stop);
-  for (size_t k = 0; k < d2.size(); ++k) out.relative[k] = std::sqrt(d2[k]) / d;
-  return out;
+  StopCheck(should_stop).check();
+  return SurfaceMeasure(a_positions, a_triangles).point_distances(points, threads, should_stop);
 }
 
 }  // namespace spheremap

@@ -300,7 +300,8 @@ std::optional<BakedBaseColor> bake_base_color(const PolygonMesh& input, const Gl
                                               int threads, const std::function<bool()>* should_stop,
                                               DecodedImages* images,
                                               const std::vector<uint32_t>* input_faces,
-                                              const OctahedralFrame& frame) {
+                                              const OctahedralFrame& frame,
+                                              const SphereLocator* shared_locator) {
   const StopCheck stop(should_stop);
   if (!coloured(look) || size <= 0) return std::nullopt;
   BakedBaseColor baked;
@@ -317,7 +318,9 @@ std::optional<BakedBaseColor> bake_base_color(const PolygonMesh& input, const Gl
   const std::vector<uint32_t>& input_face = input_faces ? *input_faces : own_faces;
   if (input_face.size() != welded.face_count() || oriented.size() != welded.face_count())
     return std::nullopt;
-  const SphereLocator locator(mapped.map.sphere, oriented);
+  std::optional<SphereLocator> own_locator;
+  const SphereLocator& locator =
+      shared_or_own_locator(shared_locator, own_locator, mapped.map.sphere, oriented);
   const FaceColors face_colors(look, colors);
   const auto color_at = [&](const SphereHit& hit, Rgba& color) {
     const uint32_t face = input_face[hit.triangle];
@@ -336,7 +339,7 @@ std::optional<BakedBaseColor> bake_base_color(const PolygonMesh& input, const Gl
 std::optional<BakedBaseColor> bake_base_color_closest(
     const OriginalSurface& original, const MappedMesh& mapped, std::span<const Triangle> oriented,
     int size, int threads, const std::function<bool()>* should_stop, DecodedImages* images,
-    const OctahedralFrame& frame) {
+    const OctahedralFrame& frame, const SphereLocator* shared_locator) {
   const StopCheck stop(should_stop);
   if (!original.mesh || !original.look || !coloured(*original.look) || size <= 0 ||
       original.triangles.empty())
@@ -356,7 +359,9 @@ std::optional<BakedBaseColor> bake_base_color_closest(
   stop.check();
   const TriangleTree tree(input.positions, original.triangles);
   stop.check();
-  const SphereLocator locator(mapped.map.sphere, oriented);
+  std::optional<SphereLocator> own_locator;
+  const SphereLocator& locator =
+      shared_or_own_locator(shared_locator, own_locator, mapped.map.sphere, oriented);
   const FaceColors face_colors(look, colors);
   const auto color_at = [&](const SphereHit& hit, Rgba& color) {
     const Triangle& t = oriented[hit.triangle];

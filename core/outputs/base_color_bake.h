@@ -14,6 +14,7 @@
 #include "core/map/pipeline.h"
 #include "core/outputs/octahedral.h"
 #include "core/outputs/original_surface.h"
+#include "core/outputs/sphere_locator.h"
 
 namespace spheremap {
 
@@ -61,18 +62,21 @@ std::optional<BakedBaseColor> bake_base_color(
     const PolygonMesh& input, const GltfAppearance& look, const MappedMesh& mapped,
     std::span<const Triangle> oriented, int size, int threads,
     const std::function<bool()>* should_stop = nullptr, DecodedImages* images = nullptr,
-    const std::vector<uint32_t>* input_faces = nullptr, const OctahedralFrame& frame = {});
+    const std::vector<uint32_t>* input_faces = nullptr, const OctahedralFrame& frame = {},
+    const SphereLocator* locator = nullptr);
 
 // The same for the map of an envelope (prepare wrap, or auto wrapping the whole or a part)
 // that stands for `original`: each texel's sphere point is located on the envelope, and
 // the envelope's point there takes the colour of the closest point of the original's
 // triangles (its face's material, TEXCOORD_n and COLOR_0 as above). Nothing when the
 // original's look has no material and no vertex colour. `oriented`: the envelope's
-// oriented_triangles().
+// oriented_triangles(). `locator` (both bakes; may be null: one is built): a SphereLocator
+// of the map's sphere and `oriented`, e.g. the one the remesh was sampled with.
 std::optional<BakedBaseColor> bake_base_color_closest(
     const OriginalSurface& original, const MappedMesh& mapped, std::span<const Triangle> oriented,
     int size, int threads, const std::function<bool()>* should_stop,
-    DecodedImages* images = nullptr, const OctahedralFrame& frame = {});
+    DecodedImages* images = nullptr, const OctahedralFrame& frame = {},
+    const SphereLocator* locator = nullptr);
 
 // The same colour per point (COLOR_0 of a wrapped sphere or UV mesh): the original's base
 // colour, linear RGB clamped to [0, 1], at the closest point of its triangles to each of

@@ -22,6 +22,7 @@
 #include "core/outputs/remesh.h"
 #include "core/outputs/sphere_alignment.h"
 #include "core/outputs/sphere_asset.h"
+#include "core/outputs/sphere_locator.h"
 #include "core/outputs/texcoords.h"
 
 namespace spheremap {
@@ -57,9 +58,9 @@ struct MeasuredRemesh {
   double distance_seconds = 0;
 };
 
-MeasuredRemesh measured_remesh(OctahedralRemesh remesh, const PolygonMesh& mesh,
-                               std::span<const Triangle> oriented, const std::vector<char>& filled,
-                               int threads, const std::function<bool()>* should_stop) {
+MeasuredRemesh measured_remesh(OctahedralRemesh remesh, const SurfaceMeasure& surface,
+                               const std::vector<char>& filled, int threads,
+                               const std::function<bool()>* should_stop) {
   const StopCheck stop(should_stop);
   MeasuredRemesh out;
   out.remesh = std::move(remesh);
@@ -70,12 +71,11 @@ MeasuredRemesh measured_remesh(OctahedralRemesh remesh, const PolygonMesh& mesh,
   // With fills, also against the surface that was mapped: what the sampling alone costs
   // (from the same queries: a second distance cost 40% of a torus's remesh).
   if (filled.empty()) {
-    out.distance = surface_distance(mesh.positions, oriented, out.remesh.positions,
-                                    out.remesh.triangles, threads, should_stop);
+    out.distance =
+        surface.distance_to(out.remesh.positions, out.remesh.triangles, threads, should_stop);
   } else {
-    SurfaceDistances both =
-        surface_distances(mesh.positions, oriented, filled, out.remesh.positions,
-                          out.remesh.triangles, threads, should_stop);
+    SurfaceDistances both = surface.distances_to(filled, out.remesh.positions, out.remesh.triangles,
+                                                 threads, should_stop);
     out.distance = both.kept;
     out.to_prepared = both.all;
   }
@@ -95,17 +95,17 @@ struct FramedRemesh {
   double unturned_hausdorff = 0;
   bool tried = false;                // turned frames tried (kFrameTrialDistance)
   const char* kept_by = "unturned";  // or "area", "errors": the prediction kept
+  // Sampling (with the locator's build), screening (without its sampling), full distances.
   double sample_seconds = 0, screen_seconds = 0, distance_seconds = 0;
 };
 
+// `locator`: of `sphere` and `oriented`, shared by every frame (and by the bakes after).
 FramedRemesh framed_remesh(const PolygonMesh& mesh, std::span<const Vec3> sphere,
                            std::span<const Triangle> oriented, const std::vector<char>& filled,
-                           int resolution, int threads, const std::function<bool()>* should_stop) {
+                           const SphereLocator& locator, int resolution, int threads,
+                           const std::function<bool()>* should_stop) {
   const StopCheck stop(should_stop);
   FramedRemesh out;
-  const auto locator_start = std::chrono::steady_clock::now();
-  const SphereLocator locator(sphere, oriented);  // one for every frame
-  out.sample_seconds = seconds_since(locator_start);
   const auto sample = [&](const OctahedralFrame& frame) {
     const auto sample_start = std::chrono::steady_clock::now();
     OctahedralRemesh made = octahedral_remesh(mesh.positions, sphere, oriented, resolution, threads,
@@ -114,23 +114,28 @@ FramedRemesh framed_remesh(const PolygonMesh& mesh, std::span<const Vec3> sphere
     stop.check();
     return made;
   };
-  out.measured =
-      measured_remesh(sample(OctahedralFrame{}), mesh, oriented, filled, threads, should_stop);
+  OctahedralRemesh unturned = sample(OctahedralFrame{});
+  // The surface's tree, built once for every remesh measured against it (five queries
+  // over it where frames are tried).
+  const SurfaceMeasure surface(mesh.positions, oriented);
+  stop.check();
+  out.measured = measured_remesh(std::move(unturned), surface, filled, threads, should_stop);
   out.unturned_hausdorff = out.measured.distance.hausdorff;
   out.distance_seconds = out.measured.distance_seconds;
   if (!(out.unturned_hausdorff > kFrameTrialDistance)) return out;
   out.tried = true;
   const auto screen_start = std::chrono::steady_clock::now();
+  const double sampled_before = out.sample_seconds;
   const auto largest_error = [&](const OctahedralRemesh& made) {
     double largest = 0;
     for (const SampledError& e :
-         sampled_errors(mesh.positions, sphere, oriented, made, threads, should_stop))
+         sampled_errors(surface, mesh.positions, sphere, made, threads, should_stop))
       largest = std::max(largest, e.error);
     return largest;
   };
   const FrameChoice by_area = choose_octahedral_frame(mesh.positions, sphere, oriented);
   const FrameChoice by_errors = choose_octahedral_frame(
-      sampled_errors(mesh.positions, sphere, oriented, out.measured.remesh, threads, should_stop),
+      sampled_errors(surface, mesh.positions, sphere, out.measured.remesh, threads, should_stop),
       out.measured.remesh.frame);
   std::optional<OctahedralRemesh> turned;
   double turned_error = INFINITY;
@@ -141,10 +146,10 @@ FramedRemesh framed_remesh(const PolygonMesh& mesh, std::span<const Vec3> sphere
     const double error = largest_error(made);
     if (error < turned_error) turned_error = error, turned = std::move(made), turned_by = by;
   }
-  out.screen_seconds = seconds_since(screen_start);
+  out.screen_seconds = seconds_since(screen_start) - (out.sample_seconds - sampled_before);
   if (turned) {
     MeasuredRemesh other =
-        measured_remesh(std::move(*turned), mesh, oriented, filled, threads, should_stop);
+        measured_remesh(std::move(*turned), surface, filled, threads, should_stop);
     out.distance_seconds += other.distance_seconds;
     if (other.distance.hausdorff < out.measured.distance.hausdorff)
       out.measured = std::move(other), out.kept_by = turned_by;
@@ -224,8 +229,12 @@ BuiltRemesh build_remesh(const MappedMesh& mapped, int resolution, int threads,
   const PolygonMesh& mesh = mapped.prepared.welded.mesh;
   const OrientedTriangles oriented = oriented_triangles(mesh);
   const std::vector<char> filled = filled_mask(oriented.triangles, mapped.prepared.filled);
-  const FramedRemesh framed = framed_remesh(mesh, mapped.map.sphere, oriented.triangles, filled,
-                                            resolution, threads, should_stop);
+  const auto locator_start = std::chrono::steady_clock::now();
+  const SphereLocator locator(mapped.map.sphere, oriented.triangles);  // every frame, each bake
+  const double locator_seconds = seconds_since(locator_start);
+  FramedRemesh framed = framed_remesh(mesh, mapped.map.sphere, oriented.triangles, filled, locator,
+                                      resolution, threads, should_stop);
+  framed.sample_seconds += locator_seconds;
   const MeasuredRemesh& measured = framed.measured;
   const OctahedralRemesh& remesh = measured.remesh;
   const SurfaceDistance& distance = measured.distance;
@@ -316,7 +325,7 @@ BuiltRemesh build_remesh(const MappedMesh& mapped, int resolution, int threads,
     glb.extras["spheremap_remesh"]["distance_to_original"] = asset.metrics["distance_to_original"];
     const auto bake_start = std::chrono::steady_clock::now();
     if (auto baked = bake_base_color_closest(*original, mapped, oriented.triangles, size, threads,
-                                             should_stop, images, remesh.frame)) {
+                                             should_stop, images, remesh.frame, &locator)) {
       attach(*baked, "base colour of the original");
       asset.metrics["original_look"] =
           baked->factors_only ? "material factors baked by closest point on the original (it has "
@@ -333,7 +342,7 @@ BuiltRemesh build_remesh(const MappedMesh& mapped, int resolution, int threads,
     if (normal_map) {
       tangents = remesh_tangents(remesh, glb.normals);
       baked = bake_normals_closest(*original, mapped, oriented.triangles, remesh, glb.normals,
-                                   tangents, size, threads, should_stop);
+                                   tangents, size, threads, should_stop, &locator);
     }
     if (baked) {
       glb.normal_png = std::move(baked->png);
@@ -350,7 +359,7 @@ BuiltRemesh build_remesh(const MappedMesh& mapped, int resolution, int threads,
     }
   } else if (input && appearance) {
     if (auto baked = bake_base_color(*input, *appearance, mapped, oriented.triangles, size, threads,
-                                     should_stop, images, input_faces, remesh.frame)) {
+                                     should_stop, images, input_faces, remesh.frame, &locator)) {
       attach(*baked, "base colour of the input");
     }
   }

@@ -178,7 +178,7 @@ std::optional<BakedNormals> bake_normals_closest(
     const OriginalSurface& original, const MappedMesh& mapped, std::span<const Triangle> oriented,
     const OctahedralRemesh& remesh, std::span<const Vec3> normals,
     std::span<const std::array<float, 4>> tangents, int size, int threads,
-    const std::function<bool()>* should_stop) {
+    const std::function<bool()>* should_stop, const SphereLocator* shared_locator) {
   const StopCheck stop(should_stop);
   const PolygonMesh& envelope = mapped.prepared.welded.mesh;
   if (!original.mesh || original.triangles.empty() || size <= 0 ||
@@ -189,7 +189,9 @@ std::optional<BakedNormals> bake_normals_closest(
   stop.check();
   const TriangleTree tree(original.mesh->positions, original.triangles);
   stop.check();
-  const SphereLocator locator(mapped.map.sphere, oriented);
+  std::optional<SphereLocator> own_locator;
+  const SphereLocator& locator =
+      shared_or_own_locator(shared_locator, own_locator, mapped.map.sphere, oriented);
   const int n = remesh.resolution;
   std::vector<uint16_t> rgb(static_cast<size_t>(size) * size * 3, 0);
   std::vector<char> missed(static_cast<size_t>(size) * size, 0);

@@ -52,12 +52,13 @@ struct BakedNormals {
 // the original's triangles, and writes it in the remesh's tangent frame there (the
 // frame a viewer interpolates from the remesh triangle holding the texel: NORMAL
 // `normals` and TANGENT `tangents` per sample). Nothing when `original` has no triangles.
-// `oriented`: the envelope's oriented_triangles(). `should_stop` (may be null) is asked
-// every row of texels; true throws InputError("stopped").
+// `oriented`: the envelope's oriented_triangles(); `locator` (may be null: one is built)
+// of the map's sphere and `oriented`. `should_stop` (may be null) is asked every row of
+// texels; true throws InputError("stopped").
 std::optional<BakedNormals> bake_normals_closest(
     const OriginalSurface& original, const MappedMesh& mapped, std::span<const Triangle> oriented,
     const OctahedralRemesh& remesh, std::span<const Vec3> normals,
     std::span<const std::array<float, 4>> tangents, int size, int threads,
-    const std::function<bool()>* should_stop);
+    const std::function<bool()>* should_stop, const SphereLocator* locator = nullptr);
 
 }  // namespace spheremap

@@ -74,20 +74,20 @@ FrameChoice choose_octahedral_frame(std::span<const Vec3> surface, std::span<con
       if (chord[v] > 0) area_per_chord[v] = (area[v] / total_area) / (chord[v] / total_chord);
   FrameChoice choice;
   double best = largest_spacing_squared(sphere, area_per_chord, OctahedralFrame{});
-  choice.unturned_spacing = std::sqrt(best);
+  choice.unturned_largest = std::sqrt(best);
   bool found = false;
   for (int k = 0; k < kFrameCandidates; ++k) {
     const OctahedralFrame candidate = frame_candidate(k);
     const double spacing = largest_spacing_squared(sphere, area_per_chord, candidate);
     if (!found || spacing < best) best = spacing, choice.frame = candidate, found = true;
   }
-  choice.predicted_spacing = std::sqrt(best);
+  choice.predicted_largest = std::sqrt(best);
   return choice;
 }
 
-std::vector<SampledError> sampled_errors(std::span<const Vec3> surface,
+std::vector<SampledError> sampled_errors(const SurfaceMeasure& measured_surface,
+                                         std::span<const Vec3> surface,
                                          std::span<const Vec3> sphere,
-                                         std::span<const Triangle> triangles,
                                          const OctahedralRemesh& remesh, int threads,
                                          const std::function<bool()>* should_stop) {
   std::vector<SampledError> errors;
@@ -98,7 +98,7 @@ std::vector<SampledError> sampled_errors(std::span<const Vec3> surface,
   for (const Triangle& t : remesh.triangles)
     centroids.push_back((remesh.positions[t[0]] + remesh.positions[t[1]] + remesh.positions[t[2]]) *
                         (1.0 / 3));
-  const PointDistances off = point_distances(surface, triangles, centroids, threads, should_stop);
+  const PointDistances off = measured_surface.point_distances(centroids, threads, should_stop);
   for (size_t k = 0; k < remesh.triangles.size(); ++k) {
     const Triangle& t = remesh.triangles[k];
     const Vec2 centre{
@@ -137,14 +137,14 @@ FrameChoice choose_octahedral_frame(std::span<const SampledError> errors,
     return worst;
   };
   FrameChoice choice;
-  choice.unturned_spacing = predicted(OctahedralFrame{});
+  choice.unturned_largest = predicted(OctahedralFrame{});
   double best = INFINITY;
   for (int k = 0; k < kFrameCandidates; ++k) {
     const OctahedralFrame candidate = frame_candidate(k);
     const double error = predicted(candidate);
     if (error < best) best = error, choice.frame = candidate;
   }
-  choice.predicted_spacing = best;
+  choice.predicted_largest = best;
   return choice;
 }
 

@@ -47,10 +47,10 @@ inline constexpr int kFrameCandidates = 48;
 inline constexpr double kFrameTrialDistance = 0.005;
 
 struct FrameChoice {
-  OctahedralFrame frame;  // the candidate of smallest largest predicted spacing
-  // The prediction's figure (the largest predicted spacing, or error) for the chosen frame
-  // and for the unturned one.
-  double predicted_spacing = 0, unturned_spacing = 0;
+  OctahedralFrame frame;  // the candidate whose largest predicted figure is least
+  // That largest figure (a sample spacing from the map's areas, or an error from a
+  // remesh's errors), for the chosen frame and for the unturned one.
+  double predicted_largest = 0, unturned_largest = 0;
 };
 
 // `surface` and `sphere`: per vertex, its position and its unit sphere point; `triangles`
@@ -66,13 +66,15 @@ struct SampledError {
   double error = 0;
 };
 struct OctahedralRemesh;
+class SurfaceMeasure;
 
 // The errors of `remesh` (made over some frame): at each of its triangles' centroids, the
-// distance to the surface (`surface`, `triangles`), and at each surface vertex the distance
-// to the remesh, relative to the measured surface's diagonal.
-std::vector<SampledError> sampled_errors(std::span<const Vec3> surface,
+// distance to the surface (`measured_surface`: SurfaceMeasure(surface, the map's
+// triangles), built once for every remesh measured), and at each surface vertex
+// (`surface`) the distance to the remesh; relative to the measured surface's diagonal.
+std::vector<SampledError> sampled_errors(const SurfaceMeasure& measured_surface,
+                                         std::span<const Vec3> surface,
                                          std::span<const Vec3> sphere,
-                                         std::span<const Triangle> triangles,
                                          const OctahedralRemesh& remesh, int threads,
                                          const std::function<bool()>* should_stop);
 

@@ -111,8 +111,8 @@ OctahedralRemesh octahedral_remesh(std::span<const Vec3> surface, std::span<cons
     if (representative[out.vertex[s]] == UINT32_MAX) representative[out.vertex[s]] = s;
   }
   std::optional<SphereLocator> own_locator;
-  if (!shared_locator) own_locator.emplace(sphere, triangles);
-  const SphereLocator& locator = shared_locator ? *shared_locator : *own_locator;
+  const SphereLocator& locator =
+      shared_or_own_locator(shared_locator, own_locator, sphere, triangles);
   std::vector<Vec3> at_vertex(out.vertex_count);
   std::atomic<size_t> unlocated{0};
   ParallelStop stop(should_stop, 4096);

@@ -155,4 +155,12 @@ SphereHit SphereLocator::nearest(const Vec3& p) const {
   return best == UINT32_MAX ? SphereHit{} : hit(best, p);
 }
 
+const SphereLocator& shared_or_own_locator(const SphereLocator* shared,
+                                           std::optional<SphereLocator>& own,
+                                           std::span<const Vec3> sphere,
+                                           std::span<const Triangle> triangles) {
+  if (shared) return *shared;
+  return own.emplace(sphere, triangles);
+}
+
 }  // namespace spheremap

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <array>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -44,5 +45,12 @@ class SphereLocator {
   std::vector<uint32_t> cell_start_;  // CSR: triangles of cell c are [start[c], start[c+1])
   std::vector<uint32_t> cell_triangles_;
 };
+
+// `shared` when given, else a locator of `sphere` and `triangles` built into `own`: for
+// functions that take a caller's locator (sampled once for several outputs) or build one.
+const SphereLocator& shared_or_own_locator(const SphereLocator* shared,
+                                           std::optional<SphereLocator>& own,
+                                           std::span<const Vec3> sphere,
+                                           std::span<const Triangle> triangles);
 
 }  // namespace spheremap
