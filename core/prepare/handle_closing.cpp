@@ -12,9 +12,9 @@
 
 #include "core/mesh/triangle_tree.h"
 #include "core/mesh/union_find.h"
-#include "core/prepare/corner_map.h"
 #include "core/prepare/handle_cycles.h"
 #include "core/prepare/hole_filling.h"
+#include "core/prepare/vertex_corners.h"
 
 namespace spheremap {
 namespace {
@@ -39,12 +39,12 @@ std::string number(double x) {
   return text;
 }
 
-// One part's faces as half-edges (a -> b: the face running a -> b), when they form a
-// closed surface, manifold at every edge and vertex, consistently oriented; and its genus.
+// One part's faces by corner (vertex_corners.h), when they form a closed surface, manifold
+// at every edge and vertex, consistently oriented; and its genus.
 struct PartSurface {
   bool closable = false;
   long long genus = 0;
-  CornerMap corner_at;
+  VertexCorners corners;
 };
 
 PartSurface part_surface(const PolygonMesh& mesh, const std::vector<uint32_t>& faces,
@@ -52,31 +52,28 @@ PartSurface part_surface(const PolygonMesh& mesh, const std::vector<uint32_t>& f
   PartSurface s;
   // An edge run twice the same way (inconsistent orientation, a non-manifold edge) or a
   // repeated corner: not closable.
-  std::optional<CornerMap> corner_at = corner_map(mesh, faces);
-  if (!corner_at) return s;
-  s.corner_at = std::move(*corner_at);
-  std::unordered_map<uint32_t, std::pair<uint32_t, uint32_t>> corners;  // v -> (count, a slot)
-  corners.reserve(s.corner_at.size() / 2);
-  for (uint32_t f : faces)
-    for (uint32_t slot = mesh.offsets[f]; slot < mesh.offsets[f + 1]; ++slot)
-      ++corners.try_emplace(mesh.indices[slot], 0u, slot).first->second.first;
+  std::optional<VertexCorners> corners = VertexCorners::of_faces(mesh, faces);
+  if (!corners) return s;
+  s.corners = std::move(*corners);
   if (stop) stop->check();
-  for (const auto& [key, slot] : s.corner_at)
-    if (!s.corner_at.count(
-            directed_edge_key(static_cast<uint32_t>(key), static_cast<uint32_t>(key >> 32))))
-      return s;  // a boundary edge
+  const size_t vertices = s.corners.vertex_capacity();
+  for (uint32_t v = 0; v < vertices; ++v)
+    for (const VertexCorner& c : s.corners.at(v))
+      if (!s.corners.find(c.next, v)) return s;  // a boundary edge
   // Each vertex's faces form one fan: turning about it from one corner meets them all.
-  for (const auto& [v, count_slot] : corners) {
-    const auto [count, start] = count_slot;
-    uint32_t slot = start, steps = 0;
+  for (uint32_t v = 0; v < vertices; ++v) {
+    const std::span<const VertexCorner> row = s.corners.at(v);
+    if (row.empty()) continue;
+    const VertexCorner* corner = &row[0];
+    size_t steps = 0;
     do {
-      slot = s.corner_at.at(directed_edge_key(v, vertex_before(mesh, slot)));
-      if (++steps > count) return s;
-    } while (slot != start);
-    if (steps != count) return s;
+      corner = s.corners.find(v, corner->prev);  // the face running v -> prev: the next one
+      if (++steps > row.size()) return s;
+    } while (corner != &row[0]);
+    if (steps != row.size()) return s;
   }
-  const long long euler = static_cast<long long>(corners.size()) -
-                          static_cast<long long>(s.corner_at.size() / 2) +
+  const long long euler = static_cast<long long>(s.corners.vertices()) -
+                          static_cast<long long>(s.corners.corners() / 2) +
                           static_cast<long long>(faces.size());
   if (euler > 2 || (2 - euler) % 2 != 0) return s;
   s.closable = true;
@@ -92,31 +89,30 @@ struct EdgeFaces {
   std::vector<std::pair<uint32_t, uint32_t>> sides;
 };
 
-EdgeFaces edge_faces(const PolygonMesh& mesh, const PartSurface& s,
-                     const std::vector<uint32_t>& faces) {
+EdgeFaces edge_faces(const PartSurface& s, const std::vector<uint32_t>& faces) {
   EdgeFaces e;
   e.faces = faces.size();
-  std::unordered_map<uint32_t, uint32_t> local;
-  for (uint32_t k = 0; k < faces.size(); ++k) local.emplace(faces[k], k);
-  for (const auto& [key, slot] : s.corner_at) {
-    const uint32_t a = static_cast<uint32_t>(key >> 32), b = static_cast<uint32_t>(key);
-    if (a > b) continue;
-    e.keys.push_back(undirected_edge_key(a, b));
-    e.sides.push_back({local.at(face_of_slot(mesh, slot)),
-                       local.at(face_of_slot(mesh, s.corner_at.at(directed_edge_key(b, a))))});
-  }
+  for (uint32_t a = 0; a < s.corners.vertex_capacity(); ++a)
+    for (const VertexCorner& c : s.corners.at(a)) {
+      if (a > c.next) continue;
+      e.keys.push_back(undirected_edge_key(a, c.next));
+      e.sides.push_back({c.face, s.corners.find(c.next, a)->face});
+    }
   return e;
 }
 
-// Whether the part's faces stay connected across every edge but the cycle's.
-bool leaves_connected(const EdgeFaces& e, const std::vector<uint32_t>& cycle) {
+// Whether the part's faces stay connected across every edge but the cycle's. `on_cycle`:
+// per mesh vertex, 1 on the cycle (only an edge with both ends on it is looked up).
+bool leaves_connected(const EdgeFaces& e, const std::vector<uint32_t>& cycle,
+                      std::vector<char>& on_cycle) {
   std::unordered_set<uint64_t> cut;
   for (size_t k = 0; k < cycle.size(); ++k)
     cut.insert(undirected_edge_key(cycle[k], cycle[(k + 1) % cycle.size()]));
   UnionFind sets(e.faces);
   size_t joined = 0;
   for (size_t k = 0; k < e.keys.size(); ++k) {
-    if (cut.count(e.keys[k])) continue;
+    const uint64_t key = e.keys[k];
+    if (on_cycle[key >> 32] && on_cycle[static_cast<uint32_t>(key)] && cut.count(key)) continue;
     const uint32_t x = sets.find(e.sides[k].first), y = sets.find(e.sides[k].second);
     if (x != y) sets.unite(x, y), ++joined;
   }
@@ -179,15 +175,12 @@ Cut cut_and_fill(PolygonMesh& mesh, std::vector<uint32_t>& faces, const PartSurf
   std::vector<std::pair<uint32_t, uint32_t>>& left = cut.left;
   for (uint32_t i = 0; i < n; ++i) {
     const uint32_t v = cycle[i], next = cycle[(i + 1) % n], prev = cycle[(i + n - 1) % n];
-    const auto it = s.corner_at.find(directed_edge_key(v, next));
-    if (it == s.corner_at.end()) return {};
-    uint32_t slot = it->second;
+    const VertexCorner* corner = s.corners.find(v, next);
     for (size_t steps = 0;; ++steps) {
-      if (steps > faces.size()) return {};
-      left.push_back({slot, i});
-      const uint32_t a = vertex_before(mesh, slot);
-      if (a == prev) break;
-      slot = s.corner_at.at(directed_edge_key(v, a));
+      if (!corner || steps > faces.size()) return {};
+      left.push_back({corner->slot, i});
+      if (corner->prev == prev) break;
+      corner = s.corners.find(v, corner->prev);
     }
   }
   cut.first_copy = static_cast<uint32_t>(mesh.vertex_count());
@@ -370,9 +363,16 @@ std::string close_part(PolygonMesh& mesh, std::vector<uint32_t>& faces, long lon
              " of the part's bounding-box diagonal long, above max_handle_cycle " +
              number(max_cycle);
     if (!own) own.emplace(own_surface(mesh, faces, own_faces));
-    const EdgeFaces sides = edge_faces(mesh, s, faces);
-    // The part's edges, before the next cut.
-    std::unordered_set<uint64_t> edges(sides.keys.begin(), sides.keys.end());
+    const EdgeFaces sides = edge_faces(s, faces);
+    // The part's edges a fill must not repeat: a fill asks only for chords between corners
+    // of its own loop (as hole_filling's do), so only the edges between vertices of the
+    // cycles weighed are kept (the edges of the copies a cut makes are added by the cut).
+    std::vector<char> on_cycles(mesh.vertex_count(), 0), on_cycle(mesh.vertex_count(), 0);
+    for (const HandleCycle& cycle : cycles)
+      for (uint32_t v : cycle.vertices) on_cycles[v] = 1;
+    std::unordered_set<uint64_t> edges;
+    for (uint64_t key : sides.keys)
+      if (on_cycles[key >> 32] && on_cycles[static_cast<uint32_t>(key)]) edges.insert(key);
     const std::vector<Candidate> candidates = nearest_fills_first(
         mesh, cycles, max_cycle * diagonal, near * diagonal, surface, edges, *own, stop);
     size_t tried = 0, long_ones = 0, separating = 0, unfilled = 0, measured = 0;
@@ -390,7 +390,10 @@ std::string close_part(PolygonMesh& mesh, std::vector<uint32_t>& faces, long lon
         ++long_ones;
         continue;
       }
-      if (!leaves_connected(sides, cycle.vertices)) {
+      for (uint32_t v : cycle.vertices) on_cycle[v] = 1;
+      const bool connected = leaves_connected(sides, cycle.vertices, on_cycle);
+      for (uint32_t v : cycle.vertices) on_cycle[v] = 0;
+      if (!connected) {
         ++separating;
         continue;
       }
