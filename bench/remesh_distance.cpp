@@ -56,6 +56,8 @@ int main(int argc, char** argv) {
       where = {output.positions[farthest].x, output.positions[farthest].y,
                output.positions[farthest].z};
     const nlohmann::json line = {{"hausdorff", d.hausdorff},
+                                 {"hausdorff_at_most", d.hausdorff_at_most},
+                                 {"hausdorff_settled", d.hausdorff_settled},
                                  {"rms", d.rms},
                                  {"original_to_output", d.max_a_to_b},
                                  {"output_to_original", d.max_b_to_a},

@@ -97,6 +97,31 @@ TEST(SurfaceMeasure, AnswersEachQueryOfASequenceAsAFreshCallDoes) {
                std::invalid_argument);
 }
 
+// A surface against itself: every distance measured is 0, but a triangle's bound settles
+// only once it is cut into pieces far smaller than the budget allows, so the maximum found
+// (0) is said to be unsettled, with what it is at most (under the triangles' own size).
+// A sphere with one spike settles (every other triangle's bound is under the spike's
+// distance), within the tolerance.
+TEST(SurfaceDistance, SaysWhatTheMaximumIsAtMostWhenItsBudgetRunsOut) {
+  const PolygonMesh a = testing::icosphere(1);
+  const std::vector<Triangle> triangles = fan_triangulate(a).triangles;
+  const SurfaceDistance same = surface_distance(a.positions, triangles, a.positions, triangles, 1);
+  EXPECT_LT(same.hausdorff, 1e-12);
+  EXPECT_FALSE(same.hausdorff_settled);
+  EXPECT_GT(same.hausdorff_at_most, 1e-3);  // over the tolerance: the bound left open
+  EXPECT_LT(same.hausdorff_at_most, 0.1);
+  const PolygonMesh sphere = testing::icosphere(3);
+  const std::vector<Triangle> sphere_triangles = fan_triangulate(sphere).triangles;
+  PolygonMesh spiked = sphere;
+  spiked.positions[0] = spiked.positions[0] * 1.5;
+  const SurfaceDistance spike =
+      surface_distance(sphere.positions, sphere_triangles, spiked.positions, sphere_triangles, 1);
+  EXPECT_TRUE(spike.hausdorff_settled);
+  EXPECT_GT(spike.hausdorff, 0.1);
+  EXPECT_GE(spike.hausdorff_at_most, spike.hausdorff);
+  EXPECT_LE(spike.hausdorff_at_most, 1.05 * spike.hausdorff + 1e-3);
+}
+
 // A large triangle over a surface that touches it only at its corners and its centroid
 // (a remesh triangle across a hole's opening): every sample of the triangle lies on the
 // surface, but its edge midpoints are a quarter of an edge from it. The maximum is found

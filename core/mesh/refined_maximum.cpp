@@ -87,13 +87,21 @@ Cut cut(const Piece& piece, const std::function<DistancePair(const Vec3&)>& dist
 
 }  // namespace
 
-DistancePair refined_maximum(std::span<const Vec3> positions, std::span<const Triangle> triangles,
-                             std::span<const DistancePair> vertex_distance,
-                             std::span<const DistancePair> centroid_distance, DistancePair reached,
-                             DistancePair tolerance, const std::function<bool(size_t, int)>& counts,
-                             const std::function<DistancePair(const Vec3&)>& distance, int threads,
-                             const std::function<bool()>* should_stop) {
+RefinedMaximum refined_maximum(std::span<const Vec3> positions, std::span<const Triangle> triangles,
+                               std::span<const DistancePair> vertex_distance,
+                               std::span<const DistancePair> centroid_distance,
+                               DistancePair reached, DistancePair tolerance,
+                               const std::function<bool(size_t, int)>& counts,
+                               const std::function<DistancePair(const Vec3&)>& distance,
+                               size_t other_triangles, int threads,
+                               const std::function<bool()>* should_stop) {
   DistancePair best = reached;
+  // The largest bound of a piece left unsettled (at the depth limit, or open at the end).
+  DistancePair unsettled{-INFINITY, -INFINITY};
+  const auto leave = [&](const Piece& piece, const std::array<bool, 2>& counted_for) {
+    for (int k = 0; k < 2; ++k)
+      if (counted_for[k]) unsettled[k] = std::max(unsettled[k], bound(piece, k));
+  };
   const size_t n = triangles.size();
   std::vector<std::array<bool, 2>> counted(n);
   auto root = [&](size_t t) {
@@ -113,7 +121,9 @@ DistancePair refined_maximum(std::span<const Vec3> positions, std::span<const Tr
     if (over > 0) triangles_open.push_back({over, static_cast<uint32_t>(t)});
   }
   std::make_heap(triangles_open.begin(), triangles_open.end());
-  const size_t budget = std::min(kRefinementQueriesPerTriangle * n, kMaxRefinementQueries) + 4096;
+  const size_t budget = std::min(kRefinementQueriesPerTriangle * std::max(n, other_triangles),
+                                 kMaxRefinementQueries) +
+                        4096;
   size_t queries = 0;
   const StopCheck stop(should_stop);
   std::vector<Piece> batch;
@@ -142,9 +152,11 @@ DistancePair refined_maximum(std::span<const Vec3> positions, std::span<const Tr
         piece = pieces_open.back().piece;
         pieces_open.pop_back();
       }
-      if (piece.depth < kMaxRefinementDepth &&
-          excess(piece, best, tolerance, counted[triangle]) > 0)
+      if (!(excess(piece, best, tolerance, counted[triangle]) > 0)) continue;
+      if (piece.depth < kMaxRefinementDepth)
         batch.push_back(piece), batch_triangle.push_back(triangle);
+      else
+        leave(piece, counted[triangle]);
     }
     cuts.resize(batch.size());
     parallel_for(batch.size(), resolve_threads(threads),
@@ -166,7 +178,17 @@ DistancePair refined_maximum(std::span<const Vec3> positions, std::span<const Tr
       }
     }
   }
-  return best;
+  // What the budget left open (a bound only grows less as best grows: taken again here).
+  for (const QueuedTriangle& open : triangles_open)
+    leave(root(open.triangle), counted[open.triangle]);
+  for (const QueuedPiece& open : pieces_open) leave(open.piece, counted[open.triangle]);
+  RefinedMaximum out;
+  out.reached = best;
+  for (int k = 0; k < 2; ++k) {
+    out.at_most[k] = best[k] + tolerance[k];
+    if (unsettled[k] > out.at_most[k]) out.at_most[k] = unsettled[k], out.settled[k] = false;
+  }
+  return out;
 }
 
 }  // namespace spheremap

@@ -25,8 +25,11 @@ namespace spheremap {
 using DistancePair = std::array<double, 2>;
 
 constexpr int kMaxRefinementDepth = 8;  // a piece's edges down to 1/256 of its triangle's
-// The budget: this many queries per triangle given, at most kMaxRefinementQueries, plus
-// 4,096, and at most kMaxWaitingPieces cut pieces waiting (152 bytes each). Two surfaces
+// The budget: this many queries per triangle given, or of the other surface when it has
+// more (a box's 12 triangles against a remesh of 32,768 need about as many queries as the
+// remesh has triangles: with 12 per box triangle its maximum was left open, said to be at
+// most 5.4% where it is 0.92%), at most kMaxRefinementQueries, plus 4,096, and at most
+// kMaxWaitingPieces cut pieces waiting (152 bytes each). Two surfaces
 // that nearly coincide have every bound above a maximum near 0 and would be cut to the
 // depth limit. Measured on remeshes at N = 128 (32,768 triangles) against their originals:
 // horse needed 6.9 queries per remesh triangle to settle (its maximum 4% above what 2 per
@@ -40,14 +43,24 @@ constexpr size_t kRefinementBatch = 256;  // pieces cut in parallel between upda
 // count for it, counts(t, figure)), at least `reached`, to within `tolerance` (per figure)
 // of the true maximum where the depth and the budget allow. vertex_distance (per position)
 // and centroid_distance (per triangle) are the distances already measured there;
-// distance(p) measures one more point, safe to call from several threads. The result does
-// not depend on `threads`. `should_stop` (may be null) is asked before each batch; true
+// distance(p) measures one more point, safe to call from several threads;
+// `other_triangles`: how many the surface it measures to has (for the budget). The result
+// does not depend on `threads`. `should_stop` (may be null) is asked before each batch; true
 // throws InputError("stopped").
-DistancePair refined_maximum(std::span<const Vec3> positions, std::span<const Triangle> triangles,
-                             std::span<const DistancePair> vertex_distance,
-                             std::span<const DistancePair> centroid_distance, DistancePair reached,
-                             DistancePair tolerance, const std::function<bool(size_t, int)>& counts,
-                             const std::function<DistancePair(const Vec3&)>& distance, int threads,
-                             const std::function<bool()>* should_stop);
+struct RefinedMaximum {
+  DistancePair reached{0, 0};  // the largest distance measured at a point
+  // What the true maximum is at most: reached + tolerance where every piece settled, else
+  // the largest bound left open when the depth or the budget ran out (`settled` false).
+  DistancePair at_most{0, 0};
+  std::array<bool, 2> settled{true, true};
+};
+RefinedMaximum refined_maximum(std::span<const Vec3> positions, std::span<const Triangle> triangles,
+                               std::span<const DistancePair> vertex_distance,
+                               std::span<const DistancePair> centroid_distance,
+                               DistancePair reached, DistancePair tolerance,
+                               const std::function<bool(size_t, int)>& counts,
+                               const std::function<DistancePair(const Vec3&)>& distance,
+                               size_t other_triangles, int threads,
+                               const std::function<bool()>* should_stop);
 
 }  // namespace spheremap

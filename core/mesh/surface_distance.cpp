@@ -50,14 +50,16 @@ constexpr double kRelativeTolerance = 0.05, kDiagonalTolerance = 1e-3;
 // The largest distance over every point of `triangles`, not only at their samples:
 // refined_maximum with the samples' squared distances (one or two figures: d2[k] for
 // figure k, the second may be the first) and their maxima `reached`, relative tolerances
-// to the figures' diagonals `diagonal`.
-DistancePair maximum_over_triangles(std::span<const Vec3> positions,
-                                    std::span<const Triangle> triangles,
-                                    std::array<const std::vector<double>*, 2> d2,
-                                    DistancePair reached, DistancePair diagonal,
-                                    const std::function<bool(size_t, int)>& counts,
-                                    const std::function<DistancePair(const Vec3&)>& distance,
-                                    int threads, const std::function<bool()>* should_stop) {
+// to the figures' diagonals `diagonal`; `other_triangles`: how many the surface measured to
+// has (refined_maximum's budget).
+RefinedMaximum maximum_over_triangles(std::span<const Vec3> positions,
+                                      std::span<const Triangle> triangles,
+                                      std::array<const std::vector<double>*, 2> d2,
+                                      DistancePair reached, DistancePair diagonal,
+                                      const std::function<bool(size_t, int)>& counts,
+                                      const std::function<DistancePair(const Vec3&)>& distance,
+                                      size_t other_triangles, int threads,
+                                      const std::function<bool()>* should_stop) {
   const std::vector<uint32_t> sample = vertex_samples(positions.size(), triangles);
   auto pair_at = [&](size_t k) {
     return DistancePair{std::sqrt((*d2[0])[k]), std::sqrt((*d2[1])[k])};
@@ -70,7 +72,7 @@ DistancePair maximum_over_triangles(std::span<const Vec3> positions,
   for (int k = 0; k < 2; ++k)
     tolerance[k] = std::max(kRelativeTolerance * reached[k], kDiagonalTolerance * diagonal[k]);
   return refined_maximum(positions, triangles, at_vertex, at_centroid, reached, tolerance, counts,
-                         distance, threads, should_stop);
+                         distance, other_triangles, threads, should_stop);
 }
 
 // query(k) for each sample k, in parallel. Queried in Morton order (each query writes its
@@ -112,33 +114,42 @@ std::vector<double> squared_distances(std::span<const Vec3> samples, const Trian
   return d2;
 }
 
-// {sum of squared distances, max distance} of the samples whose `counted` entry is set
-// (all when it is empty), in sample order.
-std::pair<double, double> sum_and_max(const std::vector<double>& d2,
-                                      std::span<const char> counted = {}) {
+// One direction's figures: the sum of its samples' squared distances, the largest distance
+// over every point and what it is at most (refined_maximum.h).
+struct OneWay {
+  double sum = 0, max = 0, at_most = 0;
+  bool settled = true;
+  // The maximum of figure k of `refined`.
+  void take(const RefinedMaximum& refined, int k) {
+    max = refined.reached[k], at_most = refined.at_most[k], settled = refined.settled[k];
+  }
+};
+
+// The sum and the largest of the samples whose `counted` entry is set (all when it is
+// empty), in sample order.
+OneWay sum_and_max(const std::vector<double>& d2, std::span<const char> counted = {}) {
   double sum = 0, max = 0;
   for (size_t k = 0; k < d2.size(); ++k)
     if (counted.empty() || counted[k]) sum += d2[k], max = std::max(max, d2[k]);
-  return {sum, std::sqrt(max)};
+  return {sum, std::sqrt(max), std::sqrt(max)};
 }
 
-// {sum of squared distances of the samples of `triangles` to the tree, max distance over
-// every point of them}; tolerances relative to `diagonal`.
-std::pair<double, double> one_way(std::span<const Vec3> positions,
-                                  std::span<const Triangle> triangles,
-                                  const std::vector<Vec3>& samples, const TriangleTree& tree,
-                                  double diagonal, int threads,
-                                  const std::function<bool()>* should_stop) {
+// The samples of `triangles` to the tree (of `tree_triangles`), the maximum over every
+// point of them; tolerances relative to `diagonal`.
+OneWay one_way(std::span<const Vec3> positions, std::span<const Triangle> triangles,
+               const std::vector<Vec3>& samples, const TriangleTree& tree, size_t tree_triangles,
+               double diagonal, int threads, const std::function<bool()>* should_stop) {
   const std::vector<double> d2 = squared_distances(samples, tree, threads, should_stop);
-  const auto [sum, max] = sum_and_max(d2);
-  const DistancePair refined = maximum_over_triangles(
-      positions, triangles, {&d2, &d2}, {max, max}, {diagonal, diagonal},
+  OneWay out = sum_and_max(d2);
+  const RefinedMaximum refined = maximum_over_triangles(
+      positions, triangles, {&d2, &d2}, {out.max, out.max}, {diagonal, diagonal},
       [](size_t, int figure) { return figure == 0; },
       [&](const Vec3& p) {
         return DistancePair{std::sqrt(tree.squared_distance(p)), 0};
       },
-      threads, should_stop);
-  return {sum, refined[0]};
+      tree_triangles, threads, should_stop);
+  out.take(refined, 0);
+  return out;
 }
 
 // `positions` moved into `frame`.
@@ -156,19 +167,19 @@ double corner_diagonal(std::span<const Vec3> positions, std::span<const Triangle
   return triangles.empty() ? 0 : norm(box.hi - box.lo);
 }
 
-// The figures of `out` from each direction's {sum of squared distances, max distance} and
-// sample count, relative to a's diagonal `d`.
-void finish(SurfaceDistance& out, std::pair<double, double> a_to_b, size_t a_samples,
-            std::pair<double, double> b_to_a, size_t b_samples, double d) {
-  const auto [a_sum, a_max] = a_to_b;
-  const auto [b_sum, b_max] = b_to_a;
-  out.rms_a_to_b = std::sqrt(a_sum / a_samples) / d;
-  out.max_a_to_b = a_max / d;
-  out.rms_b_to_a = std::sqrt(b_sum / b_samples) / d;
-  out.max_b_to_a = b_max / d;
+// The figures of `out` from each direction's and its sample count, relative to a's
+// diagonal `d`.
+void finish(SurfaceDistance& out, const OneWay& a_to_b, size_t a_samples, const OneWay& b_to_a,
+            size_t b_samples, double d) {
+  out.rms_a_to_b = std::sqrt(a_to_b.sum / a_samples) / d;
+  out.max_a_to_b = a_to_b.max / d;
+  out.rms_b_to_a = std::sqrt(b_to_a.sum / b_samples) / d;
+  out.max_b_to_a = b_to_a.max / d;
   out.hausdorff = std::max(out.max_a_to_b, out.max_b_to_a);
+  out.hausdorff_at_most = std::max(a_to_b.at_most, b_to_a.at_most) / d;
+  out.hausdorff_settled = a_to_b.settled && b_to_a.settled;
   out.samples = a_samples + b_samples;
-  out.rms = std::sqrt((a_sum + b_sum) / out.samples) / d;
+  out.rms = std::sqrt((a_to_b.sum + b_to_a.sum) / out.samples) / d;
 }
 
 }  // namespace
@@ -197,10 +208,11 @@ SurfaceDistance SurfaceMeasure::distance_to(std::span<const Vec3> b_positions,
   // Asked before the tree too: building one over a million triangles takes a while.
   const StopCheck stop(should_stop);
   stop.check();
-  const auto a_to_b = one_way(unit_, triangles_, a_samples, TriangleTree(b_unit, b_triangles), d,
-                              threads, should_stop);
+  const auto a_to_b = one_way(unit_, triangles_, a_samples, TriangleTree(b_unit, b_triangles),
+                              b_triangles.size(), d, threads, should_stop);
   stop.check();
-  const auto b_to_a = one_way(b_unit, b_triangles, b_samples, tree_, d, threads, should_stop);
+  const auto b_to_a =
+      one_way(b_unit, b_triangles, b_samples, tree_, triangles_.size(), d, threads, should_stop);
   finish(out, a_to_b, a_samples.size(), b_to_a, b_samples.size(), d);
   return out;
 }
@@ -244,16 +256,16 @@ SurfaceDistances SurfaceMeasure::distances_to(std::span<const char> left_out,
   // triangles.
   auto a_all = sum_and_max(a_d2), a_kept = sum_and_max(a_d2, kept_sample);
   auto b_all = sum_and_max(b_d2_all), b_kept = sum_and_max(b_d2_kept);
-  const DistancePair a_max = maximum_over_triangles(
-      unit_, triangles_, {&a_d2, &a_d2}, {a_all.second, a_kept.second}, {d_all, d_kept},
+  const RefinedMaximum a_max = maximum_over_triangles(
+      unit_, triangles_, {&a_d2, &a_d2}, {a_all.max, a_kept.max}, {d_all, d_kept},
       [&](size_t t, int figure) { return figure == 0 || !left_out[t]; },
       [&](const Vec3& p) {
         const double d = std::sqrt(b_tree.squared_distance(p));
         return DistancePair{d, d};
       },
-      threads, should_stop);
-  const DistancePair b_max = maximum_over_triangles(
-      b_unit, b_triangles, {&b_d2_all, &b_d2_kept}, {b_all.second, b_kept.second}, {d_all, d_kept},
+      b_triangles.size(), threads, should_stop);
+  const RefinedMaximum b_max = maximum_over_triangles(
+      b_unit, b_triangles, {&b_d2_all, &b_d2_kept}, {b_all.max, b_kept.max}, {d_all, d_kept},
       [](size_t, int) { return true; },
       [&](const Vec3& p) {
         const TriangleTree::Closest nearest = a_tree.closest(p);
@@ -262,9 +274,9 @@ SurfaceDistances SurfaceMeasure::distances_to(std::span<const char> left_out,
                                 : nearest.squared_distance;
         return DistancePair{std::sqrt(nearest.squared_distance), std::sqrt(kept)};
       },
-      threads, should_stop);
-  a_all.second = a_max[0], a_kept.second = a_max[1];
-  b_all.second = b_max[0], b_kept.second = b_max[1];
+      triangles_.size(), threads, should_stop);
+  a_all.take(a_max, 0), a_kept.take(a_max, 1);
+  b_all.take(b_max, 0), b_kept.take(b_max, 1);
   finish(out.all, a_all, a_samples.size(), b_all, b_samples.size(), d_all);
   if (d_kept > 0) finish(out.kept, a_kept, a_kept_samples, b_kept, b_samples.size(), d_kept);
   return out;

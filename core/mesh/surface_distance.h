@@ -19,8 +19,14 @@ struct SurfaceDistance {
   double rms_a_to_b = 0, max_a_to_b = 0;
   double rms_b_to_a = 0, max_b_to_a = 0;
   double hausdorff = 0;  // max of both directions
-  double rms = 0;        // over the samples of both directions
-  double diagonal = 0;   // of a's bounding box: every figure above is divided by it
+  // What the Hausdorff distance is at most: hausdorff plus the refinement's tolerance
+  // (refined_maximum.h) when every piece settled (`hausdorff_settled`), else the largest
+  // bound its budget left open (two nearly coinciding surfaces, a remesh of millions of
+  // triangles: the figure above is then what was found, not certainly the maximum).
+  double hausdorff_at_most = 0;
+  bool hausdorff_settled = true;
+  double rms = 0;       // over the samples of both directions
+  double diagonal = 0;  // of a's bounding box: every figure above is divided by it
   size_t samples = 0;
 };
 

@@ -107,7 +107,8 @@ RemeshAsset parts_remesh_asset(const MappedMesh& mapped, int resolution, int thr
   nlohmann::json parts = nlohmann::json::array();
   size_t samples = 0, vertices = 0, triangles = 0, unlocated = 0, wrapped_parts = 0;
   bool closed_genus0 = true;
-  double hausdorff = 0, squared = 0, relative_rms_weight = 0;
+  double hausdorff = 0, hausdorff_at_most = 0, squared = 0, relative_rms_weight = 0;
+  bool settled = true;  // every part's maximum settled (refined_maximum.h)
   double original_hausdorff = 0, original_squared = 0;  // to the original: wrapped or not
   double bake_seconds = 0, original_seconds = 0;        // of the wrapped parts, summed
   double normal_map_seconds = 0;
@@ -144,6 +145,9 @@ RemeshAsset parts_remesh_asset(const MappedMesh& mapped, int resolution, int thr
     // Distances relative to each part's own diagonal, combined as the largest and the
     // RMS weighted by samples.
     hausdorff = std::max(hausdorff, m["distance"]["hausdorff"].get<double>());
+    hausdorff_at_most =
+        std::max(hausdorff_at_most, m["distance"]["hausdorff_at_most"].get<double>());
+    settled = settled && m["distance"]["hausdorff_settled"].get<bool>();
     const double rms = m["distance"]["rms"].get<double>();
     squared += rms * rms * m["samples"].get<double>();
     relative_rms_weight += m["samples"].get<double>();
@@ -195,6 +199,8 @@ RemeshAsset parts_remesh_asset(const MappedMesh& mapped, int resolution, int thr
       {"distance",
        {{"relative_to", "bounding-box diagonal of each part"},
         {"hausdorff", hausdorff},
+        {"hausdorff_at_most", hausdorff_at_most},
+        {"hausdorff_settled", settled},
         {"rms", relative_rms_weight > 0 ? std::sqrt(squared / relative_rms_weight) : 0.0}}},
   };
   const double asset_diagonal = wrapped_parts > 0 ? faces_diagonal(*input) : 0.0;
