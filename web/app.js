@@ -707,8 +707,12 @@ async function finished(job, ticket) {
       (wrapped ? ` (${wrapped} as envelopes)` : '') +
       (left.length ? `; left out: ${reasons.join(', ')}` : '')]);
   }
-  if (metrics.remesh?.distance?.hausdorff !== undefined)
-    rows.push(['remesh Hausdorff (% of diagonal)', number(100 * metrics.remesh.distance.hausdorff, 2)]);
+  const distance = metrics.remesh?.distance;
+  if (distance?.hausdorff !== undefined)
+    // A search that ran out of budget says how far the maximum could still be.
+    rows.push(['remesh Hausdorff (% of diagonal)', number(100 * distance.hausdorff, 2) +
+      (distance.hausdorff_settled === false
+        ? ` (search unsettled: at most ${number(100 * distance.hausdorff_at_most, 2)})` : '')]);
   $('metrics').replaceChildren(...rows.map(([k, v]) => {
     const tr = document.createElement('tr');
     for (const text of [k, String(v)]) tr.append(Object.assign(document.createElement('td'), { textContent: text }));
