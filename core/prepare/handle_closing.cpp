@@ -104,7 +104,7 @@ EdgeFaces edge_faces(const PartSurface& s, const std::vector<uint32_t>& faces) {
 // Whether the part's faces stay connected across every edge but the cycle's. `on_cycle`:
 // per mesh vertex, 1 on the cycle (only an edge with both ends on it is looked up).
 bool leaves_connected(const EdgeFaces& e, const std::vector<uint32_t>& cycle,
-                      std::vector<char>& on_cycle) {
+                      const std::vector<char>& on_cycle) {
   std::unordered_set<uint64_t> cut;
   for (size_t k = 0; k < cycle.size(); ++k)
     cut.insert(undirected_edge_key(cycle[k], cycle[(k + 1) % cycle.size()]));

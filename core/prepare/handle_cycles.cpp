@@ -34,7 +34,8 @@ struct PartGraph {
 // every edge).
 class EdgeIds {
  public:
-  // `corners`: per local vertex, how many corners it has (its row holds at most twice that).
+  // `corners`: per local vertex, how many corners it has (it has at most twice as many
+  // edges; its row holds up to kScanned of them).
   explicit EdgeIds(const std::vector<uint32_t>& corners)
       : start_(corners.size() + 1, 0), used_(corners.size(), 0) {
     for (size_t a = 0; a < corners.size(); ++a)
