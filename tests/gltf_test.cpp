@@ -166,6 +166,30 @@ TEST(Gltf, TellsNonIntegerSizesWithTheirRealBound) {
             std::string::npos);
 }
 
+// POSITION is not required of a primitive (one without it draws nothing): such primitives
+// beside drawn ones are skipped with a warning (magnum's mesh.glb was refused whole); a file
+// with no other primitive is refused, naming the first.
+TEST(Gltf, SkipsPrimitivesWithoutPositionBesideDrawnOnes) {
+  const PolygonMesh plain = read_gltf(as_bytes(sphere_glb()));
+  Glb glb(sphere_glb());
+  glb.json["meshes"][0]["primitives"].push_back({{"attributes", nlohmann::json::object()}});
+  glb.json["meshes"][0]["primitives"].push_back(
+      {{"attributes", {{"NORMAL", 0}}},
+       {"indices", glb.json["meshes"][0]["primitives"][0]["indices"]}});
+  GltfReadStats stats;
+  const PolygonMesh read = read_gltf(as_bytes(glb.bytes()), {}, &stats);
+  EXPECT_EQ(read.indices, plain.indices);
+  EXPECT_EQ(read.positions, plain.positions);
+  EXPECT_EQ(stats.primitives, 1u);
+  ASSERT_EQ(stats.warnings.size(), 1u);
+  EXPECT_EQ(stats.warnings[0],
+            "mesh 0 primitive 1 has no POSITION attribute (nor 1 more primitives): skipped, as "
+            "viewers skip it (it draws nothing)");
+  glb.json["meshes"][0]["primitives"].erase(0);
+  EXPECT_EQ(read_error(glb.bytes()),
+            "mesh 0 primitive 0 has no POSITION attribute (nor 1 more primitives)");
+}
+
 // byteStride 0 is not valid glTF, but exporters write it meaning "packed" and viewers read
 // it so: read as packed, with a warning in the stats and the topology report.
 TEST(Gltf, ReadsByteStrideZeroAsPackedWithAWarning) {

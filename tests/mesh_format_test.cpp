@@ -107,6 +107,11 @@ TEST(MeshFormat, BinaryOrEmptyTextFilesSayWhatTheyAre) {
   const std::string as_obj = message(png, MeshFormat::kObj);
   EXPECT_NE(as_obj.find("not an OBJ file: it holds binary bytes"), std::string::npos) << as_obj;
   EXPECT_NE(as_obj.find("starts with \"\\x89PNG"), std::string::npos) << as_obj;
+  EXPECT_NE(as_obj.find("(a NUL at byte 8, line 3;"), std::string::npos) << as_obj;
+  // A text file with one stray NUL (ufbx's zbrush_cut_sphere.obj) is told where it is.
+  const std::string stray = std::string("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n") + '\0' + "\n";
+  EXPECT_NE(message(stray, MeshFormat::kObj).find("(a NUL at byte 32, line 5;"), std::string::npos)
+      << message(stray, MeshFormat::kObj);
   EXPECT_NE(message(png, MeshFormat::kOff).find("not an OFF file"), std::string::npos);
   EXPECT_EQ(message("", MeshFormat::kObj), "empty file (0 bytes)");
   EXPECT_EQ(message("", MeshFormat::kStl), "empty file (0 bytes)");

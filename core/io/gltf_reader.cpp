@@ -130,6 +130,16 @@ class Reader {
     }
     if (look_) copy_look(*look_);
     stats_.warnings = doc_.warnings();
+    if (positionless_ > 0) {
+      const std::string which =
+          first_positionless_ + " has no POSITION attribute" +
+          (positionless_ > 1 ? " (nor " + std::to_string(positionless_ - 1) + " more primitives)"
+                             : std::string());
+      // Nothing else to read: the file's fault as before (magnum's mesh.glb has two drawn
+      // meshes beside two empty ones, and was refused whole).
+      if (mesh_.face_count() == 0) fail(which);
+      stats_.warnings.push_back(which + ": skipped, as viewers skip it (it draws nothing)");
+    }
     for (size_t m = 0; m < mesh_count; ++m)
       if (draws_[m] > 1 && (stats_.repeated_mesh < 0 || draws_[m] > stats_.repeated_mesh_draws))
         stats_.repeated_mesh = static_cast<int>(m), stats_.repeated_mesh_draws = draws_[m];
@@ -317,6 +327,10 @@ class Reader {
   std::vector<size_t> draws_;                 // per mesh, how many nodes draw it
   size_t chosen_ = SIZE_MAX;                  // --mesh: the one mesh to read
   size_t point_primitives_ = 0, points_ = 0;  // POINTS primitives skipped, their points
+  // Triangle primitives without POSITION (the spec allows it; they draw nothing), skipped,
+  // and the first one's name for the report.
+  size_t positionless_ = 0;
+  std::string first_positionless_;
   bool chosen_drawn_ = false;
 
   void add_mesh(size_t mesh_index, const Matrix& world, int64_t node) {
@@ -367,8 +381,11 @@ class Reader {
       const size_t ia = doc_.reference(p, "indices", "accessors", name);
       if (ia != SIZE_MAX) check_room(0, triangles_from(doc_.accessor_shape(ia).count, mode));
       const auto attributes = p.find("attributes");
-      if (attributes == p.end() || !attributes->is_object() || !attributes->contains("POSITION"))
-        fail(name + " has no POSITION attribute");
+      if (attributes == p.end() || !attributes->is_object() || !attributes->contains("POSITION")) {
+        --stats_.primitives;
+        if (positionless_++ == 0) first_positionless_ = name;
+        return;
+      }
       const size_t position_accessor = doc_.reference(*attributes, "POSITION", "accessors", name);
       check_room(doc_.accessor_shape(position_accessor).count, 0);
       positions = doc_.read_positions(position_accessor);

@@ -106,7 +106,7 @@ PolygonMesh parse_mesh_text(std::string_view bytes, MeshFormat format, const Mes
   if ((format == MeshFormat::kObj || format == MeshFormat::kOff) && !binary_off) {
     // A text format with NUL bytes is some other file (a PNG renamed .obj read as OBJ
     // found "no faces"); say what it starts with, and what it looks like when we know.
-    if (bytes.substr(0, 65536).find('\0') != std::string_view::npos) {
+    if (const size_t nul = bytes.substr(0, 65536).find('\0'); nul != std::string_view::npos) {
       auto upper = [](MeshFormat f) {
         std::string name = format_name(f);
         for (char& c : name) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
@@ -115,8 +115,10 @@ PolygonMesh parse_mesh_text(std::string_view bytes, MeshFormat format, const Mes
       const std::optional<MeshFormat> looks = sniff_mesh_format(bytes);
       throw InputError(
           "parse",
-          "not an " + upper(format) + " file: it holds binary bytes (it starts with " +
-              shown_prefix(bytes) + ")" +
+          "not an " + upper(format) + " file: it holds binary bytes (a NUL at byte " +
+              std::to_string(nul) + ", line " +
+              std::to_string(1 + std::count(bytes.begin(), bytes.begin() + nul, '\n')) +
+              "; it starts with " + shown_prefix(bytes) + ")" +
               (looks && *looks != format ? "; it looks like " + upper(*looks) : std::string()));
     }
   }
