@@ -164,6 +164,47 @@ TEST(SphereLocator, FindsPointsOfALargeObtuseTriangle) {
   EXPECT_NE(locator.locate(near_c * (1 / norm(near_c))).triangle, UINT32_MAX);
 }
 
+// A sliver whose corners lie nearly on one great circle has a chord plane through (nearly)
+// the origin; bounding its patch by that plane's distance listed it in every cell of its
+// box widened by 1 (carbon-sphere.glb's map: 447M cell visits, 5.4 s). Its patch is tiny,
+// so it must be listed near it only, and every point still found in its own triangle.
+TEST(SphereLocator, ListsASliverOnlyNearItsPatch) {
+  const PolygonMesh ball = testing::icosphere(4);
+  const std::vector<Triangle> plain = fan_triangulate(ball).triangles;
+  std::vector<Vec3> sphere = ball.positions;
+  std::vector<Triangle> split;
+  for (size_t t = 0; t < plain.size(); ++t) {
+    const Triangle& f = plain[t];
+    if (t % 10) {
+      split.push_back(f);
+      continue;
+    }
+    // A point just inside the arc's middle from f[0] to f[1]: (f[0], f[1], m) is a sliver.
+    const Vec3 middle = sphere[f[0]] + sphere[f[1]];
+    const Vec3 toward = sphere[f[2]] - middle * 0.5;
+    const Vec3 m = middle * (1 / norm(middle)) + toward * 1e-4;
+    const auto k = static_cast<uint32_t>(sphere.size());
+    sphere.push_back(m * (1 / norm(m)));
+    split.push_back({f[0], f[1], k});
+    split.push_back({f[1], f[2], k});
+    split.push_back({f[2], f[0], k});
+  }
+  for (const Triangle& t : split)
+    ASSERT_GT(triple_product(sphere[t[0]], sphere[t[1]], sphere[t[2]]), 0);
+  const SphereLocator without(ball.positions, plain), with(sphere, split);
+  EXPECT_LT(with.listed(), 2 * without.listed());
+  std::mt19937 rng(11);
+  for (int i = 0; i < 20000; ++i) {
+    const Vec3 p = random_direction(rng);
+    const SphereHit hit = with.locate(p);
+    ASSERT_NE(hit.triangle, UINT32_MAX);
+    const Triangle& t = split[hit.triangle];
+    EXPECT_GE(triple_product(sphere[t[0]], sphere[t[1]], p), -1e-9);
+    EXPECT_GE(triple_product(sphere[t[1]], sphere[t[2]], p), -1e-9);
+    EXPECT_GE(triple_product(sphere[t[2]], sphere[t[0]], p), -1e-9);
+  }
+}
+
 // A gap in the sphere's triangles (samples no triangle holds): each such sample is counted
 // and put on the triangle next to it, not at the origin (a spike across a model far from
 // it: PrusaSlicer's PETG_recycling_symbol.stl, 3.65 diagonals, before).

@@ -33,6 +33,8 @@ class SphereLocator {
   // only without triangles. So a sample in a gap lands on the surface next to it, not at
   // the model's origin.
   SphereHit nearest(const Vec3& point) const;
+  // How many (cell, triangle) entries the grid holds: its memory, and its build's work.
+  size_t listed() const { return cell_triangles_.size(); }
 
  private:
   size_t cell_of(const Vec3& p) const;
