@@ -387,6 +387,19 @@ PolygonMesh plane(int n) {
   return m;
 }
 
+// Two faces over four nearly collinear points (pytorch3d's missing_files_obj/model.obj):
+// the faces' normals are rounding noise, and the band once followed them, so the envelope
+// held a third of the segment (a third of the diagonal off). It must hold all of it.
+TEST(Envelope, OfNearlyCollinearFacesHoldsTheWholeSegment) {
+  PolygonMesh line;
+  line.positions = {{0.1, 0.2, 0.3}, {0.2, 0.3, 0.4}, {0.3, 0.4, 0.5}, {0.4, 0.5, 0.6}};
+  for (const Triangle& t : {Triangle{0, 1, 2}, Triangle{0, 1, 3}}) line.add_face(t);
+  const Checked c = wrapped(line);
+  expect_sphere_like(c, "nearly collinear faces");
+  EXPECT_LT(c.envelope.report.original_to_envelope, 4.0 / 96);
+  EXPECT_LT(c.envelope.report.hausdorff, 4.0 / 96);
+}
+
 TEST(Envelope, ATorusBecomesAClosedGenusZeroEnvelope) {
   const Checked c = wrapped(testing::torus(48, 96));
   expect_sphere_like(c, "torus");

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <array>
+#include <cmath>
 #include <random>
 #include <vector>
 
@@ -68,6 +69,25 @@ void expect_as_brute_force(const PolygonMesh& mesh, unsigned seed) {
     ++checked;
   }
   EXPECT_GT(checked, 2000u);
+}
+
+// Corners nearly on one line (pytorch3d's test OBJ: 0.1 steps that rounding bends): the
+// barycentric coordinates are noise there, and the point they gave could lie anywhere in
+// the plane. The answer must be the nearest point of the edges, as dense samples tell.
+TEST(ClosestOnTriangle, OfCornersNearlyOnALineIsOnItsEdges) {
+  const Vec3 a{0.1, 0.2, 0.3}, b{0.2, 0.3, 0.4}, c{0.4, 0.5, 0.6};
+  std::mt19937 random(77);
+  std::uniform_real_distribution<> unit(-0.2, 0.7);
+  for (int i = 0; i < 2000; ++i) {
+    const Vec3 p{unit(random), unit(random), unit(random)};
+    const Vec3 q = closest_on_triangle(p, a, b, c);
+    double nearest = INFINITY;
+    for (const auto& [from, to] : {std::pair{a, b}, std::pair{b, c}, std::pair{c, a}})
+      for (int k = 0; k <= 4000; ++k)
+        nearest = std::min(nearest, norm(from + (to - from) * (k / 4000.0) - p));
+    ASSERT_LE(norm(q - p), nearest + 1e-9) << i;
+    ASSERT_GE(norm(q - p), nearest - 1e-4) << i;
+  }
 }
 
 TEST(TriangleTree, AnswersAsBruteForceOnASphere) {

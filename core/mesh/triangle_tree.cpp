@@ -23,9 +23,21 @@ Vec3 closest_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3
   const double va = d3 * d6 - d5 * d4;
   if (va <= 0 && d4 - d3 >= 0 && d5 - d6 >= 0)
     return b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6)));
+  // denom = |ab x ac|^2. Where it is a rounding error, vb / denom and vc / denom are noise
+  // and the point they give can lie anywhere in the triangle's plane: such a triangle has
+  // no inside, and its closest point is its edges'.
   const double denom = va + vb + vc;
-  if (!(std::abs(denom) > 0)) return a;  // degenerate triangle
-  return a + ab * (vb / denom) + ac * (vc / denom);
+  if (!too_thin_for_a_plane(ab, ac, denom)) return a + ab * (vb / denom) + ac * (vc / denom);
+  auto on_segment = [&p](const Vec3& from, const Vec3& to) {
+    const Vec3 d = to - from;
+    const double length2 = dot(d, d);
+    const double s = length2 > 0 ? std::clamp(dot(p - from, d) / length2, 0.0, 1.0) : 0.0;
+    return from + d * s;
+  };
+  Vec3 best = on_segment(a, b);
+  for (const Vec3& q : {on_segment(b, c), on_segment(c, a)})
+    if (squared_norm(q - p) < squared_norm(best - p)) best = q;
+  return best;
 }
 
 void AxisBox::add(const Vec3& p) {

@@ -14,8 +14,16 @@
 namespace spheremap {
 
 // The closest point of triangle abc to p (Ericson, Real-Time Collision Detection 5.1.5);
-// a degenerate triangle answers a.
+// a triangle too thin for barycentric coordinates (its corners on, or within rounding of,
+// one line) answers the closest point of its edges.
 Vec3 closest_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c);
+
+// Whether |ab x ac|^2 is within rounding of 0 against |ab|^2 |ac|^2 (1e-10: the angle at a
+// under 1e-5 radians or within it of 180 degrees): then neither the triangle's normal nor
+// barycentric coordinates in it mean anything, and it is to be treated as its edges.
+inline bool too_thin_for_a_plane(const Vec3& ab, const Vec3& ac, double cross_squared) {
+  return !(cross_squared > 1e-10 * dot(ab, ab) * dot(ac, ac));
+}
 
 struct AxisBox {
   Vec3 lo{std::numeric_limits<double>::max(), std::numeric_limits<double>::max(),

@@ -51,7 +51,11 @@ void mark_band(const VoxelGrid& g, const Vec3& a, const Vec3& b, const Vec3& c, 
     if (lo[k] > hi[k]) return;
   }
   Vec3 n = cross(b - a, c - a);
-  const double length = norm(n);
+  // A triangle too thin for a plane (four nearly collinear points of pytorch3d's test OBJ)
+  // has a normal of rounding noise: the columns are not cut to its plane, or the band
+  // would follow that noise and miss most of the triangle (its wrap stood a third of the
+  // diagonal off).
+  const double length = too_thin_for_a_plane(b - a, c - a, dot(n, n)) ? 0 : norm(n);
   int w = 2;  // the column axis
   if (length > 0) {
     n = n * (1 / length);
