@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <random>
+#include <set>
 
 #include "core/map/certification.h"
 #include "core/map/map_check.h"
@@ -52,6 +53,28 @@ TEST(PartCopies, FindsTheRotationOfATurnedScaledMovedCopyAndNoneForAMirrorOrAnot
   bent.positions[7] += Vec3{0.01, 0, 0};  // one vertex off by 1e-3 of the part's size
   EXPECT_FALSE(rotation_onto(part.positions, bent.positions, 1e-5));
   EXPECT_TRUE(rotation_onto(part.positions, bent.positions, 1e-2));
+}
+
+// Copies are looked for among parts of the same faces and shape_hash: a copy's hash is its
+// original's (turned, scaled, moved, and rounded as a text file writes it), while
+// triangles of other shapes spread over many hashes (47,000 doubled triangles of one
+// faces_hash were each fitted against every earlier one).
+TEST(PartCopies, AShapeHashIsACopysAndSpreadsOtherShapes) {
+  const PolygonMesh part = limbs();
+  PolygonMesh copy = moved(part, turn({1, 2, 3}, 0.7), 2.5, {10, -3, 4});
+  for (Vec3& p : copy.positions)
+    for (double* x : {&p.x, &p.y, &p.z}) *x = std::round(*x * 1e6) / 1e6;  // "%.6f"
+  EXPECT_EQ(shape_hash(part.positions), shape_hash(copy.positions));
+  std::mt19937 random(5);
+  std::uniform_real_distribution<> unit(0, 1);
+  std::set<uint64_t> hashes;
+  for (int k = 0; k < 1000; ++k) {
+    const std::vector<Vec3> triangle = {{unit(random), unit(random), unit(random)},
+                                        {unit(random), unit(random), unit(random)},
+                                        {unit(random), unit(random), unit(random)}};
+    hashes.insert(shape_hash(triangle));
+  }
+  EXPECT_GT(hashes.size(), 900u);
 }
 
 TEST(PartCopies, ACopyReusesItsOriginalsMapTurnedAndIsCertifiedWithTheSameDistortion) {

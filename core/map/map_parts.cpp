@@ -184,6 +184,9 @@ void leave_out_uncertified(MappedMesh& whole) {
 // file wrote with 6 to 7 digits are still copies.
 constexpr double kCopyTolerance = 1e-5;
 
+// At most this many earlier parts are fitted to a part (copied_map).
+constexpr size_t kCopyCandidates = 16;
+
 // The map of `part` as the map of an earlier certified part with the same faces turned onto
 // it (part_copies.h), measured and checked like any map; nullopt when no earlier part fits
 // or the turned map does not pass its own certification (then the part is mapped).
@@ -191,7 +194,10 @@ std::optional<MappedMesh> copied_map(const PreparedMesh& part, const std::vector
                                      const std::vector<size_t>& candidates,
                                      const MapOptions& options, size_t& source) {
   const PolygonMesh& mesh = part.welded.mesh;
-  for (size_t j : candidates) {
+  // The first few only: candidates of one shape_hash are copies of one another but for
+  // near-collisions, so a copy's original is among them (the bound keeps a part's work
+  // small whatever the asset).
+  for (size_t j : std::span(candidates).first(std::min(candidates.size(), kCopyCandidates))) {
     const MappedMesh& earlier = done[j].mapped;
     const PolygonMesh& earlier_mesh = earlier.prepared.welded.mesh;
     if (!same_faces(earlier_mesh, earlier.prepared.filled, mesh, part.filled)) continue;
@@ -262,7 +268,8 @@ MappedMesh map_parts(PreparedMesh prepared, const MapOptions& options, const Map
       for (uint32_t v = 0; v < split[k].vertex.size(); ++v)
         part_of[split[k].vertex[v]] = k, local_id[split[k].vertex[v]] = v;
   }
-  // The certified parts mapped so far, by faces_hash: where a copy finds its original.
+  // The certified parts mapped so far, by faces_hash and shape_hash: where a copy finds
+  // its original.
   std::unordered_map<uint64_t, std::vector<size_t>> by_faces;
   for (MeshPart& piece : split) {
     MappedPart part;
@@ -291,8 +298,9 @@ MappedMesh map_parts(PreparedMesh prepared, const MapOptions& options, const Map
     const double elapsed =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - *part_control.clock_start)
             .count();
+    const PolygonMesh& own = part.mapped.prepared.welded.mesh;
     const uint64_t faces =
-        faces_hash(part.mapped.prepared.welded.mesh, part.mapped.prepared.filled);
+        faces_hash(own, part.mapped.prepared.filled) * 31 + shape_hash(own.positions);
     const auto earlier = by_faces.find(faces);
     size_t source = 0;
     std::optional<MappedMesh> copy;

@@ -26,6 +26,22 @@ uint64_t faces_hash(const PolygonMesh& mesh, std::span<const Triangle> filled) {
   return h;
 }
 
+uint64_t shape_hash(std::span<const Vec3> positions) {
+  if (positions.empty()) return 0;
+  const Vec3 c = centroid(positions);
+  double sum = 0;
+  for (const Vec3& p : positions) sum += squared_norm(p - c);
+  const double rms = std::sqrt(sum / static_cast<double>(positions.size()));
+  if (!(rms > 0)) return 0;
+  uint64_t h = 1469598103934665603ull;
+  const size_t count = std::min<size_t>(positions.size(), 4);
+  for (size_t i = 0; i < count; ++i) {
+    const auto step = static_cast<uint64_t>(std::lround(norm(positions[i] - c) / rms * 64));
+    h = (h ^ step) * 1099511628211ull;
+  }
+  return h;
+}
+
 bool same_faces(const PolygonMesh& a, std::span<const Triangle> a_filled, const PolygonMesh& b,
                 std::span<const Triangle> b_filled) {
   return a.vertex_count() == b.vertex_count() && a.offsets == b.offsets && a.indices == b.indices &&
