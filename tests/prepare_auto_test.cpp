@@ -124,6 +124,41 @@ TEST(PrepareAuto, ATinyPartsGridSpansItsOffsetNotItsOwnWidth) {
   EXPECT_LT(tiny.envelope.hausdorff, 0.03);
 }
 
+// A plane with a fin on every inner edge: one part as read, whose non-manifold edges split
+// it into thousands of parts (each fin a sheet of its own, doubled). Those are shards of
+// the preparation, not parts of the asset (vcglib's abominevole.off: 48,732 of them, whose
+// remesh took over a minute): the asset is wrapped whole.
+TEST(PrepareAuto, AMeshThePreparationShattersIsWrappedWhole) {
+  constexpr uint32_t kSide = 48;
+  PolygonMesh input;
+  for (uint32_t y = 0; y < kSide; ++y)
+    for (uint32_t x = 0; x < kSide; ++x) input.positions.push_back({double(x), double(y), 0});
+  auto add = [&input](uint32_t a, uint32_t b, uint32_t c) {
+    input.add_face(std::vector<uint32_t>{a, b, c});
+  };
+  auto fin = [&](uint32_t a, uint32_t b) {
+    const Vec3 top = (input.positions[a] + input.positions[b]) * 0.5 + Vec3{0.1, 0.2, 0.7};
+    input.positions.push_back(top);
+    add(a, b, static_cast<uint32_t>(input.positions.size() - 1));
+  };
+  for (uint32_t y = 0; y + 1 < kSide; ++y)
+    for (uint32_t x = 0; x + 1 < kSide; ++x) {
+      const uint32_t v = y * kSide + x;
+      add(v, v + 1, v + kSide + 1);
+      add(v, v + kSide + 1, v + kSide);
+      fin(v, v + kSide + 1);  // the diagonal, always inner
+      if (y > 0) fin(v, v + 1);
+      if (x > 0) fin(v, v + kSide);
+    }
+  PrepareOptions options = automatic();
+  options.double_open_sheets = true;  // as by default: each fin a part that maps
+  const PreparedMesh prepared = prepare_input(input, nullptr, options);
+  EXPECT_EQ(prepared.preparation.decided, "wrap");
+  EXPECT_TRUE(remaining_failures(prepared).empty());
+  EXPECT_GT(prepared.preparation.envelope.faces, 0u);
+  EXPECT_EQ(prepared.topology.component_vertices.size(), 1u);
+}
+
 TEST(PrepareAuto, OnePartThatCannotMapIsWrappedWhole) {
   PolygonMesh input = testing::dome(2);  // its hole is too large to fill
   const PreparedMesh prepared = prepare_input(input, nullptr, automatic());
@@ -219,7 +254,8 @@ TEST(PrepareAuto, ManyFragmentsAreWrappedAsOne) {
   PolygonMesh triangle;
   triangle.positions = {{0, 0, 0}, {0.3, 0, 0}, {0, 0.3, 0}};
   triangle.add_face(std::vector<uint32_t>{0, 1, 2});
-  for (int k = 0; k < 100; ++k) pieces.push_back({triangle, {double(k % 10), double(k / 10), 0}});
+  // Past kMaxWrappedParts (256) that do not map.
+  for (int k = 0; k < 300; ++k) pieces.push_back({triangle, {double(k % 20), double(k / 20), 0}});
   PolygonMesh input = assembled(pieces);
   const PreparedMesh prepared = prepare_input(input, nullptr, automatic());
   EXPECT_EQ(prepared.preparation.decided, "wrap");

@@ -185,7 +185,7 @@ TEST(SheetDoubling, OnlyDiscsAreDoubled) {
 }
 
 // A scatter of 200 separate triangles (leaf cards, stray fragments): every one is doubled,
-// however many, and auto maps each as a part of its own. Wrapped as one, past the 64 parts
+// however many, and auto maps each as a part of its own. Wrapped as one, past the 256 parts
 // auto wraps one by one, they made an envelope of far-apart blobs (20,000 quads: one that
 // did not map).
 TEST(SheetDoubling, EveryFragmentOfAScatterIsDoubledAndMapsAsAPart) {

@@ -191,8 +191,27 @@ size_t fill_small_holes(PreparedMesh& prepared, const PrepareOptions& options) {
 
 // Past this many parts that do not map (once open discs are doubled), kAuto wraps them as
 // one envelope (a soup or a scatter of fragments: trimesh's 100-triangle soup.stl took
-// 35 s part by part, 8 s whole; game-kit models wrap at most 60 parts).
-constexpr size_t kMaxWrappedParts = 64;
+// 35 s part by part, 8 s whole, in session 31). Whole, an asset's inner parts are lost
+// under its outer envelope: A-Frame's engine.glb (2,863 parts, 88 that do not map) stood
+// 9.5% of its diagonal off wrapped whole (2.7 s), 1.7% with each of the 88 wrapped
+// (8.1 s; session 55, when 64 was the bound).
+constexpr size_t kMaxWrappedParts = 256;
+
+// Past this many parts, and this many per part of the input as read, the parts are the
+// preparation's shards, not the asset's: kAuto wraps the asset whole. vcglib's
+// abominevole.off, one part of 50,706 faces with 30,361 non-manifold edges, came apart
+// into 48,732 parts (each sliver doubled): mapped in 9 s, its remesh (a grid per part)
+// took over a minute; wrapped whole, both take seconds. Kits of many parts (three.js's
+// ww2-cityscene: 3,534) have as many parts as they were read with.
+constexpr size_t kMaxShards = 4096;
+constexpr size_t kShardsPerInputPart = 16;
+
+bool shattered(const PreparedMesh& prepared) {
+  const size_t parts = prepared.topology.component_vertices.size();
+  const size_t read =
+      prepared.input_topology ? prepared.input_topology->component_vertices.size() : parts;
+  return parts > kMaxShards && parts > kShardsPerInputPart * std::max<size_t>(read, 1);
+}
 
 // Under kAuto, each part that is a disc whose hole was too large to fill closed by its own
 // back (sheet_doubling.h), appended as fills are: exact where an envelope would not be.
@@ -933,16 +952,19 @@ std::optional<PreparedMesh> closed_by_weld(PolygonMesh& input, GltfAppearance* l
 PreparedMesh prepare_input(PolygonMesh& input, GltfAppearance* look,
                            const PrepareOptions& options) {
   if (options.method == PrepareMethod::kAuto) {
-    // Every part that maps as it is (after the safe cleaning), each other part wrapped.
+    // Every part that maps as it is (after the safe cleaning), each other part wrapped; a
+    // mesh the preparation shattered, wrapped whole.
     PreparedMesh prepared = prepare_parts(input, look, options);
-    const bool mapped = maps_entirely(prepared) || options.largest_component;
+    const bool shards = shattered(prepared);
+    if (shards) prepared.pending.parts = false;
+    const bool mapped = !shards && (maps_entirely(prepared) || options.largest_component);
     const bool unwrapped = !prepared.pending.parts && mapped && !wraps_a_part(prepared);
     if (unwrapped && !has_backs(prepared.preparation)) {
       prepared.preparation.decided = decided(prepared);
       return prepared;
     }
     if (std::optional<PreparedMesh> closed =
-            closed_by_weld(input, look, prepared, options, unwrapped))
+            shards ? std::nullopt : closed_by_weld(input, look, prepared, options, unwrapped))
       return std::move(*closed);
     if (unwrapped) {  // with backs that no weld closes
       prepared.preparation.decided = decided(prepared);
