@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "core/mesh/sphere_geometry.h"
+#include "core/mesh/triangle_tree.h"
 
 namespace spheremap {
 namespace {
@@ -20,33 +21,6 @@ bool in_front(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& p) {
   return triple_product(a, b, c) > 1e-6 || dot(a + b + c, p) > 0;
 }
 
-// The least distance from the origin to a point of the chord triangle (a, b, c). The
-// triangle's patch is the triangle's central projection, each point p moved 1 - |p| out,
-// so it lies within the corners' box widened by 1 - this. (The chord plane's distance,
-// used before, is smaller: for a small sliver, its corners nearly on one great circle,
-// the plane can pass through the origin, and such a triangle was listed in every cell its
-// box widened by 1 meets: carbon-sphere.glb's map, 158K triangles, cost 447M cell visits
-// and 5.4 s to list.) Over the edges, and over the inside where the origin's foot on the
-// plane falls in it; a triangle without a plane has its edges only.
-double distance_from_origin(const Vec3& a, const Vec3& b, const Vec3& c) {
-  auto from_segment = [](const Vec3& p, const Vec3& q) {
-    const Vec3 d = q - p;
-    const double length2 = dot(d, d);
-    const double s = length2 > 0 ? std::clamp(-dot(p, d) / length2, 0.0, 1.0) : 0.0;
-    return norm(p + d * s);
-  };
-  double least = std::min({from_segment(a, b), from_segment(b, c), from_segment(c, a)});
-  const Vec3 n = cross(b - a, c - a);
-  const double n2 = dot(n, n);
-  if (n2 > 0) {
-    const Vec3 foot = n * (dot(n, a) / n2);
-    if (dot(cross(b - a, foot - a), n) >= 0 && dot(cross(c - b, foot - b), n) >= 0 &&
-        dot(cross(a - c, foot - c), n) >= 0)
-      least = std::min(least, norm(foot));
-  }
-  return least;
-}
-
 }  // namespace
 
 SphereLocator::SphereLocator(std::span<const Vec3> sphere, std::span<const Triangle> triangles)
@@ -56,7 +30,14 @@ SphereLocator::SphereLocator(std::span<const Vec3> sphere, std::span<const Trian
   const size_t cells = static_cast<size_t>(resolution_) * resolution_ * resolution_;
   auto cell_range = [&](const Triangle& t, std::array<int, 3>& lo, std::array<int, 3>& hi) {
     const Vec3 &a = sphere_[t[0]], &b = sphere_[t[1]], &c = sphere_[t[2]];
-    const double bulge = 1 - std::min(distance_from_origin(a, b, c), 1.0) + 1e-9;
+    // The patch is the chord triangle's central projection, each point p moved 1 - |p| out:
+    // it lies within the corners' box widened by 1 - (the triangle's distance from the
+    // origin). (The chord plane's distance, used before, is smaller: a small sliver's plane
+    // can pass through the origin, and such a triangle was listed in every cell its box
+    // widened by 1 meets: carbon-sphere.glb's map, 158K triangles, cost 447M cell visits
+    // and 5.4 s to list.)
+    const double nearest = norm(closest_on_triangle(Vec3{0, 0, 0}, a, b, c));
+    const double bulge = 1 - std::min(nearest, 1.0) + 1e-9;
     for (int k = 0; k < 3; ++k) {
       const double mn = std::min({a[k], b[k], c[k]}) - bulge;
       const double mx = std::max({a[k], b[k], c[k]}) + bulge;
