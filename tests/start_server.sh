@@ -4,7 +4,10 @@
 start_server() {
   local log=$1
   shift
-  "$spheremap" serve --port 0 "$@" 2> "$log" &
+  # Emptied by this shell before the server starts, not by the background job's
+  # redirection: a LOG used twice must not show the earlier server's url.
+  : > "$log"
+  "$spheremap" serve --port 0 "$@" 2>> "$log" &
   server=$!
   url=
   for _ in $(seq 400); do

@@ -54,9 +54,14 @@ start_redis() {
 }
 
 # start_api NAME: an API replica without workers; sets api_NAME to its url.
+# The log is emptied here, by this shell, before the replica starts: emptied by the
+# background job's own redirection instead, a restart could be read before the child ran
+# and the previous replica's "listening" url taken for the new one's (a loaded machine
+# then polled a port nothing listened on: healthz 000, jobs "lost").
 start_api() {
   local log=$tmp/api_$1.log
-  "$spheremap" serve --port 0 --workers 0 --queue "$queue" --shutdown-grace-seconds 0 2> "$log" &
+  : > "$log"
+  "$spheremap" serve --port 0 --workers 0 --queue "$queue" --shutdown-grace-seconds 0 2>> "$log" &
   pids+=($!)
   eval "api_pid_$1=$!"
   for _ in $(seq 200); do
@@ -72,14 +77,17 @@ start_api() {
   fail "API replica $1 did not start"
 }
 # start_worker NAME: a worker node with one worker; sets worker_pid_NAME.
+# Its log keeps the earlier starts' lines: only a line after them tells this start's.
 start_worker() {
   local log=$tmp/worker_$1.log
+  local before
+  before=$(cat "$log" 2> /dev/null | wc -l)
   "$spheremap" worker --queue "$queue" --workers 1 --threads-per-job 1 \
     --visibility-timeout-seconds 3 --shutdown-grace-seconds 0 2>> "$log" &
   pids+=($!)
   eval "worker_pid_$1=$!"
   for _ in $(seq 200); do
-    grep -q '"event":"worker_node"' "$log" && return
+    tail -n +$((before + 1)) "$log" | grep -q '"event":"worker_node"' && return
     sleep 0.05
   done
   fail "worker node $1 did not start"
