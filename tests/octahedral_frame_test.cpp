@@ -88,6 +88,35 @@ TEST(OctahedralFrameChoice, TurnsTheDenseSamplingOntoWhatTheMapSqueezed) {
   EXPECT_LT(turned, 0.8 * unturned) << turned << " " << unturned;
 }
 
+// Each prediction ranks every candidate (the remesh screens the best few of both). With
+// one error, at the spike, the predicted error grows with |d|_1 of the spike in the frame
+// (1 at an octahedron vertex, where the square samples densest), so the ranking is that
+// order; from the map's areas the spike (a small patch, not one direction) sets it within
+// a percent.
+TEST(OctahedralFrameChoice, RanksEveryCandidateBestFirst) {
+  const SpikedSphere s;
+  const auto spike_l1 = [&](int k) { return l1(frame_candidate(k).from_sphere(s.spike)); };
+  const std::vector<SampledError> at_spike = {{s.spike, 0.1}};
+  const FrameChoice by_error = choose_octahedral_frame(at_spike, OctahedralFrame{});
+  const FrameChoice by_area = choose_octahedral_frame(s.surface, s.sphere.positions, s.triangles);
+  for (const FrameChoice* choice : {&by_error, &by_area}) {
+    ASSERT_EQ(choice->ranked.size(), static_cast<size_t>(kFrameCandidates));
+    std::vector<int> sorted = choice->ranked;
+    std::sort(sorted.begin(), sorted.end());
+    for (int k = 0; k < kFrameCandidates; ++k) EXPECT_EQ(sorted[static_cast<size_t>(k)], k);
+    EXPECT_TRUE(frame_candidate(choice->ranked.front()) == choice->frame);
+    const double slack = choice == &by_error ? 1e-12 : 0.01;
+    for (size_t r = 1; r < choice->ranked.size(); ++r)
+      EXPECT_LE(spike_l1(choice->ranked[r - 1]), spike_l1(choice->ranked[r]) * (1 + slack)) << r;
+  }
+  // Screened and measured frames: all up to 256 quads per side, fewer above, one from 1024.
+  EXPECT_EQ(frames_tried(kFramesScreened, 128), kFramesScreened);
+  EXPECT_EQ(frames_tried(kFramesScreened, 256), kFramesScreened);
+  EXPECT_EQ(frames_tried(kFramesScreened, 512), kFramesScreened / 4);
+  EXPECT_EQ(frames_tried(kFramesMeasured, 512), 1u);
+  EXPECT_EQ(frames_tried(kFramesScreened, 4096), 1u);
+}
+
 // The errors of a remesh say where it is off: on the spiked sphere's unturned remesh the
 // largest lies at the spike, and the frame chosen from them puts the spike where the
 // square samples densely; the remesh there is nearer.

@@ -54,6 +54,35 @@ OctahedralFrame frame_candidate(int k) {
   return f;
 }
 
+size_t frames_tried(size_t most, int resolution) {
+  const double share = static_cast<double>(kFrameSearchResolution) / std::max(resolution, 1);
+  const auto scaled = static_cast<size_t>(static_cast<double>(most) * share * share);
+  return std::clamp<size_t>(scaled, 1, most);
+}
+
+namespace {
+
+// The choice by `largest` (a candidate frame's largest predicted figure): every
+// candidate ranked, ties in candidate order.
+template <typename Largest>
+FrameChoice ranked_choice(const Largest& largest) {
+  FrameChoice choice;
+  choice.unturned_largest = largest(OctahedralFrame{});
+  std::vector<double> figure(kFrameCandidates);
+  for (int k = 0; k < kFrameCandidates; ++k) {
+    const double value = largest(frame_candidate(k));
+    figure[k] = std::isnan(value) ? INFINITY : value;
+    choice.ranked.push_back(k);
+  }
+  std::stable_sort(choice.ranked.begin(), choice.ranked.end(),
+                   [&](int a, int b) { return figure[a] < figure[b]; });
+  choice.frame = frame_candidate(choice.ranked.front());
+  choice.predicted_largest = figure[choice.ranked.front()];
+  return choice;
+}
+
+}  // namespace
+
 FrameChoice choose_octahedral_frame(std::span<const Vec3> surface, std::span<const Vec3> sphere,
                                     std::span<const Triangle> triangles) {
   // Per vertex, the surface area and the chord area of its triangles (the ring smooths a
@@ -72,16 +101,9 @@ FrameChoice choose_octahedral_frame(std::span<const Vec3> surface, std::span<con
   if (total_area > 0 && total_chord > 0)
     for (size_t v = 0; v < sphere.size(); ++v)
       if (chord[v] > 0) area_per_chord[v] = (area[v] / total_area) / (chord[v] / total_chord);
-  FrameChoice choice;
-  double best = largest_spacing_squared(sphere, area_per_chord, OctahedralFrame{});
-  choice.unturned_largest = std::sqrt(best);
-  bool found = false;
-  for (int k = 0; k < kFrameCandidates; ++k) {
-    const OctahedralFrame candidate = frame_candidate(k);
-    const double spacing = largest_spacing_squared(sphere, area_per_chord, candidate);
-    if (!found || spacing < best) best = spacing, choice.frame = candidate, found = true;
-  }
-  choice.predicted_largest = std::sqrt(best);
+  FrameChoice choice = ranked_choice([&](const OctahedralFrame& frame) {
+    return std::sqrt(largest_spacing_squared(sphere, area_per_chord, frame));
+  });
   return choice;
 }
 
@@ -136,16 +158,7 @@ FrameChoice choose_octahedral_frame(std::span<const SampledError> errors,
           worst, s.error_per_spacing * std::pow(l1_norm(frame.from_sphere(s.direction)), 1.5));
     return worst;
   };
-  FrameChoice choice;
-  choice.unturned_largest = predicted(OctahedralFrame{});
-  double best = INFINITY;
-  for (int k = 0; k < kFrameCandidates; ++k) {
-    const OctahedralFrame candidate = frame_candidate(k);
-    const double error = predicted(candidate);
-    if (error < best) best = error, choice.frame = candidate;
-  }
-  choice.predicted_largest = best;
-  return choice;
+  return ranked_choice(predicted);
 }
 
 }  // namespace spheremap

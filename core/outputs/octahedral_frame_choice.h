@@ -23,8 +23,9 @@
 // need not shrink with the spacing): on 15 set-8 CAD parts whose remesh stood over 2% of
 // the diagonal, a rotation chosen by the first alone made some files worse (3.2% -> 5.2%),
 // and each of the two was the better on about half of the files and of the corpus. So the
-// remesh (map_outputs.cpp) samples both, screens them by their sampled errors, measures the
-// better in full beside the unturned remesh, and keeps the nearer.
+// remesh (map_outputs.cpp) samples the best few of both rankings, screens them by their
+// sampled errors, measures the best few of those in full beside the unturned remesh, and
+// keeps the nearest.
 #pragma once
 
 #include <functional>
@@ -46,11 +47,27 @@ inline constexpr int kFrameCandidates = 48;
 // 0.03% to 0.56% of the diagonal, median 0.12%), which matters where the remesh is far.
 inline constexpr double kFrameTrialDistance = 0.005;
 
+// Where frames are tried (map_outputs.cpp) at a resolution up to kFrameSearchResolution:
+// each ranking's best kFramesScreened sampled and screened by their sampled errors, and
+// the best kFramesMeasured of those measured in full. Above it both shrink with the
+// samples per grid (frames_tried), down to one each, so a 4096^2 remesh samples no
+// more grids than it did with one frame of each ranking.
+inline constexpr size_t kFramesScreened = 12;
+inline constexpr size_t kFramesMeasured = 3;
+inline constexpr int kFrameSearchResolution = 256;
+
+// `most` (kFramesScreened or kFramesMeasured) at `resolution`: most x
+// (kFrameSearchResolution / resolution)^2, at least 1 and at most `most`.
+size_t frames_tried(size_t most, int resolution);
+
 struct FrameChoice {
   OctahedralFrame frame;  // the candidate whose largest predicted figure is least
   // That largest figure (a sample spacing from the map's areas, or an error from a
   // remesh's errors), for the chosen frame and for the unturned one.
   double predicted_largest = 0, unturned_largest = 0;
+  // Every candidate's index (frame_candidate), least largest figure first: `frame` is
+  // ranked[0]'s.
+  std::vector<int> ranked;
 };
 
 // `surface` and `sphere`: per vertex, its position and its unit sphere point; `triangles`
