@@ -102,6 +102,8 @@ TEST(PartCopies, ACopyReusesItsOriginalsMapTurnedAndIsCertifiedWithTheSameDistor
   EXPECT_NEAR(copy.mapped.quality.stretch_l2, original.mapped.quality.stretch_l2, 1e-9);
   EXPECT_EQ(copy.mapped.map.iterations, 0u);  // no map was made for it
   EXPECT_GT(original.mapped.map.iterations + original.mapped.map.stretch_vertex_updates, 0);
+  // The search and the fit take time no map stage had, and the report says how much.
+  EXPECT_GT(mapped.map.copies_seconds, 0.0);
 
   const nlohmann::json metrics = metrics_json(mapped, {});
   ASSERT_EQ(metrics["parts"].size(), 3u);
@@ -113,6 +115,7 @@ TEST(PartCopies, ACopyReusesItsOriginalsMapTurnedAndIsCertifiedWithTheSameDistor
       EXPECT_FALSE(metrics["parts"][p["copy_of"].get<size_t>()].contains("copy_of"));
     }
   EXPECT_EQ(copies, 1u);
+  EXPECT_EQ(metrics["seconds"]["copies"].get<double>(), mapped.map.copies_seconds);
 }
 
 }  // namespace

@@ -228,6 +228,20 @@ std::optional<MappedMesh> copied_map(const PreparedMesh& part, const std::vector
   return std::nullopt;
 }
 
+// copied_map, its seconds added to `seconds` whether it found a copy or not, but for the
+// found copy's check and metrics (counted in verify and metrics, as a mapped part's are).
+std::optional<MappedMesh> timed_copied_map(const PreparedMesh& part,
+                                           const std::vector<MappedPart>& done,
+                                           const std::vector<size_t>& candidates,
+                                           const MapOptions& options, size_t& source,
+                                           double& seconds) {
+  const auto start = std::chrono::steady_clock::now();
+  std::optional<MappedMesh> copy = copied_map(part, done, candidates, options, source);
+  seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  if (copy) seconds -= copy->map.verify_seconds + copy->metrics_seconds;
+  return copy;
+}
+
 // The parts of `split` in the order of their reports (PartReport::welded_vertex), so that
 // reports and maps pair up by order even where an envelope changed a part's size; as split
 // when the reports do not name every part.
@@ -271,6 +285,7 @@ MappedMesh map_parts(PreparedMesh prepared, const MapOptions& options, const Map
   // The certified parts mapped so far, by faces_hash and shape_hash: where a copy finds
   // its original.
   std::unordered_map<uint64_t, std::vector<size_t>> by_faces;
+  double copies_seconds = 0;
   for (MeshPart& piece : split) {
     MappedPart part;
     part.whole_vertex = std::move(piece.vertex);
@@ -310,8 +325,9 @@ MappedMesh map_parts(PreparedMesh prepared, const MapOptions& options, const Map
       part.mapped.map.check =
           check_map(part.mapped.map.sphere, oriented_triangles(part_mesh).triangles);
       part.mapped.map.stopped_in = "waiting";
-    } else if (earlier != by_faces.end() && (copy = copied_map(part.mapped.prepared, whole.parts,
-                                                               earlier->second, options, source))) {
+    } else if (earlier != by_faces.end() &&
+               (copy = timed_copied_map(part.mapped.prepared, whole.parts, earlier->second, options,
+                                        source, copies_seconds))) {
       part.mapped = std::move(*copy);
       part.copy_of = source;
       // Checked, not mapped: its progress is its check's.
@@ -332,6 +348,7 @@ MappedMesh map_parts(PreparedMesh prepared, const MapOptions& options, const Map
   }
   leave_out_uncertified(whole);
   combine(whole);
+  whole.map.copies_seconds = copies_seconds;
   return whole;
 }
 

@@ -344,6 +344,7 @@ nlohmann::json map_metrics_json(const MappedMesh& mapped, const MapOptions& opti
         {"mapping", m.mapping_seconds},
         {"optimize", m.optimize_seconds},
         {"verify", m.verify_seconds},
+        {"copies", m.copies_seconds},
         {"metrics", mapped.metrics_seconds}}},
   };
 }
