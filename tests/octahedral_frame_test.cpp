@@ -109,11 +109,12 @@ TEST(OctahedralFrameChoice, RanksEveryCandidateBestFirst) {
     for (size_t r = 1; r < choice->ranked.size(); ++r)
       EXPECT_LE(spike_l1(choice->ranked[r - 1]), spike_l1(choice->ranked[r]) * (1 + slack)) << r;
   }
-  // Screened and measured frames: all up to 256 quads per side, fewer above, one from 1024.
+  // Screened and measured frames: all up to 128 quads per side, fewer above, one from 512.
+  EXPECT_EQ(frames_tried(kFramesScreened, 64), kFramesScreened);
   EXPECT_EQ(frames_tried(kFramesScreened, 128), kFramesScreened);
-  EXPECT_EQ(frames_tried(kFramesScreened, 256), kFramesScreened);
-  EXPECT_EQ(frames_tried(kFramesScreened, 512), kFramesScreened / 4);
-  EXPECT_EQ(frames_tried(kFramesMeasured, 512), 1u);
+  EXPECT_EQ(frames_tried(kFramesScreened, 256), kFramesScreened / 4);
+  EXPECT_EQ(frames_tried(kFramesMeasured, 256), 1u);
+  EXPECT_EQ(frames_tried(kFramesScreened, 512), 1u);
   EXPECT_EQ(frames_tried(kFramesScreened, 4096), 1u);
 }
 

@@ -95,7 +95,8 @@ MeasuredRemesh measured_remesh(OctahedralRemesh remesh, const SurfaceMeasure& su
 // at N = 128 stood over 2% of the diagonal): each prediction's first, the better measured
 // (what this did before): 0 of them under 2%; every one of the 48 screened and 3 measured:
 // 8 under 2%; 6 of each screened and 2 measured: 5; 12 and 3: the same 8 as all 48, at
-// 1.6-2x the remesh stage's time where frames are tried (the measures are most of it).
+// 2.6-3.5x the remesh stage's time where frames are tried (the measures are most of it;
+// fewer above N = 128: kFrameSearchResolution).
 struct FramedRemesh {
   MeasuredRemesh measured;
   double unturned_hausdorff = 0;
