@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <numeric>
 #include <vector>
 
 #include "core/mesh/surface_distance.h"
@@ -72,8 +73,9 @@ FrameChoice ranked_choice(const Largest& largest) {
   for (int k = 0; k < kFrameCandidates; ++k) {
     const double value = largest(frame_candidate(k));
     figure[k] = std::isnan(value) ? INFINITY : value;
-    choice.ranked.push_back(k);
   }
+  choice.ranked.resize(kFrameCandidates);
+  std::iota(choice.ranked.begin(), choice.ranked.end(), 0);
   std::stable_sort(choice.ranked.begin(), choice.ranked.end(),
                    [&](int a, int b) { return figure[a] < figure[b]; });
   choice.frame = frame_candidate(choice.ranked.front());
@@ -101,10 +103,9 @@ FrameChoice choose_octahedral_frame(std::span<const Vec3> surface, std::span<con
   if (total_area > 0 && total_chord > 0)
     for (size_t v = 0; v < sphere.size(); ++v)
       if (chord[v] > 0) area_per_chord[v] = (area[v] / total_area) / (chord[v] / total_chord);
-  FrameChoice choice = ranked_choice([&](const OctahedralFrame& frame) {
+  return ranked_choice([&](const OctahedralFrame& frame) {
     return std::sqrt(largest_spacing_squared(sphere, area_per_chord, frame));
   });
-  return choice;
 }
 
 std::vector<SampledError> sampled_errors(const SurfaceMeasure& measured_surface,
