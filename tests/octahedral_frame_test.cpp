@@ -8,11 +8,14 @@
 #include <string>
 #include <vector>
 
+#include "core/map/pipeline.h"
 #include "core/mesh/surface_distance.h"
 #include "core/outputs/map_outputs.h"
 #include "core/outputs/octahedral.h"
 #include "core/outputs/octahedral_frame_choice.h"
 #include "core/outputs/remesh.h"
+#include "core/outputs/report_json.h"
+#include "core/prepare/prepare_mesh.h"
 #include "tests/mesh_generators.h"
 
 namespace spheremap {
@@ -140,6 +143,31 @@ TEST(OctahedralFrameChoice, FromARemeshsErrorsTurnsTheDenseSamplingOntoTheWorstS
     return surface_distance(s.surface, s.triangles, r.positions, r.triangles, 1).hausdorff;
   };
   EXPECT_LT(hausdorff(turned), 0.8 * hausdorff(unturned));
+}
+
+// In an asset of parts, a part tries turned frames only when its remesh stands over
+// kFrameTrialDistance of the ASSET's diagonal from it: a small part far off by its own
+// diagonal, but near at the asset's scale, keeps its unturned frame; the large one tries.
+TEST(OctahedralFrameChoice, AnAssetsPartsTryFramesAtTheAssetsScale) {
+  PolygonMesh small = testing::horseshoe();
+  for (Vec3& p : small.positions) p = p * 0.02;
+  PolygonMesh input = testing::assembled({{testing::horseshoe(), {0, 0, 0}}, {small, {0, 0, 4}}});
+  const PreparedMesh prepared = prepare_input(input, nullptr, {});
+  ASSERT_TRUE(input_failures(prepared).empty());
+  const MappedMesh mapped = map_prepared(prepared, {});
+  ASSERT_EQ(mapped.parts.size(), 2u);
+  const RemeshAsset asset = remesh_asset(mapped, 16);
+  const nlohmann::json& parts = asset.metrics["parts"];
+  ASSERT_EQ(parts.size(), 2u);
+  const bool first_larger = parts[0]["distance"]["diagonal"].get<double>() >
+                            parts[1]["distance"]["diagonal"].get<double>();
+  const nlohmann::json& large = parts[first_larger ? 0 : 1];
+  const nlohmann::json& little = parts[first_larger ? 1 : 0];
+  EXPECT_TRUE(large["octahedral_frame"]["turned_frames_tried"]);
+  // Alone, the small part would try: it stands over the threshold by its own diagonal.
+  EXPECT_GT(little["octahedral_frame"]["unturned_hausdorff"].get<double>(), kFrameTrialDistance);
+  EXPECT_FALSE(little["octahedral_frame"]["turned_frames_tried"]);
+  EXPECT_EQ(little["octahedral_frame"]["kept"], "unturned");
 }
 
 // Each sample of a turned remesh is the surface at the frame's sphere point of its square

@@ -13,6 +13,7 @@
 #include "core/map/pipeline.h"
 #include "core/outputs/base_color_bake.h"
 #include "core/outputs/map_outputs.h"
+#include "core/outputs/octahedral_frame_choice.h"
 #include "core/outputs/original_surface.h"
 #include "core/outputs/remesh.h"
 #include "core/outputs/sphere_alignment.h"
@@ -42,13 +43,17 @@ struct BuiltRemesh : BuiltAsset {
 // (may be null): decoded base-colour images shared with the other parts' bakes.
 // `normal_map`: with `original`, also its shading as a tangent-space normal map.
 // `texture_size`: the side of its baked textures; 0 for remesh_texture_size(resolution).
-// `input_faces` (may be null): as bake_base_color's.
+// `input_faces` (may be null): as bake_base_color's. `frame_trial_distance`: turned
+// frames are tried when the unturned remesh stands farther than this from the part,
+// relative to the part's diagonal (kFrameTrialDistance; a part of an asset passes the
+// asset's threshold in its own terms, parts_outputs.cpp).
 BuiltRemesh build_remesh(const MappedMesh& mapped, int resolution, int threads,
                          const PolygonMesh* input, const GltfAppearance* appearance,
                          const std::function<bool()>* should_stop = nullptr,
                          const OriginalSurface* original = nullptr, DecodedImages* images = nullptr,
                          bool normal_map = true, int texture_size = 0,
-                         const std::vector<uint32_t>* input_faces = nullptr);
+                         const std::vector<uint32_t>* input_faces = nullptr,
+                         double frame_trial_distance = kFrameTrialDistance);
 
 // The UV mesh of one part, without its texture. With `original` (the part is an envelope
 // standing for it): COLOR_0, the original's base colour at each vertex's closest point.

@@ -100,7 +100,7 @@ MeasuredRemesh measured_remesh(OctahedralRemesh remesh, const SurfaceMeasure& su
 struct FramedRemesh {
   MeasuredRemesh measured;
   double unturned_hausdorff = 0;
-  bool tried = false;                // turned frames tried (kFrameTrialDistance)
+  bool tried = false;                // turned frames tried (beyond the trial distance)
   const char* kept_by = "unturned";  // or "area", "errors": the prediction kept
   // Sampling (with the locator's build), screening (without its sampling), full distances.
   double sample_seconds = 0, screen_seconds = 0, distance_seconds = 0;
@@ -110,7 +110,7 @@ struct FramedRemesh {
 FramedRemesh framed_remesh(const PolygonMesh& mesh, std::span<const Vec3> sphere,
                            std::span<const Triangle> oriented, const std::vector<char>& filled,
                            const SphereLocator& locator, int resolution, int threads,
-                           const std::function<bool()>* should_stop) {
+                           const std::function<bool()>* should_stop, double trial_distance) {
   const StopCheck stop(should_stop);
   FramedRemesh out;
   const auto sample = [&](const OctahedralFrame& frame) {
@@ -129,7 +129,7 @@ FramedRemesh framed_remesh(const PolygonMesh& mesh, std::span<const Vec3> sphere
   out.measured = measured_remesh(std::move(unturned), surface, filled, threads, should_stop);
   out.unturned_hausdorff = out.measured.distance.hausdorff;
   out.distance_seconds = out.measured.distance_seconds;
-  if (!(out.unturned_hausdorff > kFrameTrialDistance)) return out;
+  if (!(out.unturned_hausdorff > trial_distance)) return out;
   out.tried = true;
   const auto screen_start = std::chrono::steady_clock::now();
   const double sampled_before = out.sample_seconds;
@@ -255,7 +255,7 @@ BuiltRemesh build_remesh(const MappedMesh& mapped, int resolution, int threads,
                          const PolygonMesh* input, const GltfAppearance* appearance,
                          const std::function<bool()>* should_stop, const OriginalSurface* original,
                          DecodedImages* images, bool normal_map, int texture_size,
-                         const std::vector<uint32_t>* input_faces) {
+                         const std::vector<uint32_t>* input_faces, double frame_trial_distance) {
   const StopCheck stop(should_stop);
   stop.check();
   const auto start = std::chrono::steady_clock::now();
@@ -266,7 +266,7 @@ BuiltRemesh build_remesh(const MappedMesh& mapped, int resolution, int threads,
   const SphereLocator locator(mapped.map.sphere, oriented.triangles);  // every frame, each bake
   const double locator_seconds = seconds_since(locator_start);
   FramedRemesh framed = framed_remesh(mesh, mapped.map.sphere, oriented.triangles, filled, locator,
-                                      resolution, threads, should_stop);
+                                      resolution, threads, should_stop, frame_trial_distance);
   framed.sample_seconds += locator_seconds;
   const MeasuredRemesh& measured = framed.measured;
   const OctahedralRemesh& remesh = measured.remesh;
