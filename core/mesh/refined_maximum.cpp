@@ -10,31 +10,56 @@
 namespace spheremap {
 namespace {
 
-// A triangle or one of its pieces, with the distances measured at its corners and centroid.
+using ToTriangle = std::function<double(const Vec3&, uint32_t)>;
+
+// A triangle or one of its pieces, with what was measured at its corners and centroid, and
+// the largest each figure can take on it (bounded()).
 struct Piece {
   std::array<Vec3, 3> corner;
-  std::array<DistancePair, 3> at;
-  DistancePair centre;
+  std::array<PointMeasure, 3> at;
+  PointMeasure centre;
   int depth = 0;
+  DistancePair cap{0, 0};
 };
 
 Vec3 centroid(const std::array<Vec3, 3>& c) {
   return (c[0] + c[1] + c[2]) * (1.0 / 3);
 }
 
-// The largest distance figure k can take on the piece: from each measured point, its
-// distance plus how far the piece reaches from it.
-double bound(const Piece& piece, int k) {
+// The largest distance figure k can take on the piece. From each measured point: its
+// distance plus how far the piece reaches from it (the distance is 1-Lipschitz). With
+// `to_triangle`: for each other triangle nearest a measured point, the largest distance of
+// a corner to it (convex over the piece; the surface is at least as near).
+double bound(const Piece& piece, int k, const ToTriangle* to_triangle) {
   const std::array<Vec3, 3>& c = piece.corner;
   const Vec3 middle = centroid(c);
   double reach = 0;
   for (const Vec3& p : c) reach = std::max(reach, norm(p - middle));
-  double out = piece.centre[k] + reach;
+  double out = piece.centre.distance[k] + reach;
   for (int i = 0; i < 3; ++i) {
     const double from_corner = std::max(norm(c[(i + 1) % 3] - c[i]), norm(c[(i + 2) % 3] - c[i]));
-    out = std::min(out, piece.at[i][k] + from_corner);
+    out = std::min(out, piece.at[i].distance[k] + from_corner);
+  }
+  if (!to_triangle) return out;
+  const std::array<uint32_t, 4> nearest = {piece.centre.nearest[k], piece.at[0].nearest[k],
+                                           piece.at[1].nearest[k], piece.at[2].nearest[k]};
+  for (size_t j = 0; j < nearest.size(); ++j) {
+    const uint32_t t = nearest[j];
+    if (t == kNoNearest ||
+        std::find(nearest.begin(), nearest.begin() + j, t) != nearest.begin() + j)
+      continue;
+    double largest = 0;
+    for (int i = 0; i < 3 && largest < out; ++i)
+      largest = std::max(largest, (*to_triangle)(c[i], t));
+    out = std::min(out, largest);
   }
   return out;
+}
+
+// The piece with its bounds.
+Piece bounded(Piece piece, const ToTriangle* to_triangle) {
+  for (int k = 0; k < 2; ++k) piece.cap[k] = bound(piece, k, to_triangle);
+  return piece;
 }
 
 // How far the piece's bound is above what would settle it, over the figures it counts for
@@ -43,7 +68,7 @@ double excess(const Piece& piece, const DistancePair& best, const DistancePair& 
               const std::array<bool, 2>& counted) {
   double out = -INFINITY;
   for (int k = 0; k < 2; ++k)
-    if (counted[k]) out = std::max(out, bound(piece, k) - (best[k] + tolerance[k]));
+    if (counted[k]) out = std::max(out, piece.cap[k] - (best[k] + tolerance[k]));
   return out;
 }
 
@@ -62,54 +87,58 @@ struct QueuedPiece {
   bool operator<(const QueuedPiece& other) const { return over < other.over; }
 };
 
-// The four pieces of a piece cut at its edge midpoints, each with its measures.
+// The four pieces of a piece cut at its edge midpoints, each with its measures and bounds.
 struct Cut {
   std::array<Piece, 4> children;
   std::array<DistancePair, 7> measured;  // the 3 midpoints, then the 4 centroids
 };
 
-Cut cut(const Piece& piece, const std::function<DistancePair(const Vec3&)>& distance) {
+Cut cut(const Piece& piece, const std::function<PointMeasure(const Vec3&)>& measure,
+        const ToTriangle* to_triangle) {
   const std::array<Vec3, 3>& c = piece.corner;
-  const std::array<DistancePair, 3>& a = piece.at;
+  const std::array<PointMeasure, 3>& a = piece.at;
   const std::array<Vec3, 3> middle = {0.5 * (c[0] + c[1]), 0.5 * (c[1] + c[2]),
                                       0.5 * (c[2] + c[0])};
+  const std::array<PointMeasure, 3> m = {measure(middle[0]), measure(middle[1]),
+                                         measure(middle[2])};
   Cut out;
-  for (int i = 0; i < 3; ++i) out.measured[i] = distance(middle[i]);
-  const std::array<DistancePair, 3> m = {out.measured[0], out.measured[1], out.measured[2]};
+  for (int i = 0; i < 3; ++i) out.measured[i] = m[i].distance;
   out.children = {Piece{{c[0], middle[0], middle[2]}, {a[0], m[0], m[2]}, {}, piece.depth + 1},
                   Piece{{middle[0], c[1], middle[1]}, {m[0], a[1], m[1]}, {}, piece.depth + 1},
                   Piece{{middle[2], middle[1], c[2]}, {m[2], m[1], a[2]}, {}, piece.depth + 1},
                   Piece{middle, m, {}, piece.depth + 1}};
-  for (int i = 0; i < 4; ++i)
-    out.children[i].centre = out.measured[3 + i] = distance(centroid(out.children[i].corner));
+  for (int i = 0; i < 4; ++i) {
+    out.children[i].centre = measure(centroid(out.children[i].corner));
+    out.measured[3 + i] = out.children[i].centre.distance;
+    out.children[i] = bounded(out.children[i], to_triangle);
+  }
   return out;
 }
 
 }  // namespace
 
-RefinedMaximum refined_maximum(std::span<const Vec3> positions, std::span<const Triangle> triangles,
-                               std::span<const DistancePair> vertex_distance,
-                               std::span<const DistancePair> centroid_distance,
-                               DistancePair reached, DistancePair tolerance,
-                               const std::function<bool(size_t, int)>& counts,
-                               const std::function<DistancePair(const Vec3&)>& distance,
-                               size_t other_triangles, int threads,
-                               const std::function<bool()>* should_stop) {
+RefinedMaximum refined_maximum(
+    std::span<const Vec3> positions, std::span<const Triangle> triangles,
+    std::span<const PointMeasure> vertex_measure, std::span<const PointMeasure> centroid_measure,
+    DistancePair reached, DistancePair tolerance, const std::function<bool(size_t, int)>& counts,
+    const std::function<PointMeasure(const Vec3&)>& measure, size_t other_triangles, int threads,
+    const std::function<bool()>* should_stop, const ToTriangle* to_triangle) {
   DistancePair best = reached;
   // The largest bound of a piece left unsettled (at the depth limit, or open at the end).
   DistancePair unsettled{-INFINITY, -INFINITY};
   const auto leave = [&](const Piece& piece, const std::array<bool, 2>& counted_for) {
     for (int k = 0; k < 2; ++k)
-      if (counted_for[k]) unsettled[k] = std::max(unsettled[k], bound(piece, k));
+      if (counted_for[k]) unsettled[k] = std::max(unsettled[k], piece.cap[k]);
   };
   const size_t n = triangles.size();
   std::vector<std::array<bool, 2>> counted(n);
   auto root = [&](size_t t) {
     const Triangle& tri = triangles[t];
-    return Piece{{positions[tri[0]], positions[tri[1]], positions[tri[2]]},
-                 {vertex_distance[tri[0]], vertex_distance[tri[1]], vertex_distance[tri[2]]},
-                 centroid_distance[t],
-                 0};
+    return bounded(Piece{{positions[tri[0]], positions[tri[1]], positions[tri[2]]},
+                         {vertex_measure[tri[0]], vertex_measure[tri[1]], vertex_measure[tri[2]]},
+                         centroid_measure[t],
+                         0},
+                   to_triangle);
   };
   // Two heaps, the most promising first: whole triangles (16 bytes each, however many are
   // open) and the pieces cut from them (bounded by kMaxWaitingPieces).
@@ -160,7 +189,7 @@ RefinedMaximum refined_maximum(std::span<const Vec3> positions, std::span<const 
     }
     cuts.resize(batch.size());
     parallel_for(batch.size(), resolve_threads(threads),
-                 [&](size_t i) { cuts[i] = cut(batch[i], distance); });
+                 [&](size_t i) { cuts[i] = cut(batch[i], measure, to_triangle); });
     queries += 7 * batch.size();
     for (size_t i = 0; i < batch.size(); ++i) {
       const std::array<bool, 2>& c = counted[batch_triangle[i]];

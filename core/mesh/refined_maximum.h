@@ -24,12 +24,20 @@ namespace spheremap {
 // one measures it twice in the same entry.
 using DistancePair = std::array<double, 2>;
 
+// What one point measured: its distance per figure and, per figure, the triangle of the
+// other surface nearest to it (kNoNearest when not known).
+inline constexpr uint32_t kNoNearest = UINT32_MAX;
+struct PointMeasure {
+  DistancePair distance{0, 0};
+  std::array<uint32_t, 2> nearest{kNoNearest, kNoNearest};
+};
+
 constexpr int kMaxRefinementDepth = 8;  // a piece's edges down to 1/256 of its triangle's
 // The budget: this many queries per triangle given, or of the other surface when it has
 // more (a box's 12 triangles against a remesh of 32,768 need about as many queries as the
 // remesh has triangles: with 12 per box triangle its maximum was left open, said to be at
 // most 5.4% where it is 0.92%), at most kMaxRefinementQueries, plus 4,096, and at most
-// kMaxWaitingPieces cut pieces waiting (152 bytes each). Two surfaces
+// kMaxWaitingPieces cut pieces waiting (208 bytes each). Two surfaces
 // that nearly coincide have every bound above a maximum near 0 and would be cut to the
 // depth limit. Measured on remeshes at N = 128 (32,768 triangles) against their originals:
 // horse needed 6.9 queries per remesh triangle to settle (its maximum 4% above what 2 per
@@ -41,12 +49,20 @@ constexpr size_t kRefinementBatch = 256;  // pieces cut in parallel between upda
 
 // The largest distance over the points of `triangles` (each figure over the triangles that
 // count for it, counts(t, figure)), at least `reached`, to within `tolerance` (per figure)
-// of the true maximum where the depth and the budget allow. vertex_distance (per position)
-// and centroid_distance (per triangle) are the distances already measured there;
-// distance(p) measures one more point, safe to call from several threads;
-// `other_triangles`: how many the surface it measures to has (for the budget). The result
-// does not depend on `threads`. `should_stop` (may be null) is asked before each batch; true
-// throws InputError("stopped").
+// of the true maximum where the depth and the budget allow. vertex_measure (per position)
+// and centroid_measure (per triangle) are what was already measured there; measure(p)
+// measures one more point, safe to call from several threads; `other_triangles`: how many
+// the surface it measures to has (for the budget). The result does not depend on `threads`.
+// `should_stop` (may be null) is asked before each batch; true throws InputError("stopped").
+//
+// `to_triangle` (may be null): the distance from a point to one triangle of the other
+// surface. With it a piece is bounded more tightly too: the distance to one triangle T is
+// convex (T is), so over a piece it is largest at a corner, and the distance to the surface
+// is at most that to T: the piece's figure is at most the largest of its corners' distances
+// to T, for T the triangle nearest any of its measured points. Where the two surfaces lie
+// close (a remesh on its original), a piece over one triangle of the other settles at once,
+// where the Lipschitz bound alone (a measured distance plus the piece's reach) cuts it
+// until the pieces are about the tolerance across.
 struct RefinedMaximum {
   DistancePair reached{0, 0};  // the largest distance measured at a point
   // What the true maximum is at most: reached + tolerance where every piece settled, else
@@ -54,13 +70,12 @@ struct RefinedMaximum {
   DistancePair at_most{0, 0};
   std::array<bool, 2> settled{true, true};
 };
-RefinedMaximum refined_maximum(std::span<const Vec3> positions, std::span<const Triangle> triangles,
-                               std::span<const DistancePair> vertex_distance,
-                               std::span<const DistancePair> centroid_distance,
-                               DistancePair reached, DistancePair tolerance,
-                               const std::function<bool(size_t, int)>& counts,
-                               const std::function<DistancePair(const Vec3&)>& distance,
-                               size_t other_triangles, int threads,
-                               const std::function<bool()>* should_stop);
+RefinedMaximum refined_maximum(
+    std::span<const Vec3> positions, std::span<const Triangle> triangles,
+    std::span<const PointMeasure> vertex_measure, std::span<const PointMeasure> centroid_measure,
+    DistancePair reached, DistancePair tolerance, const std::function<bool(size_t, int)>& counts,
+    const std::function<PointMeasure(const Vec3&)>& measure, size_t other_triangles, int threads,
+    const std::function<bool()>* should_stop,
+    const std::function<double(const Vec3&, uint32_t)>* to_triangle = nullptr);
 
 }  // namespace spheremap

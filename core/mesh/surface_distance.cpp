@@ -47,32 +47,54 @@ std::vector<uint32_t> vertex_samples(size_t vertex_count, std::span<const Triang
 // (refined_maximum.h): a remesh judged against 2% is judged on 2% +- 0.1%.
 constexpr double kRelativeTolerance = 0.05, kDiagonalTolerance = 1e-3;
 
+// Each sample's squared distance to the other surface, and its nearest triangle there.
+struct SampleDistances {
+  std::vector<double> d2;
+  std::vector<uint32_t> nearest;
+  explicit SampleDistances(size_t n) : d2(n), nearest(n, kNoNearest) {}
+};
+
+// The distance from a point to triangle t of (positions, triangles).
+struct TriangleDistance {
+  std::span<const Vec3> positions;
+  std::span<const Triangle> triangles;
+  double operator()(const Vec3& p, uint32_t t) const {
+    const Triangle& tri = triangles[t];
+    return norm(p -
+                closest_on_triangle(p, positions[tri[0]], positions[tri[1]], positions[tri[2]]));
+  }
+};
+
 // The largest distance over every point of `triangles`, not only at their samples:
-// refined_maximum with the samples' squared distances (one or two figures: d2[k] for
-// figure k, the second may be the first) and their maxima `reached`, relative tolerances
-// to the figures' diagonals `diagonal`; `other_triangles`: how many the surface measured to
-// has (refined_maximum's budget).
+// refined_maximum with the samples' measures (one or two figures: samples[k] for figure k,
+// the second may be the first) and their maxima `reached`, relative tolerances to the
+// figures' diagonals `diagonal`; the other surface (other_positions, other_triangles) for
+// refined_maximum's budget and its bound by the nearest triangle.
 RefinedMaximum maximum_over_triangles(std::span<const Vec3> positions,
                                       std::span<const Triangle> triangles,
-                                      std::array<const std::vector<double>*, 2> d2,
+                                      std::array<const SampleDistances*, 2> samples,
                                       DistancePair reached, DistancePair diagonal,
                                       const std::function<bool(size_t, int)>& counts,
-                                      const std::function<DistancePair(const Vec3&)>& distance,
-                                      size_t other_triangles, int threads,
+                                      const std::function<PointMeasure(const Vec3&)>& measure,
+                                      std::span<const Vec3> other_positions,
+                                      std::span<const Triangle> other_triangles, int threads,
                                       const std::function<bool()>* should_stop) {
   const std::vector<uint32_t> sample = vertex_samples(positions.size(), triangles);
-  auto pair_at = [&](size_t k) {
-    return DistancePair{std::sqrt((*d2[0])[k]), std::sqrt((*d2[1])[k])};
+  auto measure_at = [&](size_t k) {
+    return PointMeasure{{std::sqrt(samples[0]->d2[k]), std::sqrt(samples[1]->d2[k])},
+                        {samples[0]->nearest[k], samples[1]->nearest[k]}};
   };
-  std::vector<DistancePair> at_vertex(positions.size(), {0, 0}), at_centroid(triangles.size());
+  std::vector<PointMeasure> at_vertex(positions.size()), at_centroid(triangles.size());
   for (size_t v = 0; v < positions.size(); ++v)
-    if (sample[v] != UINT32_MAX) at_vertex[v] = pair_at(sample[v]);
-  for (size_t t = 0; t < triangles.size(); ++t) at_centroid[t] = pair_at(t);
+    if (sample[v] != UINT32_MAX) at_vertex[v] = measure_at(sample[v]);
+  for (size_t t = 0; t < triangles.size(); ++t) at_centroid[t] = measure_at(t);
   DistancePair tolerance;
   for (int k = 0; k < 2; ++k)
     tolerance[k] = std::max(kRelativeTolerance * reached[k], kDiagonalTolerance * diagonal[k]);
+  const std::function<double(const Vec3&, uint32_t)> to_triangle =
+      TriangleDistance{other_positions, other_triangles};
   return refined_maximum(positions, triangles, at_vertex, at_centroid, reached, tolerance, counts,
-                         distance, other_triangles, threads, should_stop);
+                         measure, other_triangles.size(), threads, should_stop, &to_triangle);
 }
 
 // query(k) for each sample k, in parallel. Queried in Morton order (each query writes its
@@ -105,13 +127,16 @@ std::vector<char> kept_samples(size_t vertex_count, std::span<const Triangle> tr
   return kept;
 }
 
-// The squared distance of each sample to the tree: one closest-point query each.
-std::vector<double> squared_distances(std::span<const Vec3> samples, const TriangleTree& tree,
-                                      int threads, const std::function<bool()>* should_stop) {
-  std::vector<double> d2(samples.size());
-  query_samples(samples, threads, should_stop,
-                [&](size_t k) { d2[k] = tree.squared_distance(samples[k]); });
-  return d2;
+// The squared distance of each sample to the tree and its nearest triangle: one
+// closest-point query each.
+SampleDistances sample_distances(std::span<const Vec3> samples, const TriangleTree& tree,
+                                 int threads, const std::function<bool()>* should_stop) {
+  SampleDistances out(samples.size());
+  query_samples(samples, threads, should_stop, [&](size_t k) {
+    const TriangleTree::Closest nearest = tree.closest(samples[k]);
+    out.d2[k] = nearest.squared_distance, out.nearest[k] = nearest.triangle;
+  });
+  return out;
 }
 
 // One direction's figures: the sum of its samples' squared distances, the largest distance
@@ -134,20 +159,23 @@ OneWay sum_and_max(const std::vector<double>& d2, std::span<const char> counted 
   return {sum, std::sqrt(max), std::sqrt(max)};
 }
 
-// The samples of `triangles` to the tree (of `tree_triangles`), the maximum over every
-// point of them; tolerances relative to `diagonal`.
+// The samples of `triangles` to the tree (of tree_positions and tree_triangles), the
+// maximum over every point of them; tolerances relative to `diagonal`.
 OneWay one_way(std::span<const Vec3> positions, std::span<const Triangle> triangles,
-               const std::vector<Vec3>& samples, const TriangleTree& tree, size_t tree_triangles,
+               const std::vector<Vec3>& samples, const TriangleTree& tree,
+               std::span<const Vec3> tree_positions, std::span<const Triangle> tree_triangles,
                double diagonal, int threads, const std::function<bool()>* should_stop) {
-  const std::vector<double> d2 = squared_distances(samples, tree, threads, should_stop);
-  OneWay out = sum_and_max(d2);
+  const SampleDistances measured = sample_distances(samples, tree, threads, should_stop);
+  OneWay out = sum_and_max(measured.d2);
   const RefinedMaximum refined = maximum_over_triangles(
-      positions, triangles, {&d2, &d2}, {out.max, out.max}, {diagonal, diagonal},
+      positions, triangles, {&measured, &measured}, {out.max, out.max}, {diagonal, diagonal},
       [](size_t, int figure) { return figure == 0; },
       [&](const Vec3& p) {
-        return DistancePair{std::sqrt(tree.squared_distance(p)), 0};
+        const TriangleTree::Closest nearest = tree.closest(p);
+        return PointMeasure{{std::sqrt(nearest.squared_distance), 0},
+                            {nearest.triangle, kNoNearest}};
       },
-      tree_triangles, threads, should_stop);
+      tree_positions, tree_triangles, threads, should_stop);
   out.take(refined, 0);
   return out;
 }
@@ -209,10 +237,10 @@ SurfaceDistance SurfaceMeasure::distance_to(std::span<const Vec3> b_positions,
   const StopCheck stop(should_stop);
   stop.check();
   const auto a_to_b = one_way(unit_, triangles_, a_samples, TriangleTree(b_unit, b_triangles),
-                              b_triangles.size(), d, threads, should_stop);
+                              b_unit, b_triangles, d, threads, should_stop);
   stop.check();
   const auto b_to_a =
-      one_way(b_unit, b_triangles, b_samples, tree_, triangles_.size(), d, threads, should_stop);
+      one_way(b_unit, b_triangles, b_samples, tree_, unit_, triangles_, d, threads, should_stop);
   finish(out, a_to_b, a_samples.size(), b_to_a, b_samples.size(), d);
   return out;
 }
@@ -238,43 +266,45 @@ SurfaceDistances SurfaceMeasure::distances_to(std::span<const char> left_out,
   const StopCheck stop(should_stop);
   stop.check();
   const TriangleTree b_tree(b_unit, b_triangles);
-  const std::vector<double> a_d2 = squared_distances(a_samples, b_tree, threads, should_stop);
+  const SampleDistances a_d2 = sample_distances(a_samples, b_tree, threads, should_stop);
   stop.check();
   // Per b sample: its squared distance to all of a, and to the kept triangles alone (the
   // same answer when the nearest triangle is kept; else a second search, skipping the rest).
-  std::vector<double> b_d2_all(b_samples.size()), b_d2_kept(b_samples.size());
+  SampleDistances b_all_d2(b_samples.size()), b_kept_d2(b_samples.size());
   const TriangleTree& a_tree = tree_;
+  // A point's nearest triangle of all of a, and of its kept triangles.
+  const auto nearest_pair = [&](const Vec3& p) {
+    const TriangleTree::Closest nearest = a_tree.closest(p);
+    return std::pair{nearest, left_out[nearest.triangle] ? a_tree.closest(p, left_out) : nearest};
+  };
   query_samples(b_samples, threads, should_stop, [&](size_t k) {
-    const TriangleTree::Closest nearest = a_tree.closest(b_samples[k]);
-    b_d2_all[k] = nearest.squared_distance;
-    b_d2_kept[k] = left_out[nearest.triangle]
-                       ? a_tree.closest(b_samples[k], left_out).squared_distance
-                       : nearest.squared_distance;
+    const auto [all, kept] = nearest_pair(b_samples[k]);
+    b_all_d2.d2[k] = all.squared_distance, b_all_d2.nearest[k] = all.triangle;
+    b_kept_d2.d2[k] = kept.squared_distance, b_kept_d2.nearest[k] = kept.triangle;
   });
   // The maxima over every point (refined_maximum.h): a's kept triangles count for both
   // figures, the others for `all` alone; b's for both, measured to all of a and to its kept
   // triangles.
-  auto a_all = sum_and_max(a_d2), a_kept = sum_and_max(a_d2, kept_sample);
-  auto b_all = sum_and_max(b_d2_all), b_kept = sum_and_max(b_d2_kept);
+  auto a_all = sum_and_max(a_d2.d2), a_kept = sum_and_max(a_d2.d2, kept_sample);
+  auto b_all = sum_and_max(b_all_d2.d2), b_kept = sum_and_max(b_kept_d2.d2);
   const RefinedMaximum a_max = maximum_over_triangles(
       unit_, triangles_, {&a_d2, &a_d2}, {a_all.max, a_kept.max}, {d_all, d_kept},
       [&](size_t t, int figure) { return figure == 0 || !left_out[t]; },
       [&](const Vec3& p) {
-        const double d = std::sqrt(b_tree.squared_distance(p));
-        return DistancePair{d, d};
+        const TriangleTree::Closest nearest = b_tree.closest(p);
+        const double d = std::sqrt(nearest.squared_distance);
+        return PointMeasure{{d, d}, {nearest.triangle, nearest.triangle}};
       },
-      b_triangles.size(), threads, should_stop);
+      b_unit, b_triangles, threads, should_stop);
   const RefinedMaximum b_max = maximum_over_triangles(
-      b_unit, b_triangles, {&b_d2_all, &b_d2_kept}, {b_all.max, b_kept.max}, {d_all, d_kept},
+      b_unit, b_triangles, {&b_all_d2, &b_kept_d2}, {b_all.max, b_kept.max}, {d_all, d_kept},
       [](size_t, int) { return true; },
       [&](const Vec3& p) {
-        const TriangleTree::Closest nearest = a_tree.closest(p);
-        const double kept = left_out[nearest.triangle]
-                                ? a_tree.closest(p, left_out).squared_distance
-                                : nearest.squared_distance;
-        return DistancePair{std::sqrt(nearest.squared_distance), std::sqrt(kept)};
+        const auto [all, kept] = nearest_pair(p);
+        return PointMeasure{{std::sqrt(all.squared_distance), std::sqrt(kept.squared_distance)},
+                            {all.triangle, kept.triangle}};
       },
-      triangles_.size(), threads, should_stop);
+      unit_, triangles_, threads, should_stop);
   a_all.take(a_max, 0), a_kept.take(a_max, 1);
   b_all.take(b_max, 0), b_kept.take(b_max, 1);
   finish(out.all, a_all, a_samples.size(), b_all, b_samples.size(), d_all);
@@ -290,8 +320,8 @@ PointDistances SurfaceMeasure::point_distances(std::span<const Vec3> points, int
   out.diagonal = frame_.length_in_input_units(d);
   out.relative.assign(points.size(), 0.0);
   if (!(d > 0)) return out;
-  const std::vector<double> d2 = squared_distances(p_unit, tree_, threads, should_stop);
-  for (size_t k = 0; k < d2.size(); ++k) out.relative[k] = std::sqrt(d2[k]) / d;
+  const SampleDistances measured = sample_distances(p_unit, tree_, threads, should_stop);
+  for (size_t k = 0; k < measured.d2.size(); ++k) out.relative[k] = std::sqrt(measured.d2[k]) / d;
   return out;
 }
 
