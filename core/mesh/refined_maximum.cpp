@@ -26,11 +26,13 @@ Vec3 centroid(const std::array<Vec3, 3>& c) {
   return (c[0] + c[1] + c[2]) * (1.0 / 3);
 }
 
-// The largest distance figure k can take on the piece. From each measured point: its
-// distance plus how far the piece reaches from it (the distance is 1-Lipschitz). With
-// `to_triangle`: for each other triangle nearest a measured point, the largest distance of
-// a corner to it (convex over the piece; the surface is at least as near).
-double bound(const Piece& piece, int k, const ToTriangle* to_triangle) {
+// A bound of the largest distance figure k can take on the piece, tightened only as far
+// as `settles` (a bound at or under it settles the piece: what is tighter changes nothing
+// but the order pieces are cut in). From each measured point: its distance plus how far
+// the piece reaches from it (the distance is 1-Lipschitz). Then, with `to_triangle`, for
+// each other triangle nearest a measured point: the largest distance of a corner to it
+// (convex over the piece; the surface is at least as near).
+double bound(const Piece& piece, int k, const ToTriangle* to_triangle, double settles) {
   const std::array<Vec3, 3>& c = piece.corner;
   const Vec3 middle = centroid(c);
   double reach = 0;
@@ -43,7 +45,7 @@ double bound(const Piece& piece, int k, const ToTriangle* to_triangle) {
   if (!to_triangle) return out;
   const std::array<uint32_t, 4> nearest = {piece.centre.nearest[k], piece.at[0].nearest[k],
                                            piece.at[1].nearest[k], piece.at[2].nearest[k]};
-  for (size_t j = 0; j < nearest.size(); ++j) {
+  for (size_t j = 0; j < nearest.size() && out > settles; ++j) {
     const uint32_t t = nearest[j];
     if (t == kNoNearest ||
         std::find(nearest.begin(), nearest.begin() + j, t) != nearest.begin() + j)
@@ -56,9 +58,10 @@ double bound(const Piece& piece, int k, const ToTriangle* to_triangle) {
   return out;
 }
 
-// The piece with its bounds.
-Piece bounded(Piece piece, const ToTriangle* to_triangle) {
-  for (int k = 0; k < 2; ++k) piece.cap[k] = bound(piece, k, to_triangle);
+// The piece with its bounds; `settles`: per figure, the best distance so far plus the
+// tolerance (it only grows, so a bound under it stays under).
+Piece bounded(Piece piece, const ToTriangle* to_triangle, const DistancePair& settles) {
+  for (int k = 0; k < 2; ++k) piece.cap[k] = bound(piece, k, to_triangle, settles[k]);
   return piece;
 }
 
@@ -94,7 +97,7 @@ struct Cut {
 };
 
 Cut cut(const Piece& piece, const std::function<PointMeasure(const Vec3&)>& measure,
-        const ToTriangle* to_triangle) {
+        const ToTriangle* to_triangle, const DistancePair& settles) {
   const std::array<Vec3, 3>& c = piece.corner;
   const std::array<PointMeasure, 3>& a = piece.at;
   const std::array<Vec3, 3> middle = {0.5 * (c[0] + c[1]), 0.5 * (c[1] + c[2]),
@@ -110,7 +113,7 @@ Cut cut(const Piece& piece, const std::function<PointMeasure(const Vec3&)>& meas
   for (int i = 0; i < 4; ++i) {
     out.children[i].centre = measure(centroid(out.children[i].corner));
     out.measured[3 + i] = out.children[i].centre.distance;
-    out.children[i] = bounded(out.children[i], to_triangle);
+    out.children[i] = bounded(out.children[i], to_triangle, settles);
   }
   return out;
 }
@@ -138,7 +141,7 @@ RefinedMaximum refined_maximum(
                          {vertex_measure[tri[0]], vertex_measure[tri[1]], vertex_measure[tri[2]]},
                          centroid_measure[t],
                          0},
-                   to_triangle);
+                   to_triangle, {best[0] + tolerance[0], best[1] + tolerance[1]});
   };
   // Two heaps, the most promising first: whole triangles (16 bytes each, however many are
   // open) and the pieces cut from them (bounded by kMaxWaitingPieces).
@@ -188,8 +191,9 @@ RefinedMaximum refined_maximum(
         leave(piece, counted[triangle]);
     }
     cuts.resize(batch.size());
+    const DistancePair settles = {best[0] + tolerance[0], best[1] + tolerance[1]};
     parallel_for(batch.size(), resolve_threads(threads),
-                 [&](size_t i) { cuts[i] = cut(batch[i], measure, to_triangle); });
+                 [&](size_t i) { cuts[i] = cut(batch[i], measure, to_triangle, settles); });
     queries += 7 * batch.size();
     for (size_t i = 0; i < batch.size(); ++i) {
       const std::array<bool, 2>& c = counted[batch_triangle[i]];
