@@ -262,6 +262,21 @@ TEST(PartsOutputs, RemeshUvAndMorphHoldEveryPart) {
   }
   EXPECT_EQ(remesh.metrics["geometry_image"]["height"], height);
   EXPECT_EQ(remesh.metrics["parts"][0]["resolution"], 32);
+  // Over the asset's diagonal: the farthest part in model units; each part's own figure
+  // over its smaller diagonal is larger.
+  const nlohmann::json& distance = remesh.metrics["distance"];
+  const double asset_diagonal = distance["asset_diagonal"].get<double>();
+  double farthest = 0;
+  for (const auto& part : remesh.metrics["parts"]) {
+    EXPECT_LT(part["distance"]["diagonal"].get<double>(), asset_diagonal);
+    farthest = std::max(farthest, part["distance"]["hausdorff"].get<double>() *
+                                      part["distance"]["diagonal"].get<double>());
+  }
+  EXPECT_GT(farthest, 0);
+  EXPECT_NEAR(distance["asset_hausdorff"].get<double>(), farthest / asset_diagonal, 1e-12);
+  EXPECT_LT(distance["asset_hausdorff"].get<double>(), distance["hausdorff"].get<double>());
+  EXPECT_GE(distance["asset_hausdorff_at_most"].get<double>(),
+            distance["asset_hausdorff"].get<double>());
   // Each part's grid read back closed and genus 0: four parts once welded.
   const WeldResult back = weld(read_gltf(bytes(remesh.glb)), 0);
   const TopologyReport topology = analyze_topology(back.mesh);

@@ -708,7 +708,13 @@ async function finished(job, ticket) {
       (left.length ? `; left out: ${reasons.join(', ')}` : '')]);
   }
   const distance = metrics.remesh?.distance;
-  if (distance?.hausdorff !== undefined)
+  if (distance?.asset_hausdorff !== undefined)
+    // An asset of parts: over the asset's diagonal (a tiny part far off by its own diagonal
+    // is not what the asset looks like), the largest part's own figure beside it.
+    rows.push(['remesh Hausdorff (% of the asset\'s diagonal)',
+      number(100 * distance.asset_hausdorff, 2) +
+      ` (the farthest part by its own diagonal: ${number(100 * distance.hausdorff, 2)})`]);
+  else if (distance?.hausdorff !== undefined)
     // A search that ran out of budget says how far the maximum could still be.
     rows.push(['remesh Hausdorff (% of diagonal)', number(100 * distance.hausdorff, 2) +
       (distance.hausdorff_settled === false
