@@ -134,6 +134,13 @@ TEST(OctahedralFrameChoice, FromARemeshsErrorsTurnsTheDenseSamplingOntoTheWorstS
   const SampledError worst = *std::max_element(errors.begin(), errors.end(),
                                                [](auto& a, auto& b) { return a.error < b.error; });
   EXPECT_GT(dot(worst.direction, s.spike), 0.95);
+  // A frame's screen needs only the largest error: the same, bit for bit, on any threads.
+  double largest = 0;
+  for (const SampledError& e : errors) largest = std::max(largest, e.error);
+  for (int threads : {1, 2})
+    EXPECT_EQ(largest_sampled_error(SurfaceMeasure(s.surface, s.triangles), s.surface, unturned,
+                                    threads, nullptr),
+              largest);
   const FrameChoice choice = choose_octahedral_frame(errors, unturned.frame);
   EXPECT_LT(choice.predicted_largest, 0.8 * choice.unturned_largest);
   EXPECT_LT(l1(choice.frame.from_sphere(s.spike)), 1.25);

@@ -97,6 +97,24 @@ TEST(SurfaceMeasure, AnswersEachQueryOfASequenceAsAFreshCallDoes) {
                std::invalid_argument);
 }
 
+// The largest of many points' distances, found without measuring each exactly, is the
+// largest of point_distances' bit for bit, on any threads.
+TEST(SurfaceMeasure, TheLargestPointDistanceIsTheLargestOfThePointDistances) {
+  const PolygonMesh sphere = testing::icosphere(3);
+  const std::vector<Triangle> triangles = fan_triangulate(sphere).triangles;
+  const SurfaceMeasure measure(sphere.positions, triangles);
+  std::vector<Vec3> points;
+  for (int k = 0; k < 5000; ++k) {  // around the sphere, at radii 0.5 to 1.5
+    const double t = 0.7 * k, z = std::fmod(0.37 * k, 2.0) - 1.0, r = std::sqrt(1 - z * z);
+    points.push_back(Vec3{r * std::cos(t), r * std::sin(t), z} * (0.5 + std::fmod(0.013 * k, 1.0)));
+  }
+  const PointDistances all = measure.point_distances(points, 1);
+  const double largest = *std::max_element(all.relative.begin(), all.relative.end());
+  EXPECT_GT(largest, 0.1);
+  for (int threads : {1, 2}) EXPECT_EQ(measure.largest_point_distance(points, threads), largest);
+  EXPECT_EQ(measure.largest_point_distance({}, 1), 0.0);
+}
+
 // A surface against itself settles at once: each triangle's corners lie on itself, the
 // other surface's triangle nearest its centroid, and the distance to one triangle is
 // largest at a corner of a piece (convex). A square split along one diagonal against the

@@ -1,6 +1,7 @@
 #include "core/mesh/surface_distance.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <limits>
 #include <numeric>
@@ -323,6 +324,23 @@ PointDistances SurfaceMeasure::point_distances(std::span<const Vec3> points, int
   const SampleDistances measured = sample_distances(p_unit, tree_, threads, should_stop);
   for (size_t k = 0; k < measured.d2.size(); ++k) out.relative[k] = std::sqrt(measured.d2[k]) / d;
   return out;
+}
+
+double SurfaceMeasure::largest_point_distance(std::span<const Vec3> points, int threads,
+                                              const std::function<bool()>* should_stop) const {
+  const std::vector<Vec3> p_unit = in_frame(frame_, points);  // as point_distances measures
+  const double d = diagonal_;
+  if (!(d > 0) || p_unit.empty()) return 0;
+  // The largest squared distance so far, shared: a thread reading a stale (smaller) value
+  // only measures more points exactly, so the result does not depend on the threads.
+  std::atomic<double> largest{0};
+  query_samples(p_unit, threads, should_stop, [&](size_t k) {
+    double seen = largest.load(std::memory_order_relaxed);
+    const double d2 = tree_.squared_distance_over(p_unit[k], seen);
+    while (d2 > seen && !largest.compare_exchange_weak(seen, d2, std::memory_order_relaxed)) {
+    }
+  });
+  return std::sqrt(largest.load()) / d;
 }
 
 // Each one measure; asked before its tree (a million triangles take a while).

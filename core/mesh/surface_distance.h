@@ -84,6 +84,11 @@ class SurfaceMeasure {
                                 const std::function<bool()>* should_stop = nullptr) const;
   PointDistances point_distances(std::span<const Vec3> points, int threads = 0,
                                  const std::function<bool()>* should_stop = nullptr) const;
+  // The largest of point_distances(points).relative (0 without points), bit for bit,
+  // without measuring a point exactly once some triangle is found as near as the largest
+  // so far (a remesh's screen needs only its largest error).
+  double largest_point_distance(std::span<const Vec3> points, int threads = 0,
+                                const std::function<bool()>* should_stop = nullptr) const;
 
  private:
   std::vector<Triangle> triangles_;

@@ -85,8 +85,14 @@ TriangleTree::Closest TriangleTree::closest(const Vec3& p, std::span<const char>
   return search(p, [left_out](uint32_t triangle) { return left_out[triangle] != 0; });
 }
 
+double TriangleTree::squared_distance_over(const Vec3& p, double floor) const {
+  return search(
+             p, [](uint32_t) { return false; }, floor)
+      .squared_distance;
+}
+
 template <class Skip>
-TriangleTree::Closest TriangleTree::search(const Vec3& p, Skip skip) const {
+TriangleTree::Closest TriangleTree::search(const Vec3& p, Skip skip, double good_enough) const {
   Closest best;
   if (order_.empty()) return best;
   const double slack = slack_at(p);
@@ -127,6 +133,7 @@ TriangleTree::Closest TriangleTree::search(const Vec3& p, Skip skip) const {
         const double d2 = squared_norm(point - p);
         if (d2 < best.squared_distance) {
           best = {d2, point, order_[k]};
+          if (d2 <= good_enough) return best;
           skip_above = (std::sqrt(d2) + slack) * (std::sqrt(d2) + slack);
         }
       }

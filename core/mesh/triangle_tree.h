@@ -46,6 +46,10 @@ class TriangleTree {
   };
   Closest closest(const Vec3& p) const;
   double squared_distance(const Vec3& p) const { return closest(p).squared_distance; }
+  // squared_distance(p) where it is over `floor`; else some triangle's squared distance at
+  // most `floor` (the search stops at the first it finds). For a largest distance over
+  // many points: a point already as near as the largest so far need not be measured.
+  double squared_distance_over(const Vec3& p, double floor) const;
   // The closest point of the triangles whose `left_out` entry (one per triangle given to the
   // constructor) is 0: the least distance over them, as a tree of those alone answers it,
   // without building one.
@@ -68,8 +72,9 @@ class TriangleTree {
   // by rounding, with a wide margin, for a query at p.
   double slack_at(const Vec3& p) const;
   // The search of closest(), over the triangles for which skip(triangle) is false.
+  // With `good_enough`: the first triangle at most that (squared) far answers.
   template <class Skip>
-  Closest search(const Vec3& p, Skip skip) const;
+  Closest search(const Vec3& p, Skip skip, double good_enough = -1) const;
   Node build(size_t begin, size_t end, std::vector<Vec3>& centroids, AxisBox& box);
   // Deeper than any median-split tree of up to 2^62 triangles (leaves of 1-4).
   static constexpr int kMaxDepth = 64;

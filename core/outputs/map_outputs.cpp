@@ -134,11 +134,7 @@ FramedRemesh framed_remesh(const PolygonMesh& mesh, std::span<const Vec3> sphere
   const auto screen_start = std::chrono::steady_clock::now();
   const double sampled_before = out.sample_seconds;
   const auto largest_error = [&](const OctahedralRemesh& made) {
-    double largest = 0;
-    for (const SampledError& e :
-         sampled_errors(surface, mesh.positions, sphere, made, threads, should_stop))
-      largest = std::max(largest, e.error);
-    return largest;
+    return largest_sampled_error(surface, mesh.positions, made, threads, should_stop);
   };
   const FrameChoice by_area = choose_octahedral_frame(mesh.positions, sphere, oriented);
   const FrameChoice by_errors = choose_octahedral_frame(

@@ -6,6 +6,7 @@
 #include <numeric>
 #include <vector>
 
+#include "core/mesh/stop_check.h"
 #include "core/mesh/surface_distance.h"
 #include "core/outputs/remesh.h"
 
@@ -134,6 +135,21 @@ std::vector<SampledError> sampled_errors(const SurfaceMeasure& measured_surface,
       point_distances(remesh.positions, remesh.triangles, surface, threads, should_stop);
   for (size_t v = 0; v < surface.size(); ++v) errors.push_back({sphere[v], missed.relative[v]});
   return errors;
+}
+
+double largest_sampled_error(const SurfaceMeasure& measured_surface, std::span<const Vec3> surface,
+                             const OctahedralRemesh& remesh, int threads,
+                             const std::function<bool()>* should_stop) {
+  std::vector<Vec3> centroids;  // as sampled_errors measures them
+  centroids.reserve(remesh.triangles.size());
+  for (const Triangle& t : remesh.triangles)
+    centroids.push_back((remesh.positions[t[0]] + remesh.positions[t[1]] + remesh.positions[t[2]]) *
+                        (1.0 / 3));
+  const double off = measured_surface.largest_point_distance(centroids, threads, should_stop);
+  StopCheck(should_stop).check();
+  const double missed = SurfaceMeasure(remesh.positions, remesh.triangles)
+                            .largest_point_distance(surface, threads, should_stop);
+  return std::max(off, missed);
 }
 
 FrameChoice choose_octahedral_frame(std::span<const SampledError> errors,

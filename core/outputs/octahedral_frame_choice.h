@@ -98,6 +98,12 @@ std::vector<SampledError> sampled_errors(const SurfaceMeasure& measured_surface,
                                          const OctahedralRemesh& remesh, int threads,
                                          const std::function<bool()>* should_stop);
 
+// The largest of sampled_errors(...)'s errors, bit for bit, without measuring exactly the
+// points that cannot be it (SurfaceMeasure::largest_point_distance): a screen of a frame.
+double largest_sampled_error(const SurfaceMeasure& measured_surface, std::span<const Vec3> surface,
+                             const OctahedralRemesh& remesh, int threads,
+                             const std::function<bool()>* should_stop);
+
 // The candidate whose predicted largest error is least, each error scaled by the sample
 // spacing there in the candidate's frame over that in `measured` (the frame the errors
 // were measured in): (|R^T d|_1 / |M^T d|_1)^(3/2).
