@@ -115,6 +115,40 @@ TEST(SurfaceMeasure, TheLargestPointDistanceIsTheLargestOfThePointDistances) {
   EXPECT_EQ(measure.largest_point_distance({}, 1), 0.0);
 }
 
+// A measure that may give up: above the surfaces' Hausdorff distance it is the full
+// measure exactly; below it, it stops once that far is found and says so.
+TEST(SurfaceMeasure, GivesUpOnlyOnceTheDistanceFoundReachesIt) {
+  const PolygonMesh sphere = testing::icosphere(3);
+  const std::vector<Triangle> triangles = fan_triangulate(sphere).triangles;
+  PolygonMesh spiked = sphere;
+  spiked.positions[0] = spiked.positions[0] * 1.5;
+  const SurfaceMeasure measure(sphere.positions, triangles);
+  const SurfaceDistance full = measure.distance_to(spiked.positions, triangles, 1);
+  ASSERT_GT(full.hausdorff, 0.1);
+  EXPECT_FALSE(full.gave_up);
+  const SurfaceDistance above =
+      measure.distance_to(spiked.positions, triangles, 1, nullptr, 1.01 * full.hausdorff);
+  EXPECT_FALSE(above.gave_up);
+  EXPECT_EQ(above.hausdorff, full.hausdorff);
+  EXPECT_EQ(above.rms, full.rms);
+  EXPECT_EQ(above.hausdorff_at_most, full.hausdorff_at_most);
+  const SurfaceDistance below =
+      measure.distance_to(spiked.positions, triangles, 1, nullptr, 0.5 * full.hausdorff);
+  EXPECT_TRUE(below.gave_up);
+  EXPECT_FALSE(below.hausdorff_settled);
+  EXPECT_GE(below.hausdorff, 0.5 * full.hausdorff);
+  // The same with faces left out (the kept figure gives up).
+  const std::vector<char> none_left_out(triangles.size(), 0);
+  const SurfaceDistances both = measure.distances_to(none_left_out, spiked.positions, triangles, 1,
+                                                     nullptr, 0.5 * full.hausdorff);
+  EXPECT_TRUE(both.kept.gave_up);
+  EXPECT_GE(both.kept.hausdorff, 0.5 * full.hausdorff);
+  const SurfaceDistances kept_all = measure.distances_to(none_left_out, spiked.positions, triangles,
+                                                         1, nullptr, 1.01 * full.hausdorff);
+  EXPECT_FALSE(kept_all.kept.gave_up);
+  EXPECT_EQ(kept_all.kept.hausdorff, full.hausdorff);
+}
+
 // A surface against itself settles at once: each triangle's corners lie on itself, the
 // other surface's triangle nearest its centroid, and the distance to one triangle is
 // largest at a corner of a piece (convex). A square split along one diagonal against the

@@ -125,7 +125,7 @@ RefinedMaximum refined_maximum(
     std::span<const PointMeasure> vertex_measure, std::span<const PointMeasure> centroid_measure,
     DistancePair reached, DistancePair tolerance, const std::function<bool(size_t, int)>& counts,
     const std::function<PointMeasure(const Vec3&)>& measure, size_t other_triangles, int threads,
-    const std::function<bool()>* should_stop, const ToTriangle* to_triangle) {
+    const std::function<bool()>* should_stop, const ToTriangle* to_triangle, DistancePair give_up) {
   DistancePair best = reached;
   // The largest bound of a piece left unsettled (at the depth limit, or open at the end).
   DistancePair unsettled{-INFINITY, -INFINITY};
@@ -161,8 +161,9 @@ RefinedMaximum refined_maximum(
   std::vector<Piece> batch;
   std::vector<uint32_t> batch_triangle;
   std::vector<Cut> cuts;
+  const auto given_up = [&] { return best[0] >= give_up[0] || best[1] >= give_up[1]; };
   while ((!triangles_open.empty() || !pieces_open.empty()) && queries < budget &&
-         pieces_open.size() + 4 * kRefinementBatch <= kMaxWaitingPieces) {
+         pieces_open.size() + 4 * kRefinementBatch <= kMaxWaitingPieces && !given_up()) {
     stop.check();
     // The most promising pieces still open, cut in parallel; the best figures and the heaps
     // are then updated in the batch's order (the same for any thread count).
@@ -210,6 +211,13 @@ RefinedMaximum refined_maximum(
         std::push_heap(pieces_open.begin(), pieces_open.end());
       }
     }
+  }
+  if (given_up()) {  // what is open was not searched: nothing is said of it
+    RefinedMaximum out;
+    out.reached = best;
+    out.at_most = {INFINITY, INFINITY};
+    out.settled = {false, false};
+    return out;
   }
   // What the budget left open (a bound only grows less as best grows: taken again here).
   for (const QueuedTriangle& open : triangles_open)

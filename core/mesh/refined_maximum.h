@@ -13,6 +13,7 @@
 #pragma once
 
 #include <array>
+#include <cmath>
 #include <functional>
 #include <span>
 
@@ -55,6 +56,9 @@ constexpr size_t kRefinementBatch = 256;  // pieces cut in parallel between upda
 // the surface it measures to has (for the budget). The result does not depend on `threads`.
 // `should_stop` (may be null) is asked before each batch; true throws InputError("stopped").
 //
+// `give_up`: once a figure's largest distance found reaches its entry, the search stops
+// there, unsettled (a caller that keeps only a maximum under some other needs no more).
+//
 // `to_triangle` (may be null): the distance from a point to one triangle of the other
 // surface. With it a piece is bounded more tightly too: the distance to one triangle T is
 // convex (T is), so over a piece it is largest at a corner, and the distance to the surface
@@ -76,6 +80,7 @@ RefinedMaximum refined_maximum(
     DistancePair reached, DistancePair tolerance, const std::function<bool(size_t, int)>& counts,
     const std::function<PointMeasure(const Vec3&)>& measure, size_t other_triangles, int threads,
     const std::function<bool()>* should_stop,
-    const std::function<double(const Vec3&, uint32_t)>* to_triangle = nullptr);
+    const std::function<double(const Vec3&, uint32_t)>* to_triangle = nullptr,
+    DistancePair give_up = {INFINITY, INFINITY});
 
 }  // namespace spheremap

@@ -70,16 +70,14 @@ struct TriangleDistance {
 // refined_maximum with the samples' measures (one or two figures: samples[k] for figure k,
 // the second may be the first) and their maxima `reached`, relative tolerances to the
 // figures' diagonals `diagonal`; the other surface (other_positions, other_triangles) for
-// refined_maximum's budget and its bound by the nearest triangle.
-RefinedMaximum maximum_over_triangles(std::span<const Vec3> positions,
-                                      std::span<const Triangle> triangles,
-                                      std::array<const SampleDistances*, 2> samples,
-                                      DistancePair reached, DistancePair diagonal,
-                                      const std::function<bool(size_t, int)>& counts,
-                                      const std::function<PointMeasure(const Vec3&)>& measure,
-                                      std::span<const Vec3> other_positions,
-                                      std::span<const Triangle> other_triangles, int threads,
-                                      const std::function<bool()>* should_stop) {
+// refined_maximum's budget and its bound by the nearest triangle; `give_up` as its.
+RefinedMaximum maximum_over_triangles(
+    std::span<const Vec3> positions, std::span<const Triangle> triangles,
+    std::array<const SampleDistances*, 2> samples, DistancePair reached, DistancePair diagonal,
+    const std::function<bool(size_t, int)>& counts,
+    const std::function<PointMeasure(const Vec3&)>& measure, std::span<const Vec3> other_positions,
+    std::span<const Triangle> other_triangles, int threads,
+    const std::function<bool()>* should_stop, DistancePair give_up) {
   const std::vector<uint32_t> sample = vertex_samples(positions.size(), triangles);
   auto measure_at = [&](size_t k) {
     return PointMeasure{{std::sqrt(samples[0]->d2[k]), std::sqrt(samples[1]->d2[k])},
@@ -95,7 +93,8 @@ RefinedMaximum maximum_over_triangles(std::span<const Vec3> positions,
   const std::function<double(const Vec3&, uint32_t)> to_triangle =
       TriangleDistance{other_positions, other_triangles};
   return refined_maximum(positions, triangles, at_vertex, at_centroid, reached, tolerance, counts,
-                         measure, other_triangles.size(), threads, should_stop, &to_triangle);
+                         measure, other_triangles.size(), threads, should_stop, &to_triangle,
+                         give_up);
 }
 
 // query(k) for each sample k, in parallel. Queried in Morton order (each query writes its
@@ -145,9 +144,15 @@ SampleDistances sample_distances(std::span<const Vec3> samples, const TriangleTr
 struct OneWay {
   double sum = 0, max = 0, at_most = 0;
   bool settled = true;
+  bool gave_up = false;  // stopped once max reached a give-up distance: the rest not measured
   // The maximum of figure k of `refined`.
   void take(const RefinedMaximum& refined, int k) {
     max = refined.reached[k], at_most = refined.at_most[k], settled = refined.settled[k];
+  }
+  // Whether max has reached `give_up`; then marked so.
+  bool give_up_at(double give_up) {
+    if (max >= give_up) gave_up = true, settled = false, at_most = INFINITY;
+    return gave_up;
   }
 };
 
@@ -161,13 +166,16 @@ OneWay sum_and_max(const std::vector<double>& d2, std::span<const char> counted 
 }
 
 // The samples of `triangles` to the tree (of tree_positions and tree_triangles), the
-// maximum over every point of them; tolerances relative to `diagonal`.
+// maximum over every point of them; tolerances relative to `diagonal`. Stops once the
+// maximum reaches `give_up` (gave_up).
 OneWay one_way(std::span<const Vec3> positions, std::span<const Triangle> triangles,
                const std::vector<Vec3>& samples, const TriangleTree& tree,
                std::span<const Vec3> tree_positions, std::span<const Triangle> tree_triangles,
-               double diagonal, int threads, const std::function<bool()>* should_stop) {
+               double diagonal, int threads, const std::function<bool()>* should_stop,
+               double give_up) {
   const SampleDistances measured = sample_distances(samples, tree, threads, should_stop);
   OneWay out = sum_and_max(measured.d2);
+  if (out.give_up_at(give_up)) return out;
   const RefinedMaximum refined = maximum_over_triangles(
       positions, triangles, {&measured, &measured}, {out.max, out.max}, {diagonal, diagonal},
       [](size_t, int figure) { return figure == 0; },
@@ -176,8 +184,9 @@ OneWay one_way(std::span<const Vec3> positions, std::span<const Triangle> triang
         return PointMeasure{{std::sqrt(nearest.squared_distance), 0},
                             {nearest.triangle, kNoNearest}};
       },
-      tree_positions, tree_triangles, threads, should_stop);
+      tree_positions, tree_triangles, threads, should_stop, {give_up, INFINITY});
   out.take(refined, 0);
+  out.give_up_at(give_up);
   return out;
 }
 
@@ -207,6 +216,7 @@ void finish(SurfaceDistance& out, const OneWay& a_to_b, size_t a_samples, const 
   out.hausdorff = std::max(out.max_a_to_b, out.max_b_to_a);
   out.hausdorff_at_most = std::max(a_to_b.at_most, b_to_a.at_most) / d;
   out.hausdorff_settled = a_to_b.settled && b_to_a.settled;
+  out.gave_up = a_to_b.gave_up || b_to_a.gave_up;
   out.samples = a_samples + b_samples;
   out.rms = std::sqrt((a_to_b.sum + b_to_a.sum) / out.samples) / d;
 }
@@ -223,7 +233,8 @@ SurfaceMeasure::SurfaceMeasure(std::span<const Vec3> a_positions,
 
 SurfaceDistance SurfaceMeasure::distance_to(std::span<const Vec3> b_positions,
                                             std::span<const Triangle> b_triangles, int threads,
-                                            const std::function<bool()>* should_stop) const {
+                                            const std::function<bool()>* should_stop,
+                                            double give_up) const {
   SurfaceDistance out;
   // Both surfaces in a's unit frame: the figures are relative to a's diagonal, so a
   // similarity does not change them, and a mesh at 1e-300 units no longer underflows to
@@ -237,11 +248,13 @@ SurfaceDistance SurfaceMeasure::distance_to(std::span<const Vec3> b_positions,
   // Asked before the tree too: building one over a million triangles takes a while.
   const StopCheck stop(should_stop);
   stop.check();
+  const double give_up_at = give_up * d;
   const auto a_to_b = one_way(unit_, triangles_, a_samples, TriangleTree(b_unit, b_triangles),
-                              b_unit, b_triangles, d, threads, should_stop);
+                              b_unit, b_triangles, d, threads, should_stop, give_up_at);
   stop.check();
-  const auto b_to_a =
-      one_way(b_unit, b_triangles, b_samples, tree_, unit_, triangles_, d, threads, should_stop);
+  const auto b_to_a = a_to_b.gave_up ? OneWay{}
+                                     : one_way(b_unit, b_triangles, b_samples, tree_, unit_,
+                                               triangles_, d, threads, should_stop, give_up_at);
   finish(out, a_to_b, a_samples.size(), b_to_a, b_samples.size(), d);
   return out;
 }
@@ -249,7 +262,8 @@ SurfaceDistance SurfaceMeasure::distance_to(std::span<const Vec3> b_positions,
 SurfaceDistances SurfaceMeasure::distances_to(std::span<const char> left_out,
                                               std::span<const Vec3> b_positions,
                                               std::span<const Triangle> b_triangles, int threads,
-                                              const std::function<bool()>* should_stop) const {
+                                              const std::function<bool()>* should_stop,
+                                              double give_up) const {
   if (left_out.size() != triangles_.size())
     throw std::invalid_argument("surface_distances: one left_out entry per triangle of a");
   SurfaceDistances out;
@@ -288,6 +302,16 @@ SurfaceDistances SurfaceMeasure::distances_to(std::span<const char> left_out,
   // triangles.
   auto a_all = sum_and_max(a_d2.d2), a_kept = sum_and_max(a_d2.d2, kept_sample);
   auto b_all = sum_and_max(b_all_d2.d2), b_kept = sum_and_max(b_kept_d2.d2);
+  // Once the kept figure reaches give_up, nothing more is measured (every figure gave up).
+  const double give_up_at = give_up * d_kept;
+  const auto finished = [&](bool gave_up) {
+    if (gave_up)
+      for (OneWay* one : {&a_all, &a_kept, &b_all, &b_kept}) one->give_up_at(-INFINITY);
+    finish(out.all, a_all, a_samples.size(), b_all, b_samples.size(), d_all);
+    if (d_kept > 0) finish(out.kept, a_kept, a_kept_samples, b_kept, b_samples.size(), d_kept);
+    return out;
+  };
+  if (std::max(a_kept.max, b_kept.max) >= give_up_at) return finished(true);
   const RefinedMaximum a_max = maximum_over_triangles(
       unit_, triangles_, {&a_d2, &a_d2}, {a_all.max, a_kept.max}, {d_all, d_kept},
       [&](size_t t, int figure) { return figure == 0 || !left_out[t]; },
@@ -296,7 +320,9 @@ SurfaceDistances SurfaceMeasure::distances_to(std::span<const char> left_out,
         const double d = std::sqrt(nearest.squared_distance);
         return PointMeasure{{d, d}, {nearest.triangle, nearest.triangle}};
       },
-      b_unit, b_triangles, threads, should_stop);
+      b_unit, b_triangles, threads, should_stop, {INFINITY, give_up_at});
+  a_all.take(a_max, 0), a_kept.take(a_max, 1);
+  if (a_kept.max >= give_up_at) return finished(true);
   const RefinedMaximum b_max = maximum_over_triangles(
       b_unit, b_triangles, {&b_all_d2, &b_kept_d2}, {b_all.max, b_kept.max}, {d_all, d_kept},
       [](size_t, int) { return true; },
@@ -305,12 +331,9 @@ SurfaceDistances SurfaceMeasure::distances_to(std::span<const char> left_out,
         return PointMeasure{{std::sqrt(all.squared_distance), std::sqrt(kept.squared_distance)},
                             {all.triangle, kept.triangle}};
       },
-      unit_, triangles_, threads, should_stop);
-  a_all.take(a_max, 0), a_kept.take(a_max, 1);
+      unit_, triangles_, threads, should_stop, {INFINITY, give_up_at});
   b_all.take(b_max, 0), b_kept.take(b_max, 1);
-  finish(out.all, a_all, a_samples.size(), b_all, b_samples.size(), d_all);
-  if (d_kept > 0) finish(out.kept, a_kept, a_kept_samples, b_kept, b_samples.size(), d_kept);
-  return out;
+  return finished(b_kept.max >= give_up_at);
 }
 
 PointDistances SurfaceMeasure::point_distances(std::span<const Vec3> points, int threads,

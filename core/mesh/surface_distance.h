@@ -6,6 +6,7 @@
 // diagonal when more), so a long triangle over a gap is not judged by its corners.
 #pragma once
 
+#include <cmath>
 #include <functional>
 #include <span>
 #include <vector>
@@ -25,6 +26,9 @@ struct SurfaceDistance {
   // triangles: the figure above is then what was found, not certainly the maximum).
   double hausdorff_at_most = 0;
   bool hausdorff_settled = true;
+  // Stopped once the Hausdorff distance found reached the caller's `give_up`: the figures
+  // are what was measured by then (hausdorff at least give_up), not the surfaces' distance.
+  bool gave_up = false;
   double rms = 0;       // over the samples of both directions
   double diagonal = 0;  // of a's bounding box: every figure above is divided by it
   size_t samples = 0;
@@ -75,13 +79,19 @@ PointDistances point_distances(std::span<const Vec3> a_positions,
 class SurfaceMeasure {
  public:
   SurfaceMeasure(std::span<const Vec3> a_positions, std::span<const Triangle> a_triangles);
+  // `give_up` (relative, as hausdorff): a caller that keeps only a surface nearer than some
+  // other stops the measure once the Hausdorff distance found reaches it (`gave_up`; a
+  // surface nearer than it is measured exactly as without it).
   SurfaceDistance distance_to(std::span<const Vec3> b_positions,
                               std::span<const Triangle> b_triangles, int threads = 0,
-                              const std::function<bool()>* should_stop = nullptr) const;
-  // `left_out`: one entry per triangle of a (surface_distances).
+                              const std::function<bool()>* should_stop = nullptr,
+                              double give_up = INFINITY) const;
+  // `left_out`: one entry per triangle of a (surface_distances). `give_up`: of the kept
+  // figure.
   SurfaceDistances distances_to(std::span<const char> left_out, std::span<const Vec3> b_positions,
                                 std::span<const Triangle> b_triangles, int threads = 0,
-                                const std::function<bool()>* should_stop = nullptr) const;
+                                const std::function<bool()>* should_stop = nullptr,
+                                double give_up = INFINITY) const;
   PointDistances point_distances(std::span<const Vec3> points, int threads = 0,
                                  const std::function<bool()>* should_stop = nullptr) const;
   // The largest of point_distances(points).relative (0 without points), bit for bit,

@@ -50,7 +50,8 @@ std::vector<Vec3> vertex_normals(std::span<const Vec3> positions,
 
 // A remesh and its distance to the surface it samples: to the input's faces,
 // and with fills (hole fills, handle caps: `filled`, may be empty) also to the surface
-// that was mapped.
+// that was mapped. measured_remesh's `give_up`: SurfaceMeasure::distance_to's (a remesh
+// that would not be kept is measured only until that is clear).
 struct MeasuredRemesh {
   OctahedralRemesh remesh;
   SurfaceDistance distance;
@@ -60,7 +61,8 @@ struct MeasuredRemesh {
 
 MeasuredRemesh measured_remesh(OctahedralRemesh remesh, const SurfaceMeasure& surface,
                                const std::vector<char>& filled, int threads,
-                               const std::function<bool()>* should_stop) {
+                               const std::function<bool()>* should_stop,
+                               double give_up = INFINITY) {
   const StopCheck stop(should_stop);
   MeasuredRemesh out;
   out.remesh = std::move(remesh);
@@ -71,11 +73,11 @@ MeasuredRemesh measured_remesh(OctahedralRemesh remesh, const SurfaceMeasure& su
   // With fills, also against the surface that was mapped: what the sampling alone costs
   // (from the same queries: a second distance cost 40% of a torus's remesh).
   if (filled.empty()) {
-    out.distance =
-        surface.distance_to(out.remesh.positions, out.remesh.triangles, threads, should_stop);
+    out.distance = surface.distance_to(out.remesh.positions, out.remesh.triangles, threads,
+                                       should_stop, give_up);
   } else {
     SurfaceDistances both = surface.distances_to(filled, out.remesh.positions, out.remesh.triangles,
-                                                 threads, should_stop);
+                                                 threads, should_stop, give_up);
     out.distance = both.kept;
     out.to_prepared = both.all;
   }
@@ -177,8 +179,11 @@ FramedRemesh framed_remesh(const PolygonMesh& mesh, std::span<const Vec3> sphere
   // grids would be that many remeshes in memory at once (a 256^2 grid of 66K samples
   // each), and a sampling costs a twentieth of the full measure that follows it.
   for (size_t k = 0; k < screened.size() && k < measured_in_full; ++k) {
-    MeasuredRemesh other = measured_remesh(sample(frame_candidate(screened[k].candidate)), surface,
-                                           filled, threads, should_stop);
+    // Measured only as far as it could be kept: once it is no nearer than the best so
+    // far, it is not (the same frame is kept as when each is measured to the end).
+    MeasuredRemesh other =
+        measured_remesh(sample(frame_candidate(screened[k].candidate)), surface, filled, threads,
+                        should_stop, out.measured.distance.hausdorff);
     out.distance_seconds += other.distance_seconds;
     if (other.distance.hausdorff < out.measured.distance.hausdorff)
       out.measured = std::move(other), out.kept_by = screened[k].by;
