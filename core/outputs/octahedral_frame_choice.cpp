@@ -37,6 +37,16 @@ double largest_spacing_squared(std::span<const Vec3> sphere,
   return largest;
 }
 
+// The centroids of the remesh's triangles, where sampled errors are measured.
+std::vector<Vec3> remesh_centroids(const OctahedralRemesh& remesh) {
+  std::vector<Vec3> centroids;
+  centroids.reserve(remesh.triangles.size());
+  for (const Triangle& t : remesh.triangles)
+    centroids.push_back((remesh.positions[t[0]] + remesh.positions[t[1]] + remesh.positions[t[2]]) *
+                        (1.0 / 3));
+  return centroids;
+}
+
 }  // namespace
 
 OctahedralFrame frame_candidate(int k) {
@@ -117,11 +127,7 @@ std::vector<SampledError> sampled_errors(const SurfaceMeasure& measured_surface,
   std::vector<SampledError> errors;
   // The remesh's triangles, at their centroids (a triangle bridging a gap is off the
   // surface there), each at the sphere point of its centroid in the square.
-  std::vector<Vec3> centroids;
-  centroids.reserve(remesh.triangles.size());
-  for (const Triangle& t : remesh.triangles)
-    centroids.push_back((remesh.positions[t[0]] + remesh.positions[t[1]] + remesh.positions[t[2]]) *
-                        (1.0 / 3));
+  const std::vector<Vec3> centroids = remesh_centroids(remesh);
   const PointDistances off = measured_surface.point_distances(centroids, threads, should_stop);
   for (size_t k = 0; k < remesh.triangles.size(); ++k) {
     const Triangle& t = remesh.triangles[k];
@@ -140,12 +146,8 @@ std::vector<SampledError> sampled_errors(const SurfaceMeasure& measured_surface,
 double largest_sampled_error(const SurfaceMeasure& measured_surface, std::span<const Vec3> surface,
                              const OctahedralRemesh& remesh, int threads,
                              const std::function<bool()>* should_stop) {
-  std::vector<Vec3> centroids;  // as sampled_errors measures them
-  centroids.reserve(remesh.triangles.size());
-  for (const Triangle& t : remesh.triangles)
-    centroids.push_back((remesh.positions[t[0]] + remesh.positions[t[1]] + remesh.positions[t[2]]) *
-                        (1.0 / 3));
-  const double off = measured_surface.largest_point_distance(centroids, threads, should_stop);
+  const double off =
+      measured_surface.largest_point_distance(remesh_centroids(remesh), threads, should_stop);
   StopCheck(should_stop).check();
   const double missed = SurfaceMeasure(remesh.positions, remesh.triangles)
                             .largest_point_distance(surface, threads, should_stop);
