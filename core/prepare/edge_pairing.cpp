@@ -29,10 +29,24 @@ bool pair_edge(const PolygonMesh& mesh, const EdgeCorner* begin, const EdgeCorne
   for (size_t i = 0; i < k; ++i) by_angle.push_back({angles[i], begin + i});
   std::sort(by_angle.begin(), by_angle.end(),
             [](const auto& p, const auto& q) { return p.first < q.first; });
+  const auto gap_after = [&](size_t i) {
+    return i + 1 < k ? by_angle[i + 1].first - by_angle[i].first
+                     : by_angle[0].first + 2 * M_PI - by_angle[i].first;
+  };
   for (size_t i = 0; i < k; ++i) {
-    const double gap = i + 1 < k ? by_angle[i + 1].first - by_angle[i].first
-                                 : by_angle[0].first + 2 * M_PI - by_angle[i].first;
-    if (!(gap > kSameAngle)) return false;
+    if (gap_after(i) > kSameAngle) continue;
+    // Two faces on each other, running opposite ways, apart from the rest: two solids
+    // stacked face to face, each with its own face on the plane they share (a CAD
+    // assembly exported as one mesh: barkour's leg, a pad on a plate). The wedge of no
+    // width between them is taken as empty, so each is paired within its own solid: the
+    // face running a -> b (its solid toward smaller angles) first. Any other tie (faces
+    // running one way, three on each other) has no order.
+    const size_t j = (i + 1) % k;
+    if (by_angle[i].second->forward == by_angle[j].second->forward ||
+        !(gap_after((i + k - 1) % k) > kSameAngle) || !(gap_after(j) > kSameAngle))
+      return false;
+    if (!by_angle[i].second->forward) std::swap(by_angle[i].second, by_angle[j].second);
+    ++i;
   }
   // A face running b -> a has its solid toward larger angles, one running a -> b toward
   // smaller: read by angle, the first opens a wedge and the second closes it, as brackets.

@@ -47,7 +47,9 @@ UnionFind manifold_sheets(std::span<const EdgeCorner> corners, uint32_t faces);
 using EdgePairs = std::unordered_map<uint64_t, std::vector<std::pair<uint32_t, uint32_t>>>;
 
 // An edge pairs when it has 4 or more faces, each running along it once, as many each way,
-// no two at the same angle about it (of their next corners). A face running a -> b (a < b)
+// no two at the same angle about it (of their next corners) but two running opposite ways
+// apart from the rest: faces of two solids stacked face to face (each keeps its own face
+// on the plane they share), taken as an empty wedge of no width. A face running a -> b (a < b)
 // has its solid on the side of smaller angles about a -> b, one running b -> a on the side
 // of larger ones; read by angle, they match as closing and opening brackets (each pair
 // bounds a solid wedge where the directions alternate; where faces pass through each
