@@ -176,6 +176,7 @@ TEST(EdgePairing, FacesOnEachOtherAreTwoSolidsTouching) {
   EXPECT_EQ(prepared.original, nullptr);  // not wrapped
   EXPECT_EQ(prepared.preparation.faces_added, 0u);
   EXPECT_EQ(prepared.preparation.edges_split, 4u);
+  EXPECT_EQ(prepared.preparation.decided, "repair");  // split: not the file's own mesh
   ASSERT_TRUE(input_failures(prepared).empty());
   const MappedMesh mapped = map_prepared(prepared, {});
   EXPECT_TRUE(certify(mapped, mapped.float32_check).certified);

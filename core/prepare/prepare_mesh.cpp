@@ -797,9 +797,11 @@ std::string decided(const PreparedMesh& prepared) {
     return "parts+wrap";
   if (!prepared.parts.empty()) return "parts";
   const PreparationReport& r = prepared.preparation;
+  // A vertex split moves nothing but the mesh mapped is no longer the file's own (a
+  // non-manifold edge or vertex became two): said as a repair, not as exact.
   const bool changed = r.collapsed_faces || r.shortened_faces || r.duplicate_faces ||
                        r.t_junctions_zipped || r.flipped_faces || r.faces_added ||
-                       r.weld_tolerance > 0;
+                       r.vertices_split || r.edges_split || r.weld_tolerance > 0;
   return changed ? "repair" : "exact";
 }
 
