@@ -60,6 +60,26 @@ TEST(ObjReader, RejectsBadNumbersAndShortFaces) {
   EXPECT_THROW(parse_obj("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 0\n"), InputError);
 }
 
+// A 2D OBJ ("v x y", as libigl and triangle write planar meshes) reads with z = 0; a file
+// mixing 2D and 3D vertices is refused, naming both lines (a cut line is not a flat vertex).
+TEST(ObjReader, ReadsA2dFileFlatAndRefusesAMix) {
+  const PolygonMesh flat = parse_obj("v 0 0\nv 1 0\nv 0 1.5 \r\nf 1 2 3\n");
+  ASSERT_EQ(flat.vertex_count(), 3u);
+  EXPECT_EQ(flat.positions[2], (Vec3{0, 1.5, 0}));
+  EXPECT_EQ(flat.face_count(), 1u);
+  try {
+    parse_obj("v 0 0 0\nv 1 0 0\nv 0 1\nf 1 2 3\n");
+    FAIL() << "expected an InputError";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.check(), "parse");
+    const std::string what = e.what();
+    EXPECT_NE(what.find("line 3"), std::string::npos) << what;
+    EXPECT_NE(what.find("line 1 has 3"), std::string::npos) << what;
+  }
+  EXPECT_THROW(parse_obj("v 0 1\nv 0 0 0\n"), InputError);
+  EXPECT_THROW(parse_obj("v 0\n"), InputError);  // one coordinate is no vertex
+}
+
 // The OBJ spec's line continuation: a backslash at the end of a line joins the next.
 TEST(ObjReader, JoinsLinesContinuedByABackslash) {
   const PolygonMesh m = parse_obj(
@@ -129,6 +149,19 @@ TEST(OffReader, RejectsTruncatedFilesAndBadIndices) {
   EXPECT_THROW(parse_off("OFF\n3 1 0\n0 0 0\n1 0 0\n"), InputError);
   EXPECT_THROW(parse_off("OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 3\n"), InputError);
   EXPECT_THROW(parse_off("PLY\n"), InputError);
+  // An index one past the last is said to look like counting from 1 (OFF counts from 0).
+  try {
+    parse_off("OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 1 2 3\n");
+    FAIL() << "expected an InputError";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("count from 1"), std::string::npos) << e.what();
+  }
+  try {
+    parse_off("OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 7\n");
+    FAIL() << "expected an InputError";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()).find("count from 1"), std::string::npos) << e.what();
+  }
 }
 
 }  // namespace

@@ -29,13 +29,26 @@ PolygonMesh parse_obj(std::string_view text) {
   reader.join_continued_lines();
   std::vector<uint32_t> corners;
   size_t line_segments = 0;  // of `l` polylines: counted for the refusal, never stored
+  // A 2D OBJ (triangulations of planar domains: libigl's, triangle's and rigid-ipc's 2D
+  // meshes write "v x y") is read with z = 0, as tinyobjloader reads it. The first line
+  // of each kind, so that a file mixing them is refused: a line cut short in a 3D file
+  // is not a flat vertex.
+  size_t first_planar = 0, first_spatial = 0;
   while (reader.next_line()) {
     std::string_view keyword = reader.token();
     if (keyword == "v") {
       Vec3 p;
       p.x = reader.number("x");
       p.y = reader.number("y");
-      p.z = reader.number("z");
+      const bool planar = reader.rest().find_first_not_of(" \t") == std::string_view::npos;
+      p.z = planar ? 0.0 : reader.number("z");
+      size_t& first = planar ? first_planar : first_spatial;
+      if (first == 0) first = reader.line_number();
+      if (first_planar && first_spatial)
+        reader.fail("a vertex of " + std::string(planar ? "2" : "3") +
+                    " coordinates where line " +
+                    std::to_string(planar ? first_spatial : first_planar) + " has " +
+                    (planar ? "3" : "2") + ": the file mixes 2D and 3D vertices");
       mesh.positions.push_back(p);
     } else if (keyword == "f") {
       corners.clear();

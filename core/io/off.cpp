@@ -66,9 +66,14 @@ PolygonMesh parse_off(std::string_view text) {
     for (long long k = 0; k < n; ++k) {
       need_token(reader, "face " + std::to_string(f) + " is complete");
       long long index = reader.integer("a face index");
+      // One past the last is what a file counting its vertices from 1 names first
+      // (kaolin's sample OFF): said, as OFF counts from 0.
       if (index < 0 || index >= vertex_count)
         reader.fail("face index " + std::to_string(index) + " is out of range (" +
-                    std::to_string(vertex_count) + " vertices)");
+                    std::to_string(vertex_count) + " vertices" +
+                    (index == vertex_count ? ", counted from 0: does the file count from 1?"
+                                           : "") +
+                    ")");
       corners.push_back(static_cast<uint32_t>(index));
     }
     mesh.add_face(corners);
