@@ -45,8 +45,7 @@ PolygonMesh parse_obj(std::string_view text) {
       size_t& first = planar ? first_planar : first_spatial;
       if (first == 0) first = reader.line_number();
       if (first_planar && first_spatial)
-        reader.fail("a vertex of " + std::string(planar ? "2" : "3") +
-                    " coordinates where line " +
+        reader.fail("a vertex of " + std::string(planar ? "2" : "3") + " coordinates where line " +
                     std::to_string(planar ? first_spatial : first_planar) + " has " +
                     (planar ? "3" : "2") + ": the file mixes 2D and 3D vertices");
       mesh.positions.push_back(p);

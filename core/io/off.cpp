@@ -71,8 +71,7 @@ PolygonMesh parse_off(std::string_view text) {
       if (index < 0 || index >= vertex_count)
         reader.fail("face index " + std::to_string(index) + " is out of range (" +
                     std::to_string(vertex_count) + " vertices" +
-                    (index == vertex_count ? ", counted from 0: does the file count from 1?"
-                                           : "") +
+                    (index == vertex_count ? ", counted from 0: does the file count from 1?" : "") +
                     ")");
       corners.push_back(static_cast<uint32_t>(index));
     }
