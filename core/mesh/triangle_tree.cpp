@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <numeric>
 
 namespace spheremap {
@@ -91,6 +92,24 @@ double TriangleTree::squared_distance_over(const Vec3& p, double floor) const {
       .squared_distance;
 }
 
+namespace {
+
+// Two doubles in one register (GCC/Clang vector extensions: SSE2 on x86-64, NEON on
+// arm64): the search measures two boxes, or two axes, at once. Each lane's arithmetic is
+// the scalar code's (std::min / std::max: the first argument on ties), so the answers are
+// the same bit for bit.
+using Lanes = double __attribute__((vector_size(16)));
+static_assert(sizeof(Vec3) == 3 * sizeof(double), "a Vec3 is x, y, z in a row");
+constexpr Lanes kZero = {0.0, 0.0};
+inline Lanes lane_max(Lanes a, Lanes b) {
+  return a < b ? b : a;
+}
+inline Lanes lane_min(Lanes a, Lanes b) {
+  return b < a ? b : a;
+}
+
+}  // namespace
+
 template <class Skip>
 TriangleTree::Closest TriangleTree::search(const Vec3& p, Skip skip, double good_enough) const {
   Closest best;
@@ -111,6 +130,7 @@ TriangleTree::Closest TriangleTree::search(const Vec3& p, Skip skip, double good
   int size = 0;
   stack[size++] = {root_, root_box_.squared_distance(p)};
   const double q[3] = {p.x, p.y, p.z};
+  const Lanes xy = {p.x, p.y};
   while (size > 0) {
     const Entry entry = stack[--size];
     if (entry.box_distance >= best.squared_distance) continue;
@@ -121,13 +141,16 @@ TriangleTree::Closest TriangleTree::search(const Vec3& p, Skip skip, double good
         const Vec3* c = &corners_[3 * size_t{k}];
         // The triangle's own box first: one farther than the best so far (with the slack)
         // holds no nearer point, and costs a fraction of closest_on_triangle.
-        double box_distance = 0;
-        for (int axis = 0; axis < 3; ++axis) {
-          const double a = c[0][axis], b = c[1][axis], e = c[2][axis];
-          const double gap =
-              std::max(std::max(std::min({a, b, e}) - q[axis], 0.0), q[axis] - std::max({a, b, e}));
-          box_distance += gap * gap;
-        }
+        // x and y in the lanes of one vector, z alone; the sum in the scalar's order.
+        Lanes corner[3];
+        for (int i = 0; i < 3; ++i)
+          std::memcpy(&corner[i], reinterpret_cast<const char*>(&c[i]), sizeof(Lanes));
+        const Lanes low = lane_min(lane_min(corner[0], corner[1]), corner[2]);
+        const Lanes high = lane_max(lane_max(corner[0], corner[1]), corner[2]);
+        const Lanes gaps = lane_max(lane_max(low - xy, kZero), xy - high);
+        const double gap_z = std::max(std::max(std::min({c[0].z, c[1].z, c[2].z}) - p.z, 0.0),
+                                      p.z - std::max({c[0].z, c[1].z, c[2].z}));
+        const double box_distance = (gaps[0] * gaps[0] + gaps[1] * gaps[1]) + gap_z * gap_z;
         if (box_distance > skip_above) continue;
         const Vec3 point = closest_on_triangle(p, c[0], c[1], c[2]);
         const double d2 = squared_norm(point - p);
@@ -140,17 +163,16 @@ TriangleTree::Closest TriangleTree::search(const Vec3& p, Skip skip, double good
       continue;
     }
     const Children& boxes = children_[node.first];
-    double d[2];
-    for (int lane = 0; lane < 2; ++lane) {
-      double sum = 0;
-      for (int axis = 0; axis < 3; ++axis) {
-        const double below = boxes.lo[axis][lane] - q[axis];
-        const double above = q[axis] - boxes.hi[axis][lane];
-        const double gap = std::max(std::max(below, 0.0), above);
-        sum = axis == 0 ? gap * gap : sum + gap * gap;
-      }
-      d[lane] = sum;
+    // Both children at once, one lane each.
+    Lanes sum;
+    for (int axis = 0; axis < 3; ++axis) {
+      Lanes lo, hi;
+      std::memcpy(&lo, boxes.lo[axis], sizeof lo);
+      std::memcpy(&hi, boxes.hi[axis], sizeof hi);
+      const Lanes gap = lane_max(lane_max(lo - q[axis], kZero), q[axis] - hi);
+      sum = axis == 0 ? gap * gap : sum + gap * gap;
     }
+    const double d[2] = {sum[0], sum[1]};
     // Nearer child last, so it is searched first.
     const bool left_nearer = d[0] < d[1];
     const Entry l{boxes.node[0], d[0]}, r{boxes.node[1], d[1]};
