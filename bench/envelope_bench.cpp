@@ -194,7 +194,8 @@ Json envelope_stages(const Input& in, const VoxelGrid& grid, double d, double fi
     const auto c = mesh.face(f);
     triangles[f] = {c[0], c[1], c[2]};
   }
-  (void)surface_distance(in.mesh.positions, in.triangles, mesh.positions, triangles, threads);
+  (void)surface_distance(in.mesh.positions, in.triangles, mesh.positions, triangles, threads,
+                         nullptr, DistanceSamples::kVertices);
   lap("distance");
   return stages;
 }

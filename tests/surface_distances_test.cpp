@@ -204,6 +204,9 @@ TEST(SurfaceDistance, TheMaximumIsOverTheWholeTriangleNotOnlyItsSamples) {
     patch_triangles.push_back({base, base + 1, base + 2});
   }
   const SurfaceDistance d = surface_distance(big, one, patches, patch_triangles, 1);
+  // With the vertices alone sampled, the refinement still searches the whole triangle.
+  const SurfaceDistance by_vertices =
+      surface_distance(big, one, patches, patch_triangles, 1, nullptr, DistanceSamples::kVertices);
   const std::vector<Vec3> midpoints = {0.5 * (a + b), 0.5 * (b + c), 0.5 * (c + a)};
   double midpoint_max = 0;
   for (double r : point_distances(patches, patch_triangles, midpoints, 1).relative)
@@ -220,9 +223,44 @@ TEST(SurfaceDistance, TheMaximumIsOverTheWholeTriangleNotOnlyItsSamples) {
   // point_distances is relative to the patches' diagonal, surface_distance to the big one's.
   const double scale = point_distances(patches, patch_triangles, {}, 1).diagonal / d.diagonal;
   ASSERT_GT(midpoint_max * scale, 0.2);
-  EXPECT_GE(d.max_a_to_b, midpoint_max * scale - 1e-12);
-  EXPECT_LE(d.max_a_to_b, spread_max * scale * 1.06);
+  for (const SurfaceDistance& measured : {d, by_vertices}) {
+    EXPECT_GE(measured.max_a_to_b, midpoint_max * scale - 1e-12);
+    EXPECT_LE(measured.max_a_to_b, spread_max * scale * 1.06);
+  }
   EXPECT_LT(d.max_b_to_a, 0.02);  // the patches stick out of the big triangle by 0.01
+}
+
+// DistanceSamples::kVertices: the RMS over each surface's vertices alone (each direction's
+// equal to the one computed from point_distances of those vertices), the maximum the same
+// as with centroids within the tolerance (both are within it of the true maximum).
+TEST(SurfaceDistance, TheVerticesAloneGiveTheirOwnRmsAndTheSameMaximum) {
+  const PolygonMesh a = testing::twisted(testing::torus(32, 16), 0.7);
+  PolygonMesh b = a;
+  for (Vec3& p : b.positions) p = p + Vec3{0.03 * std::sin(5 * p.y), 0.02 * std::cos(7 * p.x), 0};
+  const std::vector<Triangle> a_triangles = fan_triangulate(a).triangles;
+  const std::vector<Triangle> b_triangles = fan_triangulate(b).triangles;
+  const SurfaceDistance both = surface_distance(a.positions, a_triangles, b.positions, b_triangles);
+  const SurfaceDistance vertices = surface_distance(
+      a.positions, a_triangles, b.positions, b_triangles, 2, nullptr, DistanceSamples::kVertices);
+  EXPECT_EQ(vertices.samples, a.positions.size() + b.positions.size());
+  EXPECT_EQ(both.samples, vertices.samples + a_triangles.size() + b_triangles.size());
+  const auto rms_of = [](const std::vector<double>& relative) {
+    double sum = 0;
+    for (double r : relative) sum += r * r;
+    return std::sqrt(sum / double(relative.size()));
+  };
+  // point_distances measures to a; a's vertices to b: b's measure, relative to b's diagonal.
+  const PointDistances b_to_a = point_distances(a.positions, a_triangles, b.positions);
+  const PointDistances a_to_b = point_distances(b.positions, b_triangles, a.positions);
+  const double scale = a_to_b.diagonal / vertices.diagonal;
+  ASSERT_GT(rms_of(b_to_a.relative), 0.001);
+  EXPECT_NEAR(vertices.rms_b_to_a, rms_of(b_to_a.relative), 1e-9);
+  EXPECT_NEAR(vertices.rms_a_to_b, rms_of(a_to_b.relative) * scale, 1e-9);
+  EXPECT_NE(vertices.rms, both.rms);
+  expect_max_near(vertices.max_a_to_b, both.max_a_to_b);
+  expect_max_near(vertices.max_b_to_a, both.max_b_to_a);
+  expect_max_near(vertices.hausdorff, both.hausdorff);
+  EXPECT_EQ(vertices.diagonal, both.diagonal);
 }
 
 }  // namespace

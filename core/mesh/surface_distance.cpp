@@ -127,14 +127,17 @@ std::vector<char> kept_samples(size_t vertex_count, std::span<const Triangle> tr
   return kept;
 }
 
-// The squared distance of each sample to the tree and its nearest triangle: one
-// closest-point query each.
+// The squared distance of each sample from `first` on to the tree and its nearest
+// triangle: one closest-point query each. The samples before `first` are not measured:
+// infinitely far, nearest unknown (a bound taken from them bounds nothing).
 SampleDistances sample_distances(std::span<const Vec3> samples, const TriangleTree& tree,
-                                 int threads, const std::function<bool()>* should_stop) {
+                                 int threads, const std::function<bool()>* should_stop,
+                                 size_t first = 0) {
   SampleDistances out(samples.size());
-  query_samples(samples, threads, should_stop, [&](size_t k) {
-    const TriangleTree::Closest nearest = tree.closest(samples[k]);
-    out.d2[k] = nearest.squared_distance, out.nearest[k] = nearest.triangle;
+  std::fill(out.d2.begin(), out.d2.begin() + first, INFINITY);
+  query_samples(samples.subspan(first), threads, should_stop, [&](size_t k) {
+    const TriangleTree::Closest nearest = tree.closest(samples[first + k]);
+    out.d2[first + k] = nearest.squared_distance, out.nearest[first + k] = nearest.triangle;
   });
   return out;
 }
@@ -156,25 +159,27 @@ struct OneWay {
   }
 };
 
-// The sum and the largest of the samples whose `counted` entry is set (all when it is
-// empty), in sample order.
-OneWay sum_and_max(const std::vector<double>& d2, std::span<const char> counted = {}) {
+// The sum and the largest of the samples from `first` on whose `counted` entry is set (all
+// when it is empty), in sample order.
+OneWay sum_and_max(const std::vector<double>& d2, std::span<const char> counted = {},
+                   size_t first = 0) {
   double sum = 0, max = 0;
-  for (size_t k = 0; k < d2.size(); ++k)
+  for (size_t k = first; k < d2.size(); ++k)
     if (counted.empty() || counted[k]) sum += d2[k], max = std::max(max, d2[k]);
   return {sum, std::sqrt(max), std::sqrt(max)};
 }
 
 // The samples of `triangles` to the tree (of tree_positions and tree_triangles), the
 // maximum over every point of them; tolerances relative to `diagonal`. Stops once the
-// maximum reaches `give_up` (gave_up).
+// maximum reaches `give_up` (gave_up). Samples before `first` (the centroids, under
+// DistanceSamples::kVertices) are neither measured nor summed.
 OneWay one_way(std::span<const Vec3> positions, std::span<const Triangle> triangles,
-               const std::vector<Vec3>& samples, const TriangleTree& tree,
+               const std::vector<Vec3>& samples, size_t first, const TriangleTree& tree,
                std::span<const Vec3> tree_positions, std::span<const Triangle> tree_triangles,
                double diagonal, int threads, const std::function<bool()>* should_stop,
                double give_up) {
-  const SampleDistances measured = sample_distances(samples, tree, threads, should_stop);
-  OneWay out = sum_and_max(measured.d2);
+  const SampleDistances measured = sample_distances(samples, tree, threads, should_stop, first);
+  OneWay out = sum_and_max(measured.d2, {}, first);
   if (out.give_up_at(give_up)) return out;
   const RefinedMaximum refined = maximum_over_triangles(
       positions, triangles, {&measured, &measured}, {out.max, out.max}, {diagonal, diagonal},
@@ -234,7 +239,7 @@ SurfaceMeasure::SurfaceMeasure(std::span<const Vec3> a_positions,
 SurfaceDistance SurfaceMeasure::distance_to(std::span<const Vec3> b_positions,
                                             std::span<const Triangle> b_triangles, int threads,
                                             const std::function<bool()>* should_stop,
-                                            double give_up) const {
+                                            double give_up, DistanceSamples which) const {
   SurfaceDistance out;
   // Both surfaces in a's unit frame: the figures are relative to a's diagonal, so a
   // similarity does not change them, and a mesh at 1e-300 units no longer underflows to
@@ -249,13 +254,19 @@ SurfaceDistance SurfaceMeasure::distance_to(std::span<const Vec3> b_positions,
   const StopCheck stop(should_stop);
   stop.check();
   const double give_up_at = give_up * d;
-  const auto a_to_b = one_way(unit_, triangles_, a_samples, TriangleTree(b_unit, b_triangles),
-                              b_unit, b_triangles, d, threads, should_stop, give_up_at);
+  // samples_of puts the centroids first.
+  const bool centroids = which == DistanceSamples::kVerticesAndCentroids;
+  const size_t a_first = centroids ? 0 : triangles_.size();
+  const size_t b_first = centroids ? 0 : b_triangles.size();
+  const auto a_to_b =
+      one_way(unit_, triangles_, a_samples, a_first, TriangleTree(b_unit, b_triangles), b_unit,
+              b_triangles, d, threads, should_stop, give_up_at);
   stop.check();
-  const auto b_to_a = a_to_b.gave_up ? OneWay{}
-                                     : one_way(b_unit, b_triangles, b_samples, tree_, unit_,
-                                               triangles_, d, threads, should_stop, give_up_at);
-  finish(out, a_to_b, a_samples.size(), b_to_a, b_samples.size(), d);
+  const auto b_to_a = a_to_b.gave_up
+                          ? OneWay{}
+                          : one_way(b_unit, b_triangles, b_samples, b_first, tree_, unit_,
+                                    triangles_, d, threads, should_stop, give_up_at);
+  finish(out, a_to_b, a_samples.size() - a_first, b_to_a, b_samples.size() - b_first, d);
   return out;
 }
 
@@ -371,10 +382,10 @@ SurfaceDistance surface_distance(std::span<const Vec3> a_positions,
                                  std::span<const Triangle> a_triangles,
                                  std::span<const Vec3> b_positions,
                                  std::span<const Triangle> b_triangles, int threads,
-                                 const std::function<bool()>* should_stop) {
+                                 const std::function<bool()>* should_stop, DistanceSamples which) {
   StopCheck(should_stop).check();
   return SurfaceMeasure(a_positions, a_triangles)
-      .distance_to(b_positions, b_triangles, threads, should_stop);
+      .distance_to(b_positions, b_triangles, threads, should_stop, INFINITY, which);
 }
 
 SurfaceDistances surface_distances(std::span<const Vec3> a_positions,

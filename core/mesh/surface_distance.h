@@ -34,11 +34,19 @@ struct SurfaceDistance {
   size_t samples = 0;
 };
 
+// Which points the RMS is over (the maximum is over every point either way). Vertices
+// alone: a third of the queries, where a surface and its neighbour lie near (an envelope
+// fitted to its original) the refinement's bound by the nearest triangle settles each
+// triangle from its corners. The RMS then weighs each vertex once instead of each vertex
+// and centroid.
+enum class DistanceSamples { kVerticesAndCentroids, kVertices };
+
 SurfaceDistance surface_distance(std::span<const Vec3> a_positions,
                                  std::span<const Triangle> a_triangles,
                                  std::span<const Vec3> b_positions,
                                  std::span<const Triangle> b_triangles, int threads = 0,
-                                 const std::function<bool()>* should_stop = nullptr);
+                                 const std::function<bool()>* should_stop = nullptr,
+                                 DistanceSamples which = DistanceSamples::kVerticesAndCentroids);
 
 // surface_distance(a, b) twice from the same queries: to all of a's triangles, and to those
 // whose `left_out` entry (one per triangle of a) is 0 (`kept`, as if they were a's only
@@ -85,7 +93,8 @@ class SurfaceMeasure {
   SurfaceDistance distance_to(std::span<const Vec3> b_positions,
                               std::span<const Triangle> b_triangles, int threads = 0,
                               const std::function<bool()>* should_stop = nullptr,
-                              double give_up = INFINITY) const;
+                              double give_up = INFINITY,
+                              DistanceSamples which = DistanceSamples::kVerticesAndCentroids) const;
   // `left_out`: one entry per triangle of a (surface_distances). `give_up`: of the kept
   // figure.
   SurfaceDistances distances_to(std::span<const char> left_out, std::span<const Vec3> b_positions,

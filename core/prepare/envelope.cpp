@@ -123,7 +123,7 @@ Envelope build_envelope(const PolygonMesh& input, const EnvelopeOptions& options
   }
   const SurfaceDistance distance =
       surface_distance(input.positions, triangles, out.mesh.positions, envelope_triangles,
-                       options.threads, should_stop);
+                       options.threads, should_stop, DistanceSamples::kVertices);
   report.hausdorff = distance.hausdorff;
   report.rms = distance.rms;
   report.envelope_to_original = distance.max_b_to_a;

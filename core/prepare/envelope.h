@@ -68,8 +68,9 @@ struct EnvelopeReport {
   size_t handles_cut = 0, handles_filled = 0;  // 26-connected groups of voxels changed
   size_t voxels_changed = 0, largest_change_voxels = 0;
   size_t voxel_faces = 0, faces = 0;  // the voxel surface's triangles, the envelope's
-  // Two-sided distance envelope <-> original (vertices and centroids of both), relative
-  // to the original's diagonal; and each direction's largest. The envelope lies within
+  // Two-sided distance envelope <-> original (Hausdorff over every point, RMS over the
+  // vertices of both: DistanceSamples::kVertices, a third of the queries), relative to
+  // the original's diagonal; and each direction's largest. The envelope lies within
   // about the offset of the original except where a handle was cut or filled; the original
   // lies within about the offset of the envelope except its faces inside the solid
   // (intersecting parts, inner shells), which the envelope does not follow.

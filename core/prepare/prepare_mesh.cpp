@@ -548,7 +548,7 @@ bool part_was_changed(const PolygonMesh& part, const PolygonMesh& input,
 }
 
 // `report`'s distances measured again between `envelope` and `original` (as build_envelope
-// measures them: core/mesh/surface_distance, vertices and centroids of both), relative to
+// measures them: core/mesh/surface_distance, the RMS over the vertices of both), relative to
 // the asset's diagonal as part_envelope leaves them.
 void measure_to_original(EnvelopeReport& report, const PolygonMesh& envelope,
                          const PolygonMesh& original, double asset_diagonal,
@@ -564,8 +564,9 @@ void measure_to_original(EnvelopeReport& report, const PolygonMesh& envelope,
     envelope_triangles[f] = {c[0], c[1], c[2]};
   }
   const std::function<bool()> stop = envelope_stop(options);
-  const SurfaceDistance d = surface_distance(original.positions, triangles, envelope.positions,
-                                             envelope_triangles, options.envelope.threads, &stop);
+  const SurfaceDistance d =
+      surface_distance(original.positions, triangles, envelope.positions, envelope_triangles,
+                       options.envelope.threads, &stop, DistanceSamples::kVertices);
   const double scale = d.diagonal / asset_diagonal;
   report.hausdorff = d.hausdorff * scale;
   report.rms = d.rms * scale;
