@@ -37,6 +37,26 @@ TEST(ObjReader, ReadsCornerSyntaxesNegativeIndicesCommentsAndCrlf) {
   EXPECT_EQ(m.positions[1].x, 1.0);
 }
 
+// Lines ended by a lone CR (classic Mac OS) read as lines, in OBJ and OFF alike, with the
+// line numbers an error names.
+TEST(TextReaders, ReadLinesEndedByALoneCarriageReturn) {
+  const PolygonMesh obj =
+      parse_obj("# mac\rv 0 0 0\rv 1 0 0 # x\rv 0 1 0\rv 0 0 1\rf 1 3 2\rf 1 2 4\r");
+  ASSERT_EQ(obj.vertex_count(), 4u);
+  ASSERT_EQ(obj.face_count(), 2u);
+  EXPECT_EQ(obj.positions[2].y, 1.0);
+  EXPECT_EQ(obj.face(1)[2], 3u);
+  const PolygonMesh off = parse_off("OFF\r4 2 0\r0 0 0\r1 0 0\r0 1 0\r0 0 1\r3 0 2 1\r3 0 1 3\r");
+  ASSERT_EQ(off.face_count(), 2u);
+  EXPECT_EQ(off.positions[3].z, 1.0);
+  try {
+    parse_obj("v 0 0 0\rv 1 0 0\r\nv 0 1 0\rf 1 2 5\r");
+    FAIL() << "expected an InputError";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("line 4"), std::string::npos) << e.what();
+  }
+}
+
 TEST(ObjReader, KeepsPolygons) {
   PolygonMesh m = parse_obj("v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nf 1 2 3 4 5\n");
   ASSERT_EQ(m.face_count(), 1u);

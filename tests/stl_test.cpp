@@ -2,6 +2,7 @@
 // (forged counts, truncations, NaN, a binary header that begins with "solid").
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstring>
@@ -71,6 +72,12 @@ TEST(StlReader, AsciiWeldsToTheClosedMesh) {
   std::string crlf;
   for (char c : two) crlf += c == '\n' ? std::string("\r\n") : std::string(1, c);
   EXPECT_EQ(parse_stl(crlf).face_count(), 40u);
+  // Classic Mac OS line ends, a lone CR (PrusaSlicer's 20mmbox-CR.stl): the same mesh.
+  std::string cr = two;
+  std::replace(cr.begin(), cr.end(), '\n', '\r');
+  const PolygonMesh from_cr = parse_stl(cr), from_lf = parse_stl(two);
+  ASSERT_EQ(from_cr.face_count(), 40u);
+  EXPECT_EQ(from_cr.positions, from_lf.positions);
 }
 
 TEST(StlReader, ForgedBinaryCountIsRefusedBeforeAllocating) {

@@ -1,5 +1,6 @@
-// Line-oriented tokenizer shared by the OBJ and OFF readers: CRLF tolerant, '#'
-// comments, numbers parsed with from_chars (locale independent, no allocation).
+// Line-oriented tokenizer shared by the OBJ, OFF and ASCII STL readers: lines end in "\n",
+// "\r\n" or a lone "\r", '#' comments, numbers parsed with from_chars (locale independent,
+// no allocation).
 #pragma once
 
 #include <cstddef>
