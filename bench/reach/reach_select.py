@@ -79,6 +79,8 @@ def assemble(sources, out, max_bytes, dedup=False, ignore_case=False):
                     dep = os.path.normpath(os.path.join(os.path.dirname(path), uri.replace("%20", " ")))
                     if sizes.get(dep): copy(dep)
             first, _, rest = path.partition("/")
+            if not rest:  # a file at the repository's top: source ".", so kind/./name is it
+                first, rest = ".", path
             rows.append([f"{s.short}/{path}", s.short, first, rest, str(len(data)), s.repo, commit, s.licence])
     os.makedirs(out, exist_ok=True)
     with open(f"{out}/MANIFEST.tsv", "w") as f:
